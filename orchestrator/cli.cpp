@@ -1,0 +1,85 @@
+#include "orchestrator/cli.hpp"
+
+#include "orchestrator/commands.hpp"
+#include "orchestrator/errors.hpp"
+#include "orchestrator/liggghts_locator.hpp"
+#include "orchestrator/version.hpp"
+
+#include <fmt/core.h>
+
+#include <exception>
+
+namespace demsa {
+
+namespace {
+
+void print_version() {
+  fmt::print("demsa {}\n", k_version);
+  if (const auto info = query_liggghts()) {
+    if (info->version.empty())
+      fmt::print("LIGGGHTS: found at {}, but its version could not be read from `-h`\n", info->executable);
+    else
+      fmt::print("LIGGGHTS {} ({})\n", info->version, info->executable);
+  } else {
+    fmt::print(
+        "LIGGGHTS: not found (no `liggghts` on PATH and DEMSA_LIGGGHTS not set); install it with "
+        "scripts/install-deps.sh\n");
+  }
+}
+
+}  // namespace
+
+void register_not_built(CLI::App& app, CliState& state, const std::string& name, const std::string& description) {
+  CLI::App* sub = app.add_subcommand(name, description + " [not built yet]");
+  sub->allow_extras();
+  sub->callback([&state, name] {
+    fmt::print(stderr, "demsa: error: `demsa {}` is not built yet in this version\n", name);
+    state.exit_code = k_exit_usage;
+  });
+}
+
+int run_cli(int argc, char** argv) {
+  CLI::App app{
+      "demsa: sensitivity analysis and calibration of DEM models in LIGGGHTS\n"
+      "(design of experiments, LIGGGHTS cases, observables, metamodels, Sobol' indices, calibration)",
+      "demsa"};
+  app.require_subcommand(0, 1);
+  app.fallthrough(false);
+  bool version = false;
+  app.add_flag("--version", version, "Print demsa's version and the LIGGGHTS version found at run time");
+
+  CliState state;
+  register_run_commands(app, state);
+  register_case_command(app, state);
+  register_report_commands(app, state);
+  register_design_command(app, state);
+  register_sensitivity_command(app, state);
+  register_postprocess_command(app, state);
+  register_compare_command(app, state);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // CLI11's own exit codes are not ours: every usage error is 2.
+    app.exit(e);
+    return e.get_exit_code() == 0 ? k_exit_ok : k_exit_usage;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "demsa: error: {}\n", e.what());
+    return k_exit_usage;
+  }
+  if (version) {
+    print_version();
+    return k_exit_ok;
+  }
+  if (app.get_subcommands().empty()) {
+    fmt::print("{}", app.help());
+    return k_exit_usage;
+  }
+  return state.exit_code;
+}
+
+}  // namespace demsa
