@@ -35,57 +35,57 @@ struct ParameterRange {
 
 /// Material values: the fixed value of every contact parameter that is not varied, and the density.
 struct Material {
-  double E = 1e8;          ///< Young's modulus [Pa]; LIGGGHTS (units si) checks 5e6 <= E <= 1e9
-  double nu = 0.3;         ///< Poisson ratio, (0, 0.5)
-  double mu_pp = 1.0;      ///< particle-particle Coulomb friction, >= 0
-  double mu_pw = 1.0;      ///< particle-wall Coulomb friction, >= 0
-  double e_r = 0.4;        ///< coefficient of restitution, (0, 1]
-  double mu_r_pp = 0.1;    ///< particle-particle rolling friction (LIGGGHTS `cdt`, dimensionless), >= 0
-  double mu_r_pw = 0.1;    ///< particle-wall rolling friction (`cdt`), >= 0
-  double density = 2500;   ///< particle density [kg/m^3], > 0 (not in the paper)
+  double E = 1e8;         ///< Young's modulus [Pa]; LIGGGHTS (units si) checks 5e6 <= E <= 1e9
+  double nu = 0.3;        ///< Poisson ratio, (0, 0.5)
+  double mu_pp = 1.0;     ///< particle-particle Coulomb friction, >= 0
+  double mu_pw = 1.0;     ///< particle-wall Coulomb friction, >= 0
+  double e_r = 0.4;       ///< coefficient of restitution, (0, 1]
+  double mu_r_pp = 0.1;   ///< particle-particle rolling friction (LIGGGHTS `cdt`, dimensionless), >= 0
+  double mu_r_pw = 0.1;   ///< particle-wall rolling friction (`cdt`), >= 0
+  double density = 2500;  ///< particle density [kg/m^3], > 0 (not in the paper)
 };
 
 /// Radii of a particle set: truncated normal N(mean, sd) restricted to [r_min, r_max] (paper Table 2).
 struct RadiusDistribution {
-  double r_min = 1.0e-3;   ///< [m]
-  double r_max = 3.5e-3;   ///< [m]
-  double mean = 2.0e-3;    ///< [m]
-  double sd = 0.5e-3;      ///< [m]
+  double r_min = 1.0e-3;  ///< [m]
+  double r_max = 3.5e-3;  ///< [m]
+  double mean = 2.0e-3;   ///< [m]
+  double sd = 0.5e-3;     ///< [m]
 };
 
 /// Pile experiment (paper §3). Defaults: particle set 1 of Table 2 scaled to `particles`.
 struct PileSettings {
-  std::string preset;                  ///< "", "set1" or "set2" (paper Table 2); fills radii and particles
-  int particles = 6000;                ///< number of particles
+  std::string preset;    ///< "", "set1" or "set2" (paper Table 2); fills radii and particles
+  int particles = 6000;  ///< number of particles
   RadiusDistribution radii;
-  double disc_radius = 0.020;          ///< r_fu: radius of the filling discs [m]
-  double fill_height = 0.100;          ///< h_fu: discs below it are present at start [m]
-  double pedestal_radius = 0.050;      ///< r_cy [m]
-  double pedestal_height = 0.005;      ///< h_cy [m]
-  double settle_time = 0.6;            ///< settling after the last disc [s]
-  double ke_stop = 0.0;                ///< stop settling early once kinetic energy < ke_stop [J]; 0 = never
-  double target_angle = 33.5;          ///< φ̂ for E_φ [deg]
-  int directions = 180;                ///< φ_N (paper §3.3)
-  int levels = 10;                     ///< height levels between 0.2 h_P and 0.75 h_P
+  double disc_radius = 0.020;      ///< r_fu: radius of the filling discs [m]
+  double fill_height = 0.100;      ///< h_fu: discs below it are present at start [m]
+  double pedestal_radius = 0.050;  ///< r_cy [m]
+  double pedestal_height = 0.005;  ///< h_cy [m]
+  double settle_time = 0.6;        ///< settling after the last disc [s]
+  double ke_stop = 0.0;            ///< stop settling early once kinetic energy < ke_stop [J]; 0 = never
+  double target_angle = 33.5;      ///< φ̂ for E_φ [deg]
+  int directions = 180;            ///< φ_N (paper §3.3)
+  int levels = 10;                 ///< height levels between 0.2 h_P and 0.75 h_P
 };
 
 /// Oedometer experiment (paper §4).
 struct OedometerSettings {
   int particles = 4642;
   RadiusDistribution radii{2.5e-3, 3.5e-3, 3.0e-3, 0.25e-3};
-  double box_side = 0.10;                               ///< [m]
-  double box_height = 0.10;                             ///< [m]
-  double fill_time = 0.5;                               ///< pouring and settling before loading [s]
+  double box_side = 0.10;                                   ///< [m]
+  double box_height = 0.10;                                 ///< [m]
+  double fill_time = 0.5;                                   ///< pouring and settling before loading [s]
   std::vector<double> loads{100.0, 400.0, 1100.0, 2700.0};  ///< L_n [N], increasing
-  std::vector<double> measured_settlements;             ///< s̃_i for loads 1..n-1 relative to load 0 [m]
+  std::vector<double> measured_settlements;                 ///< s̃_i for loads 1..n-1 relative to load 0 [m]
   PlateMode plate_mode = PlateMode::servo;
   // servo mode
-  double servo_vel_max = 0.05;     ///< [m/s]; must be < skin/(2 dt)
+  double servo_vel_max = 0.05;  ///< [m/s]; must be < skin/(2 dt)
   double servo_kp = 0.5;
   double servo_ki = 0.0;
   double servo_kd = 0.0;
-  double load_tolerance = 0.03;    ///< |F - L| that counts as reached [N] (paper R_pr = 0.03 N)
-  long servo_max_steps = 400000;   ///< give up on a load after this many steps
+  double load_tolerance = 0.03;   ///< |F - L| that counts as reached [N] (paper R_pr = 0.03 N)
+  long servo_max_steps = 400000;  ///< give up on a load after this many steps
   // trial-step mode (paper §4 constants)
   long trial_steps = 15000;        ///< n_s
   long relax_steps = 80000;        ///< n_L
@@ -102,23 +102,23 @@ struct TimestepSettings {
 };
 
 struct SlurmSettings {
-  std::string partition;                   ///< empty: the cluster's default
+  std::string partition;  ///< empty: the cluster's default
   std::string account;
-  std::string time_limit = "01:00:00";     ///< per case, sbatch --time
-  int throttle = 0;                        ///< %N array throttle; 0 = none
-  std::vector<std::string> sbatch_options; ///< extra sbatch options, verbatim
-  std::string prologue;                    ///< shell lines before mpirun (module load ...)
-  double poll_interval = 5.0;              ///< [s]
+  std::string time_limit = "01:00:00";      ///< per case, sbatch --time
+  int throttle = 0;                         ///< %N array throttle; 0 = none
+  std::vector<std::string> sbatch_options;  ///< extra sbatch options, verbatim
+  std::string prologue;                     ///< shell lines before mpirun (module load ...)
+  double poll_interval = 5.0;               ///< [s]
 };
 
 struct RunSettings {
   ExecutorKind executor = ExecutorKind::local;
-  int ranks = 1;                 ///< MPI ranks per case (identical for every case: results depend on it)
-  int parallel = 0;              ///< cases at once (local); 0 = cores / ranks
-  bool oversubscribe = false;    ///< allow parallel * ranks > cores
-  double timeout = 0.0;          ///< per case [s]; 0 = none
-  int retries = 1;               ///< extra attempts after a failure
-  double lost_fraction = 0.01;   ///< lost particles above this fraction fail the case
+  int ranks = 1;                      ///< MPI ranks per case (identical for every case: results depend on it)
+  int parallel = 0;                   ///< cases at once (local); 0 = cores / ranks
+  bool oversubscribe = false;         ///< allow parallel * ranks > cores
+  double timeout = 0.0;               ///< per case [s]; 0 = none
+  int retries = 1;                    ///< extra attempts after a failure
+  double lost_fraction = 0.01;        ///< lost particles above this fraction fail the case
   std::string liggghts = "liggghts";  ///< executable (name on PATH or path)
   std::string mpirun = "mpirun";
   SlurmSettings slurm;
@@ -127,16 +127,16 @@ struct RunSettings {
 struct AnalysisSettings {
   std::vector<std::string> metamodels{"rsm2", "rsm3", "rbf-cubic", "rbf-tps", "gp"};
   bool second_order = true;
-  int bootstrap = 200;         ///< bootstrap resamples for confidence intervals
+  int bootstrap = 200;  ///< bootstrap resamples for confidence intervals
   double confidence = 0.95;
-  int base_samples = 16384;    ///< QMC base N for metamodel-based indices
+  int base_samples = 16384;  ///< QMC base N for metamodel-based indices
 };
 
 struct StudyConfig {
-  std::filesystem::path file;   ///< the study file it was read from
-  std::string name;             ///< study name
+  std::filesystem::path file;  ///< the study file it was read from
+  std::string name;            ///< study name
   Experiment experiment = Experiment::pile;
-  std::uint64_t seed = 12345;   ///< one seed for the design, the radii and the initial positions
+  std::uint64_t seed = 12345;          ///< one seed for the design, the radii and the initial positions
   std::string design = "lhs-maximin";  ///< lhs | lhs-centred | lhs-maximin | lhs-cl2 | sobol
   int samples = 16;
   std::vector<ParameterRange> parameters;  ///< the varied parameters, in the paper's order
