@@ -1,0 +1,60 @@
+#pragma once
+// Reading a LIGGGHTS log (`-log log.liggghts`) or its screen output: the version line, the thermo table of every
+// run, WARNING and ERROR lines, lost atoms and the loop times.
+#include "postprocess/error.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demsa::postprocess {
+
+/// The thermo rows of one `run` (the header line that names the columns, then numeric rows).
+struct ThermoBlock {
+  long header_line = 0;                   ///< 1-based line of the column header (`Step Atoms KinEng ...`)
+  std::vector<std::string> columns;       ///< as written (`Step`, `Atoms`, `KinEng`, `c_rke`, ...)
+  std::vector<std::vector<double>> rows;  ///< rows[i][c]
+
+  /// Index of `name` (case-sensitive), or -1.
+  int column_index(const std::string& name) const;
+};
+
+/// One `Loop time of T on P procs for N steps with M atoms` line.
+struct LoopSummary {
+  long line = 0;
+  double seconds = 0.0;
+  int procs = 0;
+  long steps = 0;
+  long atoms = 0;
+};
+
+/// A WARNING or ERROR line: its 1-based line and its text after `WARNING: ` / `ERROR: ` (or `ERROR on proc N: `).
+struct LogMessage {
+  long line = 0;
+  std::string text;
+};
+
+struct LiggghtsLog {
+  std::string version;              ///< e.g. `LIGGGHTS-PUBLIC 3.8.0` (empty when the banner is absent)
+  std::vector<ThermoBlock> thermo;  ///< one block per run that printed thermo output
+  std::vector<LoopSummary> loops;   ///< one per finished run
+  std::vector<LogMessage> warnings;
+  std::vector<LogMessage> errors;
+  /// Atoms lost: from `Lost atoms: original N current M` when LIGGGHTS printed it, else the sum of every decrease of
+  /// the `Atoms` thermo column between consecutive rows (atoms added by create_atoms/insertion are not losses).
+  long lost_atoms = 0;
+  double loop_seconds = 0.0;                 ///< sum of the loop times
+  long steps = 0;                            ///< sum of the steps of the finished runs
+  std::optional<double> total_wall_seconds;  ///< `Total wall time: h:mm:ss`, present when LIGGGHTS ended normally
+  bool finished() const { return total_wall_seconds.has_value() && errors.empty(); }
+};
+
+/// Reads the log at `path`. Lines it does not recognise are skipped (a log also echoes the input script); a thermo
+/// row that is cut short (a killed run) ends its block. Throws ParseError only when the file cannot be read.
+LiggghtsLog read_liggghts_log(const std::filesystem::path& path);
+
+/// The same from text held in memory; `name` stands for the file in messages.
+LiggghtsLog parse_liggghts_log(const std::string& text, const std::string& name);
+
+}  // namespace demsa::postprocess

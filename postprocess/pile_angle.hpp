@@ -1,0 +1,106 @@
+#pragma once
+// The steepest angle of repose of a pile, measured as in the paper (§3.3, Fig. 4):
+//  1. keep the particles on the pedestal: centre within the pedestal radius and at or above its top (§3.2 filter);
+//  2. pile height h_P = highest particle top (z + r) above the pedestal top;
+//  3. cylindrical coordinates with the origin at the centre of the pile's base (pedestal axis, pedestal top);
+//  4. φ_N directions e_i = (cos φ_i, −sin φ_i), φ_i = 360°·i/φ_N (paper eq. 9);
+//  5. equidistant levels between 0.2 h_P and 0.75 h_P; in each direction and level the particle reaching furthest
+//     out is the boundary particle. A particle belongs to direction i and level k when its sphere meets the
+//     vertical half-plane of e_i and the horizontal plane z_k (so every direction sees the pile's outline in its own
+//     cross-section, however many particles there are);
+//  6. one orthogonal (total least squares) line per direction through the boundary points in the (radial distance,
+//     height) plane; its angle against the horizontal;
+//  7. the mean angle over the directions is φ; E_φ = (φ̂ − φ)² against the target φ̂.
+#include "postprocess/dump.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace demsa::postprocess {
+
+/// Which point of a boundary particle enters the line fit.
+enum class BoundaryPointKind {
+  surface,  ///< the particle's outermost point in the direction's cross-section at the level height (default)
+  centre,   ///< the particle centre (radial distance of the centre along e_i, centre height)
+};
+/// "surface" / "centre"; throws std::invalid_argument listing the valid names.
+BoundaryPointKind boundary_point_kind_from_string(const std::string& name);
+std::string to_string(BoundaryPointKind kind);
+
+struct PileAngleOptions {
+  double pedestal_radius = 0.050;  ///< r_cy: particles with centre further from the axis are dropped [m] (> 0)
+  double pedestal_top = 0.005;     ///< z of the pedestal top (= its height on a ground at 0): lower centres are
+                                   ///< dropped, and h_P and the levels are measured from it [m]
+  double axis_x = 0.0;             ///< pile axis (origin of the cylindrical coordinates) [m]
+  double axis_y = 0.0;             ///< [m]
+  int particle_type = 1;           ///< atom type of the particles (demsa: 1); 0 = every atom counts
+  int directions = 180;            ///< φ_N, number of directions (paper: 180); ≥ 1
+  int levels = 10;                 ///< number of equidistant height levels; ≥ 2
+  double level_low = 0.20;         ///< lowest level as a fraction of h_P (paper: 0.2); in (0, level_high)
+  double level_high = 0.75;        ///< highest level as a fraction of h_P (paper: 0.75); in (level_low, 1)
+  int min_points = 3;              ///< a direction with fewer boundary points is skipped; ≥ 2
+  BoundaryPointKind point = BoundaryPointKind::surface;  ///< which point of a boundary particle is fitted
+  double target_angle = 33.5;  ///< φ̂ for E_φ [deg] (paper: mean of the measured 32° and 35°)
+
+  /// Throws std::invalid_argument naming the field, its value and the rule.
+  void validate() const;
+};
+
+/// The outermost particle of one direction at one level (a coloured particle of the paper's Fig. 4a).
+struct BoundaryParticle {
+  int direction = 0;                       ///< i_φ
+  int level = 0;                           ///< k, 0 = lowest level
+  std::size_t index = 0;                   ///< row in the Particles given to measure_pile_angle
+  std::int64_t id = 0;                     ///< atom id
+  double x = 0, y = 0, z = 0, radius = 0;  ///< the particle [m]
+  double radial = 0;                       ///< fitted point: distance from the axis along e_i [m]
+  double height = 0;                       ///< fitted point: height above the pedestal top [m]
+};
+
+/// The fitted line of one direction (a line element of the paper's Fig. 4b).
+struct DirectionLine {
+  int direction = 0;        ///< i_φ
+  double phi = 0;           ///< φ_i [deg]
+  double ex = 1, ey = 0;    ///< e_i = (cos φ_i, −sin φ_i)
+  int points = 0;           ///< boundary points fitted
+  bool used = false;        ///< false: fewer than min_points boundary points, not in the statistics
+  double angle = 0;         ///< angle of repose of this direction [deg]; positive when the flank falls outwards
+  double rms_distance = 0;  ///< RMS orthogonal distance of the points from the line [m]
+  /// Line segment between the lowest and the highest level, in the (radial, height above pedestal top) plane [m].
+  double radial_low = 0, height_low = 0, radial_high = 0, height_high = 0;
+};
+
+struct PileAngleResult {
+  PileAngleOptions options;         ///< echo of the options used
+  std::size_t particles_total = 0;  ///< atoms given (of particle_type)
+  std::size_t particles_on_pedestal = 0;
+  double pile_height = 0;                  ///< h_P above the pedestal top [m]
+  std::vector<double> level_heights;       ///< z_k above the pedestal top [m]
+  std::vector<BoundaryParticle> boundary;  ///< ordered by direction, then level
+  std::vector<DirectionLine> lines;        ///< one per direction, used or not
+  int directions_used = 0;
+  double angle_mean = 0;                ///< φ: mean over the used directions [deg]
+  double angle_sd = 0;                  ///< sample standard deviation over the used directions [deg]
+  double angle_min = 0, angle_max = 0;  ///< range over the used directions [deg]
+  double angle_error = 0;               ///< E_φ = (φ̂ − φ)² [deg²]
+};
+
+/// Indices of the particles kept on the pedestal (step 1 above).
+std::vector<std::size_t> pedestal_particles(const Particles& particles, const PileAngleOptions& options);
+
+/// Measures the angle of repose. Throws InputError when no particle is on the pedestal or no direction has
+/// min_points boundary points; std::invalid_argument for invalid options.
+PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOptions& options = {});
+
+/// Orthogonal (total least squares) line through points (u_j, v_j): the line through their centroid along the
+/// principal axis of their scatter (Golub & Van Loan, §12.3 on TLS; SVD of the centred points). Returns the unit
+/// direction (du, dv) with du ≥ 0 and the centroid. Requires at least 2 points.
+struct TlsLine {
+  double u0 = 0, v0 = 0;  ///< centroid
+  double du = 1, dv = 0;  ///< unit direction
+  double rms_distance = 0;
+};
+TlsLine fit_tls_line(const std::vector<double>& u, const std::vector<double>& v);
+
+}  // namespace demsa::postprocess
