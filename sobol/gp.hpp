@@ -1,0 +1,64 @@
+#pragma once
+// Gaussian-process (Kriging) regression (Rasmussen & Williams 2006, §2.7 for the explicit trend; Santner, Williams,
+// Notz 2003, §3.3 for the concentrated likelihood): y(x) = f(x)ᵀβ + Z(x), Z a zero-mean GP with variance σ² and an
+// anisotropic stationary correlation (squared exponential or Matérn 5/2) with one length scale per input, plus an
+// optional nugget τ (correlation matrix R + τI) for noisy simulators. β by generalised least squares, σ² profiled
+// out, length scales (and τ) by maximising the concentrated log-likelihood with NLopt (bounded, in log space, from
+// several starts). Leave-one-out residuals at fixed hyperparameters in closed form (Dubrule 1983):
+// e = Q y / diag(Q), Q = R⁻¹ - R⁻¹F (FᵀR⁻¹F)⁻¹ FᵀR⁻¹.
+#include "sobol/metamodel.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace demsa::sobol {
+
+class GaussianProcess final : public Metamodel {
+ public:
+  explicit GaussianProcess(const GpOptions& options = {});
+
+  MetamodelKind kind() const override { return MetamodelKind::gp; }
+  /// Needs at least (trend terms + 2) samples and no duplicated points unless a nugget is estimated.
+  void fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) override;
+  /// Fits with fixed hyperparameters (length scales, nugget ratio) instead of a likelihood search.
+  void fit_with(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& lengths, double nugget);
+  Eigen::VectorXd predict(const Eigen::MatrixXd& x) const override;
+  /// Predictive standard deviation (without the trend-estimation term) at the rows of x.
+  Eigen::VectorXd predict_sd(const Eigen::MatrixXd& x) const;
+  Eigen::VectorXd loo_residuals() const override { return m_loo; }
+  MetamodelSummary summary() const override;
+  std::unique_ptr<Metamodel> refit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const override;
+  bool interpolates() const override { return !m_options.nugget; }
+
+  const GpOptions& options() const { return m_options; }
+  const Eigen::VectorXd& lengths() const { return m_lengths; }  ///< θ_k
+  double nugget() const { return m_nugget; }                    ///< τ (0 without nugget)
+  double process_variance() const { return m_sigma2; }          ///< σ²
+  double log_likelihood() const { return m_log_likelihood; }    ///< concentrated, at the optimum
+
+  /// Concentrated log-likelihood of (x, y) for given hyperparameters (-inf when R is not positive definite).
+  /// Exposed for tests and benchmarks.
+  double concentrated_log_likelihood(const Eigen::VectorXd& lengths, double nugget) const;
+
+ private:
+  double correlation(const Eigen::Ref<const Eigen::RowVectorXd>& a, const Eigen::Ref<const Eigen::RowVectorXd>& b,
+                     const Eigen::VectorXd& lengths) const;
+  Eigen::MatrixXd trend_basis(const Eigen::MatrixXd& x) const;
+  void finish_fit(const Eigen::VectorXd& lengths, double nugget);
+
+  GpOptions m_options;
+  Eigen::VectorXd m_lengths;
+  double m_nugget = 0.0;
+  double m_sigma2 = 0.0;
+  double m_log_likelihood = 0.0;
+  Eigen::VectorXd m_beta;
+  Eigen::VectorXd m_alpha;  ///< R⁻¹ (y - Fβ)
+  Eigen::LLT<Eigen::MatrixXd> m_llt;
+  Eigen::VectorXd m_loo;
+  int m_starts_done = 0;
+  int m_evaluations = 0;
+};
+
+}  // namespace demsa::sobol
