@@ -35,14 +35,17 @@ struct ParameterRange {
 
 /// Material values: the fixed value of every contact parameter that is not varied, and the density.
 struct Material {
-  double E = 1e8;         ///< Young's modulus [Pa]; LIGGGHTS (units si) checks 5e6 <= E <= 1e9
-  double nu = 0.3;        ///< Poisson ratio, (0, 0.5)
-  double mu_pp = 1.0;     ///< particle-particle Coulomb friction, >= 0
-  double mu_pw = 1.0;     ///< particle-wall Coulomb friction, >= 0
-  double e_r = 0.4;       ///< coefficient of restitution, (0, 1]
-  double mu_r_pp = 0.1;   ///< particle-particle rolling friction (LIGGGHTS `cdt`, dimensionless), >= 0
-  double mu_r_pw = 0.1;   ///< particle-wall rolling friction (`cdt`), >= 0
-  double density = 2500;  ///< particle density [kg/m^3], > 0 (not in the paper)
+  double E = 1e8;               ///< Young's modulus [Pa]; LIGGGHTS (units si) checks 5e6 <= E <= 1e9
+  double nu = 0.3;              ///< Poisson ratio, (0, 0.5)
+  double mu_pp = 1.0;           ///< particle-particle Coulomb friction, >= 0
+  double mu_pw = 1.0;           ///< particle-wall Coulomb friction, >= 0
+  double e_r = 0.4;             ///< coefficient of restitution, (0, 1]
+  double mu_r_pp = 0.1;         ///< particle-particle rolling friction (LIGGGHTS `cdt`, dimensionless), >= 0
+  double mu_r_pw = 0.1;         ///< particle-wall rolling friction (`cdt`), >= 0
+  double density = 2500;        ///< particle density [kg/m^3], > 0 (not in the paper)
+  double gravity = 9.81;        ///< |g| [m/s^2], > 0
+  bool soft_particles = false;  ///< allow E < 5e6 Pa (LIGGGHTS `soft_particles yes`)
+  bool hard_particles = false;  ///< allow E > 1e9 Pa (LIGGGHTS `hard_particles yes`)
 };
 
 /// Radii of a particle set: truncated normal N(mean, sd) restricted to [r_min, r_max] (paper Table 2).
@@ -58,20 +61,23 @@ struct PileSettings {
   std::string preset;    ///< "", "set1" or "set2" (paper Table 2); fills radii and particles
   int particles = 6000;  ///< number of particles
   RadiusDistribution radii;
-  double disc_radius = 0.020;      ///< r_fu: radius of the filling discs [m]
-  double fill_height = 0.100;      ///< h_fu: discs below it are present at start [m]
-  double pedestal_radius = 0.050;  ///< r_cy [m]
-  double pedestal_height = 0.005;  ///< h_cy [m]
-  double settle_time = 0.6;        ///< settling after the last disc [s]
-  double ke_stop = 0.0;            ///< stop settling early once kinetic energy < ke_stop [J]; 0 = never
-  double target_angle = 33.5;      ///< φ̂ for E_φ [deg]
-  int directions = 180;            ///< φ_N (paper §3.3)
-  int levels = 10;                 ///< height levels between 0.2 h_P and 0.75 h_P
+  double disc_radius = 0.020;       ///< r_fu: radius of the filling discs [m]
+  double fill_height = 0.100;       ///< h_fu: discs below it are present at start [m]
+  double pedestal_radius = 0.050;   ///< r_cy [m]
+  double pedestal_height = 0.005;   ///< h_cy [m]
+  double settle_time = 0.6;         ///< settling after the last disc [s]
+  double ke_stop = 0.0;             ///< stop settling early once kinetic energy < ke_stop [J]; 0 = never
+  double target_angle = 33.5;       ///< φ̂ for E_φ [deg]
+  int directions = 180;             ///< φ_N (paper §3.3)
+  int levels = 10;                  ///< height levels between 0.2 h_P and 0.75 h_P
+  double settle_check_time = 0.02;  ///< with ke_stop > 0: kinetic energy checked every this long [s]
+  double domain_half_width = 0.15;  ///< simulation box half width in x and y [m]; particles leaving it are lost
 };
 
 /// Oedometer experiment (paper §4).
 struct OedometerSettings {
   int particles = 4642;
+  std::string preset;  ///< "" or "paper" (assembly one of §4: 4642 particles)
   RadiusDistribution radii{2.5e-3, 3.5e-3, 3.0e-3, 0.25e-3};
   double box_side = 0.10;                                   ///< [m]
   double box_height = 0.10;                                 ///< [m]
@@ -86,6 +92,9 @@ struct OedometerSettings {
   double servo_kd = 0.0;
   double load_tolerance = 0.03;   ///< |F - L| that counts as reached [N] (paper R_pr = 0.03 N)
   long servo_max_steps = 400000;  ///< give up on a load after this many steps
+  long servo_check_steps = 2000;  ///< servo: force averaged and the load checked every this many steps
+  double rest_velocity = 1e-3;    ///< servo: the plate is at rest when its mean speed over a check is below [m/s]
+  double plate_gap = 0.5e-3;      ///< the plate starts this far above the settled packing [m]
   // trial-step mode (paper §4 constants)
   long trial_steps = 15000;        ///< n_s
   long relax_steps = 80000;        ///< n_L
@@ -99,6 +108,7 @@ struct TimestepSettings {
   TimestepMode mode = TimestepMode::rayleigh;
   double fraction = 0.15;  ///< dt = fraction * T_R(r_min, E, ν, ρ); (0, 0.3]
   double value = 0.0;      ///< fixed dt [s] (mode fixed)
+  double skin = 1e-3;      ///< neighbor list skin [m]; a moving mesh may travel at most skin/2 per step
 };
 
 struct SlurmSettings {
@@ -155,7 +165,8 @@ StudyConfig load_study(const std::filesystem::path& file);
 /// Parses study text (for tests); `file` is the name used in messages.
 StudyConfig parse_study(const std::string& text, const std::filesystem::path& file);
 
-/// A stable hash of the settings that define the design and the cases (everything but [run] and [analysis]).
+/// A stable hash of the settings that define the design and the cases (everything but [run] and [analysis],
+/// except run.ranks: a result depends on the rank count).
 std::string design_hash(const StudyConfig& config);
 
 /// Material values for one sample: config.material with the varied parameters set from `physical`

@@ -1,0 +1,65 @@
+#pragma once
+// One LIGGGHTS case folder per sample (DESIGN.md §4–5): the experiment's input script and its includes (embedded
+// in demsa from liggghts_templates/), a generated params.liggghts with every physical value, the geometry
+// (pedestal / plate STL), the initial particles, run.sh and case.json. A person runs it with `cd DIR && ./run.sh`.
+//
+// Files written by LIGGGHTS (or by `demsa drive-oedometer` for the trial-step oedometer) in the folder:
+//   log.liggghts, screen.txt, and pile_final.dump (pile) or oedometer_final.dump, plate_history.txt,
+//   plate_states.txt (oedometer). The names are the constants below.
+#include "orchestrator/study_config.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace demsa {
+
+inline constexpr const char* k_case_input = "in.liggghts";                     ///< main LIGGGHTS script
+inline constexpr const char* k_case_params = "params.liggghts";                ///< generated variables
+inline constexpr const char* k_case_run_script = "run.sh";                     ///< runs the case from its folder
+inline constexpr const char* k_case_json = "case.json";                        ///< what the case is (see write_case)
+inline constexpr const char* k_case_log = "log.liggghts";                      ///< LIGGGHTS log
+inline constexpr const char* k_case_screen = "screen.txt";                     ///< LIGGGHTS screen output
+inline constexpr const char* k_pile_final_dump = "pile_final.dump";            ///< id type x y z radius vx vy vz
+inline constexpr const char* k_oedometer_final_dump = "oedometer_final.dump";  ///< same columns
+inline constexpr const char* k_plate_history = "plate_history.txt";            ///< step load_N plate_z_m force_N ...
+inline constexpr const char* k_plate_states = "plate_states.txt";              ///< load_N plate_z_m force_N converged
+
+/// The final dump a finished case of `experiment` leaves in its folder.
+std::string final_dump_name(Experiment experiment);
+
+/// What to write: one sample of a study (or a hand-set parameter tuple).
+struct CaseRequest {
+  int sample = 0;                          ///< sample index in the design (-1: values set by hand)
+  std::vector<double> unit_point;          ///< the sample in [0,1]^d, ordered as config.parameters
+  std::vector<double> physical;            ///< physical values, ordered as config.parameters
+  std::filesystem::path demsa_executable;  ///< absolute path of demsa (run.sh of a trial-step oedometer calls it)
+  std::string liggghts_version;            ///< recorded in case.json; empty: unknown
+};
+
+/// What was written (also recorded in case.json).
+struct CaseSummary {
+  std::filesystem::path dir;   ///< the case folder
+  Material material;           ///< the sample's contact parameters and density
+  double dt = 0.0;             ///< time step [s]
+  double rayleigh_time = 0.0;  ///< T_R of the smallest particle [s]
+  std::string dt_source;       ///< "rayleigh" (fraction * T_R) or "fixed"
+  int particles = 0;           ///< particles of the assembly
+  std::string final_dump;      ///< file name of the final dump
+};
+
+/// Writes the case folder `dir` (created if missing; existing generated files are overwritten). Deterministic:
+/// the same study and request give byte-identical input files. Throws UserError when the sample's settings break
+/// a LIGGGHTS limit (time step, servo speed, Young's modulus range), naming the limit and the values.
+CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, const std::filesystem::path& dir);
+
+/// A CaseRequest from explicit parameter values `name=value` (names from contact_parameter_names(); the varied
+/// parameters not named take the middle of their range, the others config.material). Throws UserError on an
+/// unknown name or a value outside a varied parameter's range.
+CaseRequest request_from_values(const StudyConfig& config, const std::vector<std::pair<std::string, double>>& values);
+
+/// A CaseRequest for a unit-cube point (ordered as config.parameters; each coordinate in [0,1]).
+CaseRequest request_from_unit_point(const StudyConfig& config, int sample, const std::vector<double>& unit_point);
+
+}  // namespace demsa
