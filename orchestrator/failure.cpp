@@ -220,7 +220,10 @@ std::string combined_tail(const fs::path& folder, int lines) {
   std::string tail = file_tail(folder / "log.liggghts", lines);
   const std::string out = file_tail(folder / k_run_output_file, std::max(5, lines / 3));
   if (tail.empty()) tail = file_tail(folder / "screen.txt", lines);
-  if (!out.empty()) tail += (tail.empty() ? "" : "--- run.out ---\n") + out;
+  if (!out.empty()) {
+    if (!tail.empty()) tail += "--- run.out ---\n";
+    tail += out;
+  }
   return tail;
 }
 
@@ -236,7 +239,8 @@ FailureClass failure_class_from_string(const std::string& name) {
   std::string valid;
   for (const auto& [cls, text] : k_names) {
     if (name == text) return cls;
-    valid += (valid.empty() ? "" : ", ") + std::string(text);
+    if (!valid.empty()) valid += ", ";
+    valid += text;
   }
   throw std::invalid_argument(fmt::format("unknown failure class '{}' (valid: {})", name, valid));
 }

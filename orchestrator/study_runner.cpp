@@ -1,0 +1,522 @@
+#include "orchestrator/study_runner.hpp"
+
+#include "orchestrator/case_writer.hpp"
+#include "orchestrator/errors.hpp"
+#include "orchestrator/failure.hpp"
+#include "orchestrator/local_executor.hpp"
+#include "orchestrator/progress.hpp"
+#include "orchestrator/store.hpp"
+#include "postprocess/dump.hpp"
+#include "postprocess/oedometer.hpp"
+#include "postprocess/pile_angle.hpp"
+#include "sobol/design.hpp"
+#include "sobol/scaling.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <fstream>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace demsa {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The one piece of process-wide state: a signal handler can only reach a lock-free atomic of static storage.
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int signal) {
+  g_stop_signal = signal;
+  std::signal(signal, SIG_DFL);
+}
+
+constexpr const char* k_result_file = "result.json";
+constexpr const char* k_store_file = "study.db";
+constexpr const char* k_frozen_study = "study.toml";
+constexpr const char* k_design_file = "design.csv";
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+fs::path self_executable() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::path("demsa") : exe;
+}
+
+/// Mass of the heaviest particle times g times 1 m, times the particle count, times 100: a kinetic energy no
+/// settling pile or oedometer reaches (its potential energy is below N m_max g × 1 m).
+double kinetic_energy_limit(const StudyConfig& config, long particles) {
+  const double r_max = config.experiment == Experiment::pile ? config.pile.radii.r_max : config.oedometer.radii.r_max;
+  const double mass = config.material.density * 4.0 / 3.0 * std::numbers::pi * r_max * r_max * r_max;
+  return 100.0 * static_cast<double>(particles) * mass * 9.81 * 1.0;
+}
+
+long configured_particles(const StudyConfig& config) {
+  return config.experiment == Experiment::pile ? config.pile.particles : config.oedometer.particles;
+}
+
+FailureOptions failure_options(const StudyConfig& config, long particles) {
+  FailureOptions options;
+  options.experiment = config.experiment;
+  options.expected_particles = particles;
+  options.lost_fraction = config.run.lost_fraction;
+  options.kinetic_energy_limit = kinetic_energy_limit(config, particles);
+  options.load_steps = config.experiment == Experiment::oedometer ? static_cast<int>(config.oedometer.loads.size()) : 0;
+  return options;
+}
+
+std::string design_csv(const StudyConfig& config, const std::vector<SampleRow>& samples) {
+  std::string text = "sample";
+  for (const ParameterRange& p : config.parameters) text += ",u_" + p.name;
+  for (const ParameterRange& p : config.parameters) text += "," + p.name;
+  text += "\n";
+  for (const SampleRow& s : samples) {
+    text += std::to_string(s.sample);
+    for (double u : s.unit) text += fmt::format(",{:.17g}", u);
+    for (double x : s.physical) text += fmt::format(",{:.17g}", x);
+    text += "\n";
+  }
+  return text;
+}
+
+std::vector<SampleRow> draw_design(const StudyConfig& config) {
+  sobol::DesignOptions options;
+  options.kind = sobol::design_kind_from_string(config.design);
+  options.samples = config.samples;
+  options.dimension = static_cast<int>(config.parameters.size());
+  options.seed = config.seed;
+  const sobol::DesignResult design = sobol::make_design(options);
+  std::vector<sobol::Bounds> bounds;
+  for (const ParameterRange& p : config.parameters) bounds.push_back(p.bounds);
+  const Eigen::MatrixXd physical = sobol::to_physical(design.points, bounds);
+  std::vector<SampleRow> rows;
+  for (int i = 0; i < design.points.rows(); ++i) {
+    SampleRow row;
+    row.sample = i;
+    for (int j = 0; j < design.points.cols(); ++j) {
+      row.unit.push_back(design.points(i, j));
+      row.physical.push_back(physical(i, j));
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+/// The result.json of a run, when the file is complete and belongs to run `run` of sample `sample`.
+std::optional<std::map<std::string, double>> read_result(const fs::path& folder, int sample, long run) {
+  const fs::path file = folder / k_result_file;
+  if (!fs::exists(file)) return std::nullopt;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(read_text(file));
+    if (j.at("sample").get<int>() != sample || j.at("run").get<long>() != run) return std::nullopt;
+    return j.at("observables").get<std::map<std::string, double>>();
+  } catch (const std::exception&) {
+    return std::nullopt;  // a torn or foreign file: the run is redone
+  }
+}
+
+RunOutcome outcome_from(const CaseExit& exit) {
+  RunOutcome o;
+  o.exit_code = exit.exit_code;
+  o.signal = exit.signal;
+  o.wall_seconds = exit.wall_seconds;
+  o.cpu_seconds = exit.cpu_seconds;
+  o.host = exit.host;
+  return o;
+}
+
+/// Removes what an earlier attempt left and writes the case anew. Returns the particle count of the case.
+long prepare_case(const StudyConfig& config, const SampleRow& sample, const fs::path& folder) {
+  std::error_code ec;
+  fs::remove_all(folder, ec);
+  if (ec) throw std::runtime_error(fmt::format("{}: cannot remove: {}", folder.string(), ec.message()));
+  CaseRequest request = request_from_unit_point(config, sample.sample, sample.unit);
+  request.demsa_executable = self_executable();
+  const CaseSummary summary = write_case(config, request, folder);
+  return summary.particles > 0 ? summary.particles : configured_particles(config);
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------------------------------------- StopFlag
+
+void StopFlag::install() {
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+}
+bool StopFlag::raised() { return g_stop_signal != 0; }
+int StopFlag::signal_number() { return static_cast<int>(g_stop_signal); }
+void StopFlag::reset() { g_stop_signal = 0; }
+
+// ----------------------------------------------------------------------------------------------- StudyLock
+
+StudyLock::StudyLock(const fs::path& dir) {
+  const fs::path file = dir / ".demsa.lock";
+  m_fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (m_fd < 0) throw UserError(fmt::format("{}: cannot open: {}", file.string(), std::strerror(errno)));
+  struct flock lock {};
+  lock.l_type = F_WRLCK;
+  lock.l_whence = SEEK_SET;
+  if (::fcntl(m_fd, F_SETLK, &lock) != 0) {
+    ::close(m_fd);
+    m_fd = -1;
+    const long pid = holder(dir);
+    throw UserError(
+        fmt::format("{}: another demsa (pid {}) is running this study; wait for it or stop it", dir.string(), pid));
+  }
+}
+
+StudyLock::~StudyLock() {
+  if (m_fd >= 0) ::close(m_fd);
+}
+
+long StudyLock::holder(const fs::path& dir) {
+  const fs::path file = dir / ".demsa.lock";
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  struct flock lock {};
+  lock.l_type = F_WRLCK;
+  lock.l_whence = SEEK_SET;
+  long pid = 0;
+  if (::fcntl(fd, F_GETLK, &lock) == 0 && lock.l_type != F_UNLCK) pid = lock.l_pid;
+  ::close(fd);
+  return pid;
+}
+
+// ----------------------------------------------------------------------------------------------- helpers
+
+void RunOptions::validate() const {
+  if (study_file.empty()) throw std::invalid_argument("study_file is empty: a study file is required");
+  if (!(progress_interval > 0))
+    throw std::invalid_argument(fmt::format("progress_interval = {}: must be > 0", progress_interval));
+}
+
+fs::path default_study_dir(const fs::path& study_file) {
+  fs::path dir = study_file;
+  dir.replace_extension();
+  return dir;
+}
+
+fs::path case_dir(const fs::path& study_dir, int sample) { return study_dir / "cases" / fmt::format("{:06d}", sample); }
+
+void write_file_atomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.parent_path() / (path.filename().string() + ".tmp");
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(fmt::format("{}: cannot write: {}", tmp.string(), std::strerror(errno)));
+  std::size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      ::close(fd);
+      throw std::runtime_error(fmt::format("{}: write failed: {}", tmp.string(), std::strerror(errno)));
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0)
+    throw std::runtime_error(fmt::format("{}: fsync failed: {}", tmp.string(), std::strerror(errno)));
+  if (::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error(fmt::format("{}: rename failed: {}", path.string(), std::strerror(errno)));
+  // The rename itself is durable only once the folder is synced.
+  const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  const int dir_fd = ::open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir_fd >= 0) {
+    ::fsync(dir_fd);
+    ::close(dir_fd);
+  }
+}
+
+std::vector<std::string> observable_names(const StudyConfig& config) {
+  if (config.experiment == Experiment::pile) return {"angle", "pile_height"};
+  std::vector<std::string> names;
+  for (std::size_t i = 1; i < config.oedometer.loads.size(); ++i) names.push_back(fmt::format("settlement_{}", i));
+  if (!config.oedometer.measured_settlements.empty()) names.push_back("settlement_error");
+  return names;
+}
+
+std::map<std::string, double> measure_case(const StudyConfig& config, const fs::path& folder) {
+  std::map<std::string, double> values;
+  if (config.experiment == Experiment::pile) {
+    const postprocess::Particles particles = postprocess::read_particles(folder / k_pile_final_dump, 1);
+    postprocess::PileAngleOptions options;
+    options.pedestal_radius = config.pile.pedestal_radius;
+    options.pedestal_top = config.pile.pedestal_height;
+    options.directions = config.pile.directions;
+    options.levels = config.pile.levels;
+    options.target_angle = config.pile.target_angle;
+    const postprocess::PileAngleResult result = postprocess::measure_pile_angle(particles, options);
+    values["angle"] = result.angle_mean;
+    values["pile_height"] = result.pile_height;
+    values["angle_sd"] = result.angle_sd;
+    values["particles_on_pedestal"] = static_cast<double>(result.particles_on_pedestal);
+    return values;
+  }
+  const std::vector<postprocess::PlateState> states = postprocess::read_plate_states(folder / k_plate_states);
+  postprocess::OedometerOptions options;
+  options.box_side = config.oedometer.box_side;
+  options.measured_settlements = config.oedometer.measured_settlements;
+  const postprocess::OedometerResult result = postprocess::measure_oedometer(states, options);
+  for (std::size_t i = 0; i < result.settlements.size(); ++i)
+    values[fmt::format("settlement_{}", i + 1)] = result.settlements[i];
+  if (result.settlement_error) values["settlement_error"] = *result.settlement_error;
+  return values;
+}
+
+// ----------------------------------------------------------------------------------------------- run_study
+
+namespace {
+
+/// Opens the store of `dir` for `config`: creates design, samples and design.csv on a new study, refuses a changed
+/// design-relevant setting.
+Store open_study(const StudyConfig& config, const fs::path& study_file, const fs::path& dir, bool new_study) {
+  const fs::path db = dir / k_store_file;
+  if (new_study) {
+    for (const char* name : {"study.db", "study.db-wal", "study.db-shm", k_design_file, "cases", "analysis"})
+      fs::remove_all(dir / name);
+  }
+  Store store(db.string());
+  const std::string hash = design_hash(config);
+  if (const std::optional<std::string> stored = store.design_hash()) {
+    if (*stored != hash)
+      throw UserError(fmt::format(
+          "{}: the design-relevant settings differ from those of the study in {} (design hash {} there, {} now); "
+          "only [run] and [analysis] may change in an existing study. Use `demsa run --new` to discard it and start "
+          "a new study there, or choose another --dir",
+          study_file.string(), dir.string(), *stored, hash));
+  } else {
+    const std::vector<SampleRow> samples = draw_design(config);
+    write_file_atomically(dir / k_design_file, design_csv(config, samples));
+    store.initialize(hash, config.name, samples);
+    store.add_event("created",
+                    fmt::format("{} samples, design {}, seed {}", samples.size(), config.design, config.seed));
+  }
+  // The frozen copy: the design part is identical by the hash check; [run]/[analysis] follow the latest file.
+  const fs::path frozen = dir / k_frozen_study;
+  std::error_code ec;
+  if (!fs::equivalent(study_file, frozen, ec)) write_file_atomically(frozen, read_text(study_file));
+  return store;
+}
+
+struct InFlight {
+  long run = 0;
+  int sample = 0;
+  int attempt = 1;
+  long particles = 0;
+};
+
+}  // namespace
+
+RunSummary run_study(const RunOptions& options) {
+  options.validate();
+  const auto start = std::chrono::steady_clock::now();
+  const StudyConfig config = load_study(options.study_file);
+  RunSummary summary;
+  summary.dir = options.dir.empty() ? default_study_dir(options.study_file) : options.dir;
+  summary.dry_run = options.dry_run;
+  const fs::path& dir = summary.dir;
+  fs::create_directories(dir);
+  const StudyLock lock(dir);
+  Store store = open_study(config, options.study_file, dir, options.new_study);
+  const std::vector<SampleRow> samples = store.samples();
+  summary.samples = static_cast<int>(samples.size());
+  const std::function<bool()> should_stop =
+      options.should_stop ? options.should_stop : [] { return StopFlag::raised(); };
+
+  if (options.dry_run) {
+    // Validate every case by writing it (a case that breaks a LIGGGHTS limit throws UserError here).
+    for (const SampleRow& s : samples) {
+      const fs::path folder = case_dir(dir, s.sample);
+      if (!fs::exists(folder / k_result_file)) prepare_case(config, s, folder);
+    }
+    summary.done = store.counts().done;
+    summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return summary;
+  }
+
+  std::unique_ptr<Executor> executor = make_executor(config.run, dir);
+  const int parallel = config.run.executor == ExecutorKind::local ? local_parallel(config.run, machine_cores()) : 1;
+
+  // Who is done, who has a run in flight.
+  std::set<int> done;
+  std::map<int, int> attempts;  // sample -> attempts that counted (not requeued)
+  for (const RunRow& r : store.runs()) {
+    if (r.state == RunState::done) done.insert(r.sample);
+    if (r.state != RunState::requeued) attempts[r.sample] = std::max(attempts[r.sample], r.attempt);
+  }
+
+  std::map<std::string, InFlight> in_flight;  // keyed by case folder
+  auto key = [&](int sample) { return case_dir(dir, sample).string(); };
+
+  // Recover runs an earlier demsa left `submitted`.
+  std::vector<SubmittedCase> adopt;
+  for (const RunRow& r : store.runs_in_state(RunState::submitted)) {
+    const fs::path folder = case_dir(dir, r.sample);
+    if (const auto observables = read_result(folder, r.sample, r.id)) {
+      RunOutcome outcome;
+      outcome.exit_code = 0;
+      outcome.message = "recovered from result.json after an interruption";
+      store.record_done(r.id, outcome, *observables);
+      done.insert(r.sample);
+      ++summary.recovered;
+      continue;
+    }
+    adopt.push_back({CaseTask{r.sample, r.attempt, folder}, r.job_id});
+    in_flight[folder.string()] = InFlight{r.id, r.sample, r.attempt, configured_particles(config)};
+  }
+  if (!adopt.empty()) {
+    store.add_event("resume", fmt::format("{} runs left in flight by an earlier demsa", adopt.size()));
+    executor->adopt(adopt);
+  }
+
+  // This invocation gives every sample that is not done 1 + retries attempts.
+  const int budget = 1 + std::max(0, config.run.retries);
+  std::map<int, int> tries_now;
+  std::deque<int> queue;
+  for (const SampleRow& s : samples)
+    if (!done.count(s.sample) && !in_flight.count(key(s.sample))) queue.push_back(s.sample);
+
+  Progress progress(options.quiet ? nullptr : stderr, Progress::is_terminal(stderr), options.progress_interval);
+  std::vector<double> walls;
+  for (const RunRow& r : store.runs())
+    if (r.state == RunState::done && r.wall_seconds > 0) walls.push_back(r.wall_seconds);
+  std::set<int> failed_final;
+  auto counts = [&] {
+    ProgressCounts c;
+    c.done = static_cast<int>(done.size());
+    c.running = static_cast<int>(in_flight.size());
+    c.failed = static_cast<int>(failed_final.size());
+    c.total = summary.samples;
+    return c;
+  };
+  auto eta = [&] {
+    double mean = 0;
+    for (double w : walls) mean += w;
+    mean = walls.empty() ? 0.0 : mean / static_cast<double>(walls.size());
+    const int remaining = summary.samples - static_cast<int>(done.size()) - static_cast<int>(failed_final.size());
+    return estimate_remaining(remaining, parallel, mean);
+  };
+
+  auto handle = [&](const FinishedCase& finished) {
+    const auto it = in_flight.find(finished.task.folder.string());
+    if (it == in_flight.end()) return;  // not ours (cannot happen with one runner per study)
+    const InFlight flight = it->second;
+    in_flight.erase(it);
+    const fs::path folder = finished.task.folder;
+    FailureReport report = classify_case(finished.exit, folder, failure_options(config, flight.particles));
+    if (report.requeue) {
+      store.record_requeued(flight.run, report.message);
+      if (!should_stop()) queue.push_front(flight.sample);
+      return;
+    }
+    RunOutcome outcome = outcome_from(finished.exit);
+    std::map<std::string, double> observables;
+    if (report.failure == FailureClass::none) {
+      try {
+        observables = measure_case(config, folder);
+      } catch (const std::exception& e) {
+        report.failure = FailureClass::measurement;
+        report.message = e.what();
+        report.log_tail = file_tail(folder / k_case_log, 30);
+      }
+    }
+    attempts[flight.sample] = std::max(attempts[flight.sample], flight.attempt);
+    if (report.failure == FailureClass::none) {
+      nlohmann::json result;
+      result["sample"] = flight.sample;
+      result["run"] = flight.run;
+      result["attempt"] = flight.attempt;
+      result["observables"] = observables;
+      result["exit_code"] = finished.exit.exit_code;
+      result["wall_seconds"] = finished.exit.wall_seconds;
+      result["cpu_seconds"] = finished.exit.cpu_seconds;
+      result["host"] = finished.exit.host;
+      write_file_atomically(folder / k_result_file, result.dump(2) + "\n");
+      store.record_done(flight.run, outcome, observables);
+      done.insert(flight.sample);
+      ++summary.done_now;
+      if (finished.exit.wall_seconds > 0) walls.push_back(finished.exit.wall_seconds);
+      return;
+    }
+    outcome.failure = to_string(report.failure);
+    outcome.message = report.message;
+    outcome.log_tail = report.log_tail;
+    store.record_failed(flight.run, outcome);
+    ++summary.failures_by_class[outcome.failure];
+    if (tries_now[flight.sample] < budget && !should_stop())
+      queue.push_back(flight.sample);
+    else
+      failed_final.insert(flight.sample);
+  };
+
+  while ((!queue.empty() || executor->in_flight() > 0) && !should_stop()) {
+    std::vector<CaseTask> batch;
+    std::vector<InFlight> flights;
+    const int slots = executor->free_slots();
+    while (static_cast<int>(batch.size()) < slots && !queue.empty()) {
+      const int sample = queue.front();
+      queue.pop_front();
+      if (done.count(sample)) continue;
+      const fs::path folder = case_dir(dir, sample);
+      InFlight flight;
+      flight.sample = sample;
+      flight.attempt = attempts[sample] + 1;
+      flight.particles = prepare_case(config, samples.at(static_cast<std::size_t>(sample)), folder);
+      // The run row exists before the process does: a crash in between leaves a run to adopt, never a process
+      // the store does not know.
+      flight.run = store.add_run(sample, flight.attempt);
+      attempts[sample] = flight.attempt;
+      ++tries_now[sample];
+      batch.push_back(CaseTask{sample, flight.attempt, folder});
+      flights.push_back(flight);
+    }
+    if (!batch.empty()) {
+      const std::vector<std::string> ids = executor->submit(batch);
+      for (std::size_t i = 0; i < batch.size(); ++i) {
+        store.set_job_id(flights[i].run, ids.at(i));
+        in_flight[batch[i].folder.string()] = flights[i];
+      }
+    }
+    for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(200))) handle(finished);
+    progress.update(counts(), eta());
+  }
+
+  if (should_stop()) {
+    summary.interrupted = true;
+    executor->cancel_all();
+    for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(0))) handle(finished);
+    store.add_event("interrupted", StopFlag::signal_number() != 0 ? fmt::format("signal {}", StopFlag::signal_number())
+                                                                  : std::string("stopped"));
+  }
+  progress.finish(counts());
+
+  summary.done = static_cast<int>(done.size());
+  for (const SampleRow& s : samples)
+    if (!done.count(s.sample) && failed_final.count(s.sample)) summary.failed_samples.push_back(s.sample);
+  summary.failed = static_cast<int>(summary.failed_samples.size());
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  store.add_event("finished", fmt::format("{} done, {} failed, {} committed now in {:.1f} s", summary.done,
+                                          summary.failed, summary.done_now, summary.seconds));
+  return summary;
+}
+
+}  // namespace demsa

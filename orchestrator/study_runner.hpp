@@ -1,0 +1,101 @@
+#pragma once
+// `demsa run`: a study from its file to committed observables (DESIGN.md §1, §5), resumable.
+//
+//   design (sobol/) -> DIR/design.csv and the store's samples (first run only)
+//   per sample still to do: a fresh case folder (case_writer.hpp) -> executor -> failure classification
+//   -> observables measured from the dump (postprocess/) -> DIR/cases/NNNNNN/result.json written atomically
+//   (temporary file, fsync, rename, fsync of the folder) -> run `done` and observables in one store transaction.
+//
+// A result counts only once that transaction is committed. After any crash (SIGKILL included), `demsa run` again:
+//   - runs the store left `submitted` whose folder holds a complete result.json of that very run are committed
+//     from it (the case is not run again);
+//   - the other `submitted` runs are handed to the executor's adopt() (local: leftover process groups are ended)
+//     and run again;
+//   - done samples are never submitted again: the store allows one done run per sample.
+// SIGINT/SIGTERM (through the StopFlag) cancel the running cases, record them `requeued` and return.
+#include "orchestrator/executor.hpp"
+#include "orchestrator/study_config.hpp"
+
+#include <csignal>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace demsa {
+
+/// Set by SIGINT/SIGTERM once install() has been called. The only process-wide state of the runner: a signal
+/// handler can reach nothing else.
+class StopFlag {
+ public:
+  /// Installs handlers for SIGINT and SIGTERM that set the flag (first signal) and restore the default action
+  /// (so a second Ctrl-C ends demsa at once).
+  static void install();
+  static bool raised();
+  static int signal_number();  ///< the signal received, 0 if none
+  static void reset();         ///< for tests
+};
+
+struct RunOptions {
+  std::filesystem::path study_file;   ///< the study (TOML)
+  std::filesystem::path dir;          ///< study folder; empty = the study file's name without .toml
+  bool dry_run = false;               ///< validate and write design + every case; run nothing
+  bool new_study = false;             ///< discard an existing store, design and cases in `dir`
+  bool analyze = true;                ///< run the analysis at the end (when enough samples are done)
+  double progress_interval = 10.0;    ///< [s] between progress log lines when stderr is not a terminal
+  bool quiet = false;                 ///< no progress output
+  std::function<bool()> should_stop;  ///< polled in the loop; default: StopFlag::raised()
+  void validate() const;              ///< throws std::invalid_argument naming the field
+};
+
+struct RunSummary {
+  std::filesystem::path dir;
+  int samples = 0;
+  int done = 0;                                  ///< done samples (all runs of the study)
+  int done_now = 0;                              ///< committed by this invocation
+  int recovered = 0;                             ///< committed from result.json left by an interrupted run
+  int failed = 0;                                ///< samples whose last attempt failed and that have no attempt left
+  std::vector<int> failed_samples;               ///< their indices
+  std::map<std::string, int> failures_by_class;  ///< failed attempts of this invocation, by class
+  bool interrupted = false;                      ///< stopped by a signal or should_stop
+  bool dry_run = false;
+  double seconds = 0.0;  ///< wall time of this invocation
+};
+
+/// The default study folder for a study file: the file's path without ".toml".
+std::filesystem::path default_study_dir(const std::filesystem::path& study_file);
+
+/// Runs (or resumes) a study. Throws UserError for a bad study file, a changed design-relevant setting (unless
+/// new_study), or a study folder another demsa run holds.
+RunSummary run_study(const RunOptions& options);
+
+/// Folder of a sample's case: DIR/cases/NNNNNN.
+std::filesystem::path case_dir(const std::filesystem::path& study_dir, int sample);
+
+/// Measures the observables of a finished case folder (pile: angle of repose and pile height; oedometer:
+/// settlements per load after the first). Throws on a dump or plate file that cannot be measured.
+std::map<std::string, double> measure_case(const StudyConfig& config, const std::filesystem::path& folder);
+
+/// Writes `text` to `path` atomically: temporary file in the same folder, fsync, rename, fsync of the folder.
+void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+
+/// The names of the observables an experiment produces, in table order (for the analysis).
+std::vector<std::string> observable_names(const StudyConfig& config);
+
+/// Process-wide lock on a study folder (fcntl lock on DIR/.demsa.lock, released when the process ends, also by
+/// SIGKILL). Throws UserError when another process holds it.
+class StudyLock {
+ public:
+  explicit StudyLock(const std::filesystem::path& dir);
+  ~StudyLock();
+  StudyLock(const StudyLock&) = delete;
+  StudyLock& operator=(const StudyLock&) = delete;
+  /// PID of the process that holds the lock on `dir`, or 0 when none does.
+  static long holder(const std::filesystem::path& dir);
+
+ private:
+  int m_fd = -1;
+};
+
+}  // namespace demsa
