@@ -299,6 +299,10 @@ FailureReport classify_case(const CaseExit& exit, const fs::path& folder, const 
   }
   const std::string blowup = thermo_blowup(folder / "log.liggghts", options.kinetic_energy_limit);
   if (!blowup.empty()) return fail(FailureClass::energy_blowup, blowup);
+  // A shell reports a child killed by signal N as exit status 128 + N (mpirun and liggghts run under run.sh).
+  if (exit.exit_code > 128 && exit.exit_code <= 128 + 64)
+    return fail(FailureClass::signal,
+                fmt::format("exit status {} (128 + signal {})", exit.exit_code, exit.exit_code - 128));
   if (exit.exit_code != 0) return fail(FailureClass::nonzero_exit, fmt::format("exit status {}", exit.exit_code));
 
   const DumpCheck dump =

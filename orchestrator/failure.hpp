@@ -18,7 +18,7 @@ namespace demsa {
 enum class FailureClass {
   none,                 ///< ran cleanly
   nonzero_exit,         ///< run.sh exited with a status other than 0, no more specific cause found
-  signal,               ///< run.sh was killed by a signal it was not sent by demsa
+  signal,               ///< run.sh killed by a signal, or exit status 128+N (a shell reporting a killed child)
   timeout,              ///< exceeded the per-case time limit
   liggghts_error,       ///< an `ERROR:` line in the LIGGGHTS log or screen output
   lost_particles,       ///< more particles lost than RunSettings::lost_fraction allows

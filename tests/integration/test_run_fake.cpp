@@ -1,0 +1,330 @@
+// `demsa run` / `status` / `analyze` end to end against a fake LIGGGHTS (tests/integration/fake_liggghts): every
+// failure class, retries, the timeout, SIGINT, and resume after SIGKILL at random moments.
+#include "orchestrator/store.hpp"
+
+#include "support/test_support.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <sstream>
+#include <thread>
+
+namespace demsa {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+const fs::path k_fake_dir = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
+
+struct StudyText {
+  std::string experiment = "pile";
+  int samples = 12;
+  int parallel = 2;
+  double timeout = 0;
+  int retries = 1;
+  std::string extra;
+};
+
+std::string study_toml(const StudyText& s) {
+  std::string text = fmt::format(R"(
+[study]
+name = "fake-{experiment}"
+experiment = "{experiment}"
+seed = 7
+
+[design]
+method = "lhs"
+samples = {samples}
+
+[parameters]
+mu_pp = {{ low = 0.2, high = 0.8 }}
+mu_r_pp = {{ low = 0.05, high = 0.3 }}
+e_r = {{ low = 0.3, high = 0.7 }}
+
+[run]
+liggghts = "{liggghts}"
+mpirun = "{mpirun}"
+parallel = {parallel}
+oversubscribe = true
+timeout = {timeout}
+retries = {retries}
+
+[analysis]
+metamodels = ["rsm2", "rbf-cubic"]
+bootstrap = 10
+base_samples = 512
+second_order = false
+)",
+                                 fmt::arg("experiment", s.experiment), fmt::arg("samples", s.samples),
+                                 fmt::arg("liggghts", (k_fake_dir / "liggghts").string()),
+                                 fmt::arg("mpirun", (k_fake_dir / "mpirun").string()), fmt::arg("parallel", s.parallel),
+                                 fmt::arg("timeout", s.timeout), fmt::arg("retries", s.retries));
+  if (s.experiment == "pile") text += "\n[pile]\nparticles = 300\n";
+  return text + s.extra;
+}
+
+/// Environment of the fake for one test; removed again at the end.
+struct FakeEnvironment {
+  FakeEnvironment(const std::string& plan, const fs::path& state, double seconds) {
+    ::setenv("FAKE_LIGGGHTS_PLAN", plan.c_str(), 1);
+    ::setenv("FAKE_LIGGGHTS_STATE", state.c_str(), 1);
+    ::setenv("FAKE_LIGGGHTS_SECONDS", fmt::format("{}", seconds).c_str(), 1);
+  }
+  ~FakeEnvironment() {
+    ::unsetenv("FAKE_LIGGGHTS_PLAN");
+    ::unsetenv("FAKE_LIGGGHTS_STATE");
+    ::unsetenv("FAKE_LIGGGHTS_SECONDS");
+  }
+};
+
+/// Starts demsa in the background (output to `log`); returns its pid.
+pid_t spawn_demsa(const std::vector<std::string>& args, const fs::path& log) {
+  std::vector<std::string> argv{DEMSA_BINARY};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    std::vector<char*> raw;
+    for (std::string& a : argv) raw.push_back(a.data());
+    raw.push_back(nullptr);
+    ::execv(raw[0], raw.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+int wait_exit(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+/// Live processes whose working directory is under `dir`.
+int processes_in(const fs::path& dir) {
+  int count = 0;
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator("/proc", ec)) {
+    std::error_code link_error;
+    const fs::path cwd = fs::read_symlink(entry.path() / "cwd", link_error);
+    if (link_error) continue;
+    const std::string stat = test::read_file(entry.path() / "stat");
+    if (stat.find(") Z") != std::string::npos) continue;
+    if (cwd.string().rfind(dir.string(), 0) == 0) ++count;
+  }
+  return count;
+}
+
+std::map<int, int> starts_per_sample(const fs::path& state) {
+  std::map<int, int> starts;
+  std::istringstream in(test::read_file(state / "starts.log"));
+  int sample = 0;
+  while (in >> sample) ++starts[sample];
+  return starts;
+}
+
+/// The store's invariants after any sequence of runs and kills: one done run per sample, nothing after it, no
+/// more fake starts than run rows, result.json belongs to the done run, integrity ok.
+void expect_each_sample_done_exactly_once(const fs::path& dir, const fs::path& state, int samples) {
+  const Store store = Store::open_read_only((dir / "study.db").string());
+  EXPECT_EQ(store.integrity_check(), "ok");
+  std::map<int, std::vector<RunRow>> runs;
+  for (const RunRow& r : store.runs()) runs[r.sample].push_back(r);
+  const std::map<int, int> starts = starts_per_sample(state);
+  for (int k = 0; k < samples; ++k) {
+    SCOPED_TRACE(fmt::format("sample {}", k));
+    const std::vector<RunRow>& rows = runs[k];
+    ASSERT_FALSE(rows.empty());
+    int done = 0;
+    for (const RunRow& r : rows) done += r.state == RunState::done;
+    EXPECT_EQ(done, 1);
+    EXPECT_EQ(rows.back().state, RunState::done) << "a run was started after the sample was done";
+    const auto it = starts.find(k);
+    EXPECT_LE(it == starts.end() ? 0 : it->second, static_cast<int>(rows.size()));
+    const nlohmann::json result =
+        nlohmann::json::parse(test::read_file(dir / "cases" / fmt::format("{:06d}", k) / "result.json"));
+    EXPECT_EQ(result.at("run").get<long>(), rows.back().id);
+    EXPECT_TRUE(store.observables().at(k).count("angle"));
+  }
+}
+
+TEST(RunFake, EveryFailureClassRetriesTimeoutAndAnalysis) {
+  test::TempDir tmp;
+  StudyText s;
+  s.samples = 14;
+  s.timeout = 2.0;
+  s.retries = 1;
+  test::write_file(tmp / "study.toml", study_toml(s));
+  FakeEnvironment env("1:error,2:nan,3:exit,4:signal,5:hang,6:nodump,7:truncated,8:lost,9:flaky,10:offpedestal",
+                      tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(
+      {"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--progress-interval", "1"});
+  EXPECT_EQ(run.exit_code, 1) << run.out << run.err;  // failures left
+  EXPECT_NE(run.out.find("5 of 14 samples done"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("Sobol' S1 of angle"), std::string::npos) << run.out;
+  EXPECT_NE(run.err.find("[demsa] done"), std::string::npos) << run.err;  // periodic lines: not a terminal
+
+  const test::CommandResult status = test::run_demsa({"status", (tmp / "study").string(), "--json"});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const nlohmann::json j = nlohmann::json::parse(status.out);
+  EXPECT_EQ(j.at("done").get<int>(), 5);
+  EXPECT_EQ(j.at("failed").get<int>(), 9);
+  EXPECT_EQ(j.at("running").get<int>(), 0);
+  std::map<int, std::string> classes;
+  for (const nlohmann::json& f : j.at("failures")) {
+    classes[f.at("sample").get<int>()] = f.at("class").get<std::string>();
+    EXPECT_EQ(f.at("attempt").get<int>(), 2) << "every failure was retried once";
+    EXPECT_FALSE(f.at("log_tail").get<std::string>().empty());
+  }
+  const std::map<int, std::string> expected{{1, "liggghts-error"}, {2, "energy-blowup"},  {3, "nonzero-exit"},
+                                            {4, "signal"},         {5, "timeout"},        {6, "missing-dump"},
+                                            {7, "missing-dump"},   {8, "lost-particles"}, {10, "measurement"}};
+  EXPECT_EQ(classes, expected);
+  const std::map<int, int> starts = starts_per_sample(tmp.path());
+  EXPECT_EQ(starts.at(9), 2);  // flaky: failed once, retried, done
+  EXPECT_EQ(starts.at(0), 1);
+  EXPECT_EQ(starts.at(5), 2);
+
+  // The analysis left the failed samples out and wrote the paper's table.
+  const nlohmann::json analysis = nlohmann::json::parse(test::read_file(tmp / "study" / "analysis" / "analysis.json"));
+  EXPECT_EQ(analysis.at("samples_used").size(), 5u);
+  EXPECT_EQ(analysis.at("samples_left_out").size(), 9u);
+  const std::string table = test::read_file(tmp / "study" / "analysis" / "table_angle.csv");
+  EXPECT_EQ(table.rfind("model,S1_mu_pp,S1_mu_r_pp,S1_e_r,residual,r2,q2\n", 0), 0u) << table;
+
+  // A second run retries the failed samples (same plan: they fail again) and repeats no done sample.
+  const test::CommandResult again = test::run_demsa(
+      {"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"});
+  EXPECT_EQ(again.exit_code, 1);
+  const std::map<int, int> after = starts_per_sample(tmp.path());
+  EXPECT_EQ(after.at(0), 1);
+  EXPECT_EQ(after.at(9), 2);
+  EXPECT_EQ(after.at(1), 4);
+}
+
+TEST(RunFake, ResumeAfterSigkillAtRandomMomentsDoesEachSampleExactlyOnce) {
+  test::TempDir tmp;
+  StudyText s;
+  s.samples = 10;
+  test::write_file(tmp / "study.toml", study_toml(s));
+  FakeEnvironment env("", tmp.path(), 0.4);
+  const std::vector<std::string> args{
+      "run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"};
+  std::mt19937 rng(2024);
+  std::uniform_int_distribution<int> delay_ms(150, 1200);
+  for (int round = 0; round < 6; ++round) {
+    const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    ::kill(pid, SIGKILL);
+    wait_exit(pid);
+  }
+  const test::CommandResult final_run = test::run_demsa(args);
+  ASSERT_EQ(final_run.exit_code, 0) << final_run.out << final_run.err << test::read_file(tmp / "demsa.log");
+  expect_each_sample_done_exactly_once(tmp / "study", tmp.path(), s.samples);
+  // Nothing runs any more, and a further run starts nothing.
+  const std::size_t starts_before = test::read_file(tmp / "starts.log").size();
+  EXPECT_EQ(test::run_demsa(args).exit_code, 0);
+  EXPECT_EQ(test::read_file(tmp / "starts.log").size(), starts_before);
+}
+
+TEST(RunFake, SigintStopsTheCasesAndTheStudyResumes) {
+  test::TempDir tmp;
+  StudyText s;
+  s.samples = 4;
+  test::write_file(tmp / "study.toml", study_toml(s));
+  const std::vector<std::string> args{
+      "run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"};
+  {
+    FakeEnvironment env("", tmp.path(), 30.0);
+    const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
+    for (int i = 0; i < 200 && starts_per_sample(tmp.path()).size() < 2; ++i) std::this_thread::sleep_for(20ms);
+    ASSERT_EQ(starts_per_sample(tmp.path()).size(), 2u);  // two cases at once
+    // While it runs, status reads the store and sees the running cases.
+    const test::CommandResult status = test::run_demsa({"status", (tmp / "study").string(), "--json"});
+    ASSERT_EQ(status.exit_code, 0) << status.err;
+    const nlohmann::json j = nlohmann::json::parse(status.out);
+    EXPECT_EQ(j.at("running").get<int>(), 2);
+    EXPECT_EQ(j.at("active_pid").get<long>(), static_cast<long>(pid));
+    const auto start = std::chrono::steady_clock::now();
+    ::kill(pid, SIGINT);
+    EXPECT_EQ(wait_exit(pid), 130);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  }
+  // No process is left working in a case folder of this study.
+  EXPECT_EQ(processes_in(tmp / "study"), 0);
+  {
+    const Store store = Store::open_read_only((tmp / "study" / "study.db").string());
+    EXPECT_EQ(store.counts().running, 0);
+    EXPECT_EQ(store.runs_in_state(RunState::requeued).size(), 2u);
+  }
+  FakeEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult resumed = test::run_demsa(args);
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+  expect_each_sample_done_exactly_once(tmp / "study", tmp.path(), s.samples);
+}
+
+TEST(RunFake, DryRunWritesEveryCaseAndRunsNothing) {
+  test::TempDir tmp;
+  StudyText s;
+  s.samples = 5;
+  test::write_file(tmp / "study.toml", study_toml(s));
+  FakeEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run =
+      test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--dry-run"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (int k = 0; k < 5; ++k) EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / fmt::format("{:06d}", k) / "run.sh"));
+  EXPECT_TRUE(fs::exists(tmp / "study" / "design.csv"));
+  EXPECT_FALSE(fs::exists(tmp / "starts.log"));
+}
+
+TEST(RunFake, ChangedDesignIsRefusedUnlessNew) {
+  test::TempDir tmp;
+  StudyText s;
+  s.samples = 4;
+  test::write_file(tmp / "study.toml", study_toml(s));
+  const std::string dir = (tmp / "study").string();
+  ASSERT_EQ(test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", dir, "--dry-run"}).exit_code, 0);
+  s.samples = 6;
+  test::write_file(tmp / "study.toml", study_toml(s));
+  const test::CommandResult refused = test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", dir});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("design-relevant settings differ"), std::string::npos) << refused.err;
+  // [run] settings may change freely.
+  s.samples = 4;
+  s.retries = 3;
+  test::write_file(tmp / "study.toml", study_toml(s));
+  EXPECT_EQ(test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", dir, "--dry-run"}).exit_code, 0);
+  s.samples = 6;
+  test::write_file(tmp / "study.toml", study_toml(s));
+  const test::CommandResult renewed =
+      test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", dir, "--dry-run", "--new"});
+  EXPECT_EQ(renewed.exit_code, 0) << renewed.err;
+  EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / "000005" / "run.sh"));
+}
+
+TEST(RunFake, StatusAndAnalyzeOnAFolderThatIsNoStudy) {
+  test::TempDir tmp;
+  const test::CommandResult status = test::run_demsa({"status", tmp.path().string()});
+  EXPECT_EQ(status.exit_code, 2);
+  EXPECT_NE(status.err.find("not a study folder"), std::string::npos);
+  const test::CommandResult analyze = test::run_demsa({"analyze", tmp.path().string()});
+  EXPECT_EQ(analyze.exit_code, 2);
+  EXPECT_NE(analyze.err.find("not a study folder"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace demsa
