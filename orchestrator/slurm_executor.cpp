@@ -183,10 +183,14 @@ void SlurmExecutor::query_jobs() {
   }
 }
 
-std::optional<CaseExit> SlurmExecutor::decide(Tracked& t, Clock::time_point now) const {
+std::optional<CaseExit> SlurmExecutor::decide(Tracked& t, Clock::time_point now,
+                                              const std::set<std::string>& sentinels) const {
   const std::string where = fmt::format("SLURM task {}_{}", t.job, t.index);
   CaseExit exit;
-  if (const auto sentinel = read_sentinel(sentinel_path(m_work_dir, t.job, t.index))) {
+  const fs::path file = sentinel_path(m_work_dir, t.job, t.index);
+  std::optional<Sentinel> sentinel;
+  if (sentinels.count(file.filename().string())) sentinel = read_sentinel(file);
+  if (sentinel) {
     exit.host = sentinel->host;
     exit.wall_seconds = sentinel->wall_seconds;
     exit.cpu_seconds = sentinel->cpu_seconds;
@@ -272,8 +276,14 @@ std::vector<FinishedCase> SlurmExecutor::sweep(bool force_query) {
   const bool due = !m_last_query || now - *m_last_query >= m_options.query_interval ||
                    (waiting_for_state && now - *m_last_query >= m_options.sentinel_interval);
   if (force_query || due) query_jobs();
+  // One directory listing per sweep (after squeue, so that a task squeue no longer shows has had its chance to
+  // write its sentinel), instead of one open() per task in flight: cheap on a network filesystem.
+  std::set<std::string> sentinels;
+  std::error_code ec;
+  for (fs::directory_iterator it(sentinel_dir(m_work_dir), ec), end; !ec && it != end; it.increment(ec))
+    sentinels.insert(it->path().filename().string());
   for (auto& t : m_tasks) {
-    if (auto exit = decide(t, now)) {
+    if (auto exit = decide(t, now, sentinels)) {
       out.push_back({t.task, *exit});
       t.index = -1;  // marks it done
     }

@@ -26,6 +26,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -88,8 +89,8 @@ class SlurmExecutor : public Executor {
 
   std::vector<FinishedCase> sweep(bool force_query);
   void query_jobs();
-  std::optional<CaseExit> decide(Tracked& t, std::chrono::steady_clock::time_point now) const;
-  void remove_finished(std::vector<FinishedCase>& out);
+  std::optional<CaseExit> decide(Tracked& t, std::chrono::steady_clock::time_point now,
+                                 const std::set<std::string>& sentinels) const;
 
   SlurmExecutorOptions m_options;
   SlurmClient m_client;
