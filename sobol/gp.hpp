@@ -43,8 +43,6 @@ class GaussianProcess final : public Metamodel {
   double concentrated_log_likelihood(const Eigen::VectorXd& lengths, double nugget) const;
 
  private:
-  double correlation(const Eigen::Ref<const Eigen::RowVectorXd>& a, const Eigen::Ref<const Eigen::RowVectorXd>& b,
-                     const Eigen::VectorXd& lengths) const;
   Eigen::MatrixXd trend_basis(const Eigen::MatrixXd& x) const;
   void finish_fit(const Eigen::VectorXd& lengths, double nugget);
 

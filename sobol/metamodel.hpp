@@ -49,17 +49,17 @@ std::string to_string(GpTrend trend);
 
 /// Gaussian-process settings (Rasmussen & Williams 2006, ch. 2 and 5; Santner, Williams, Notz 2003, ch. 3).
 struct GpOptions {
-  GpKernel kernel = GpKernel::matern52;  ///< correlation function
-  GpTrend trend = GpTrend::constant;     ///< regression part (universal Kriging for linear)
-  bool nugget = false;                   ///< estimate a nugget (noise / signal variance ratio) for noisy simulators
-  double min_length = 1e-2;              ///< lower bound of every length scale θ_k (unit-cube units), > 0
-  double max_length = 1e2;               ///< upper bound of every θ_k, > min_length
-  double min_nugget = 1e-8;              ///< lower bound of the nugget ratio when estimated, > 0
-  double max_nugget = 1e-1;              ///< upper bound of the nugget ratio, > min_nugget
-  int starts = 8;                        ///< likelihood maximisation starts (first at θ_k = 0.5, others random), >= 1
-  int max_evaluations = 600;             ///< likelihood evaluations per start, >= 10
-  std::uint64_t seed = 12345;            ///< seed of the random starts
-  void validate() const;                 ///< throws InputError naming the field, value and rule
+  GpKernel kernel = GpKernel::squared_exponential;  ///< correlation function
+  GpTrend trend = GpTrend::constant;                ///< regression part (universal Kriging for linear)
+  bool nugget = false;         ///< estimate a nugget (noise / signal variance ratio) for noisy simulators
+  double min_length = 1e-2;    ///< lower bound of every length scale θ_k (unit-cube units), > 0
+  double max_length = 1e2;     ///< upper bound of every θ_k, > min_length
+  double min_nugget = 1e-8;    ///< lower bound of the nugget ratio when estimated, > 0
+  double max_nugget = 1e-1;    ///< upper bound of the nugget ratio, > min_nugget
+  int starts = 4;              ///< likelihood maximisation starts (first at θ_k = 0.5, others random), >= 1
+  int max_evaluations = 400;   ///< likelihood evaluations per start, >= 10
+  std::uint64_t seed = 12345;  ///< seed of the random starts
+  void validate() const;       ///< throws InputError naming the field, value and rule
 };
 
 struct MetamodelOptions {

@@ -1,0 +1,440 @@
+#include "sobol/design.hpp"
+
+#include "sobol/error.hpp"
+#include "sobol/random.hpp"
+
+#include <fmt/core.h>
+#include <gsl/gsl_qrng.h>
+
+#include <algorithm>
+#include <bit>
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numeric>
+
+namespace demsa::sobol {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// ---------------------------------------------------------------- criteria with O(n) updates for a column swap
+//
+// Both criteria are updated incrementally when the values of rows r1 and r2 in column k are exchanged, which is the
+// move of every LHS optimiser (it keeps the Latin property).
+
+/// φ_p = (Σ_{i<j} d_ij^-p)^(1/p) (Morris & Mitchell 1995, eq. 2.3). Stores squared distances.
+class PhiPCriterion {
+ public:
+  PhiPCriterion(const Eigen::MatrixXd& x, double p)
+      : m_x(x),
+        m_p(p),
+        m_half_power(std::floor(0.5 * p) == 0.5 * p && p <= 400 ? static_cast<int>(0.5 * p) : 0),
+        m_d2(x.rows(), x.rows()) {
+    const Eigen::Index n = x.rows();
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (Eigen::Index j = 0; j < n; ++j) m_d2(i, j) = (x.row(i) - x.row(j)).squaredNorm();
+    recompute();
+  }
+  double value() const { return std::pow(m_sum, 1.0 / m_p); }
+  /// Criterion after swapping column k of rows r1, r2 (state unchanged).
+  double trial(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
+    return std::pow(sum_after(r1, r2, k), 1.0 / m_p);
+  }
+  void apply(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) {
+    m_sum = sum_after(r1, r2, k);
+    const double a = m_x(r1, k), b = m_x(r2, k);
+    for (Eigen::Index j = 0; j < m_x.rows(); ++j) {
+      if (j == r1 || j == r2) continue;
+      const double c = m_x(j, k);
+      m_d2(r1, j) = moved(m_d2(r1, j), a, b, c);
+      m_d2(r2, j) = moved(m_d2(r2, j), b, a, c);
+      m_d2(j, r1) = m_d2(r1, j);
+      m_d2(j, r2) = m_d2(r2, j);
+    }
+    std::swap(m_x(r1, k), m_x(r2, k));
+    if (++m_updates % 1000 == 0) recompute();  // bound the drift of the running sum
+  }
+  const Eigen::MatrixXd& points() const { return m_x; }
+
+ private:
+  /// Squared distance after one coordinate moves from `from` to `to` (the other point's coordinate is c). Every
+  /// update goes through this one expression, so a term added to the running sum is removed later bit for bit.
+  static double moved(double d2, double from, double to, double c) {
+    return d2 + ((to - c) * (to - c) - (from - c) * (from - c));
+  }
+  /// d^-p from d²: repeated squaring when p/2 is a whole number (p = 50: 6 multiplications), else pow.
+  double term(double d2) const {
+    if (m_half_power <= 0) return std::pow(d2, -0.5 * m_p);
+    double base = 1.0 / d2, out = 1.0;
+    for (int e = m_half_power; e > 0; e >>= 1, base *= base)
+      if (e & 1) out *= base;
+    return out;
+  }
+  void recompute() {
+    m_sum = 0.0;
+    for (Eigen::Index i = 0; i < m_x.rows(); ++i)
+      for (Eigen::Index j = i + 1; j < m_x.rows(); ++j) m_sum += term(m_d2(i, j));
+  }
+  /// Σ d^-p after the swap. The terms span many decades (d^-50), so when the running sum loses most of its value
+  /// to cancellation the new sum is summed afresh.
+  double sum_after(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
+    const double updated = m_sum + delta(r1, r2, k);
+    if (updated > 1e-3 * m_sum) return updated;
+    const double a = m_x(r1, k), b = m_x(r2, k);
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < m_x.rows(); ++i)
+      for (Eigen::Index j = i + 1; j < m_x.rows(); ++j) {
+        double d2 = m_d2(i, j);
+        const bool touches1 = i == r1 || j == r1, touches2 = i == r2 || j == r2;
+        if (touches1 != touches2) {  // a pair with exactly one swapped row changes
+          const Eigen::Index other = (i == r1 || i == r2) ? j : i;
+          const double c = m_x(other, k);
+          d2 = touches1 ? moved(d2, a, b, c) : moved(d2, b, a, c);
+        }
+        sum += term(d2);
+      }
+    return sum;
+  }
+  double delta(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
+    const double a = m_x(r1, k), b = m_x(r2, k);
+    double change = 0.0;
+    for (Eigen::Index j = 0; j < m_x.rows(); ++j) {
+      if (j == r1 || j == r2) continue;
+      const double c = m_x(j, k);
+      const double n1 = moved(m_d2(r1, j), a, b, c);
+      const double n2 = moved(m_d2(r2, j), b, a, c);
+      change += term(n1) + term(n2) - term(m_d2(r1, j)) - term(m_d2(r2, j));
+    }
+    return change;  // d(r1, r2) is unchanged by the swap
+  }
+
+  Eigen::MatrixXd m_x;
+  double m_p;
+  int m_half_power;  ///< p/2 when it is a whole number, else 0
+  Eigen::MatrixXd m_d2;
+  double m_sum = 0.0;
+  long m_updates = 0;
+};
+
+/// Centred L2 discrepancy (Hickernell 1998, eq. 5.1c), squared, with the pair products c_ij and row products g_i
+/// kept for O(n) updates (Fang, Ma, Winker 2002, "Centered L2-discrepancy of random sampling and Latin hypercube
+/// design", for the update idea).
+class Cl2Criterion {
+ public:
+  explicit Cl2Criterion(const Eigen::MatrixXd& x) : m_x(x), m_c(x.rows(), x.rows()), m_g(x.rows()) {
+    const Eigen::Index n = x.rows();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      m_g(i) = row_factor(i);
+      for (Eigen::Index j = 0; j < n; ++j) m_c(i, j) = pair_factor(i, j);
+    }
+    recompute();
+  }
+  double value() const { return std::sqrt(std::max(m_value2, 0.0)); }
+  double trial(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
+    return std::sqrt(std::max(m_value2 + delta(r1, r2, k), 0.0));
+  }
+  void apply(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) {
+    m_value2 += delta(r1, r2, k);
+    std::swap(m_x(r1, k), m_x(r2, k));
+    for (const Eigen::Index r : {r1, r2}) {
+      m_g(r) = row_factor(r);
+      for (Eigen::Index j = 0; j < m_x.rows(); ++j) {
+        m_c(r, j) = pair_factor(r, j);
+        m_c(j, r) = m_c(r, j);
+      }
+    }
+    if (++m_updates % 1000 == 0) recompute();  // bound the drift of the running value
+  }
+  const Eigen::MatrixXd& points() const { return m_x; }
+
+ private:
+  static double g1(double u) {
+    const double z = std::abs(u - 0.5);
+    return 1.0 + 0.5 * z - 0.5 * z * z;
+  }
+  static double c1(double u, double v) {
+    return 1.0 + 0.5 * std::abs(u - 0.5) + 0.5 * std::abs(v - 0.5) - 0.5 * std::abs(u - v);
+  }
+  double row_factor(Eigen::Index i) const {
+    double g = 1.0;
+    for (Eigen::Index k = 0; k < m_x.cols(); ++k) g *= g1(m_x(i, k));
+    return g;
+  }
+  double pair_factor(Eigen::Index i, Eigen::Index j) const {
+    double c = 1.0;
+    for (Eigen::Index k = 0; k < m_x.cols(); ++k) c *= c1(m_x(i, k), m_x(j, k));
+    return c;
+  }
+  void recompute() {
+    const double n = static_cast<double>(m_x.rows());
+    m_value2 = std::pow(13.0 / 12.0, static_cast<double>(m_x.cols())) - 2.0 / n * m_g.sum() + m_c.sum() / (n * n);
+  }
+  double delta(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
+    const double n = static_cast<double>(m_x.rows());
+    const double a = m_x(r1, k), b = m_x(r2, k);
+    // Row terms: factor of column k changes from g1(a) to g1(b) for r1 and the reverse for r2.
+    const double dg = m_g(r1) * (g1(b) / g1(a) - 1.0) + m_g(r2) * (g1(a) / g1(b) - 1.0);
+    // Pair terms: every c_{r1 j}, c_{r2 j} (j != r1, r2) counted twice; the diagonal c_rr; c_{r1 r2} unchanged.
+    double dc = 0.0;
+    for (Eigen::Index j = 0; j < m_x.rows(); ++j) {
+      if (j == r1 || j == r2) continue;
+      const double c = m_x(j, k);
+      dc += 2.0 * (m_c(r1, j) * (c1(b, c) / c1(a, c) - 1.0) + m_c(r2, j) * (c1(a, c) / c1(b, c) - 1.0));
+    }
+    dc += m_c(r1, r1) * (c1(b, b) / c1(a, a) - 1.0) + m_c(r2, r2) * (c1(a, a) / c1(b, b) - 1.0);
+    return -2.0 / n * dg + dc / (n * n);
+  }
+
+  Eigen::MatrixXd m_x;
+  Eigen::MatrixXd m_c;
+  Eigen::VectorXd m_g;
+  double m_value2 = 0.0;
+  long m_updates = 0;
+};
+
+/// Enhanced stochastic evolutionary algorithm (Jin, Chen, Sudjianto 2005, J. Stat. Plan. Inference 134, §3): inner
+/// loops of M steps, each trying J random swaps in one column and keeping the best one under a threshold-accepting
+/// rule; the threshold adapts between improvement and exploration phases.
+template <class Criterion>
+Eigen::MatrixXd optimise_lhs(Criterion criterion, const DesignOptions& options, int& iterations_done,
+                             Clock::time_point start) {
+  Random rng(options.seed ^ 0x9E3779B97F4A7C15ULL);
+  const Eigen::Index n = criterion.points().rows();
+  const Eigen::Index d = criterion.points().cols();
+  const double pairs = 0.5 * static_cast<double>(n) * static_cast<double>(n - 1);
+  const int j_tries = static_cast<int>(std::clamp(pairs / 5.0, 1.0, 50.0));
+  const int m_inner = static_cast<int>(std::clamp(2.0 * pairs * static_cast<double>(d) / j_tries, 1.0, 100.0));
+
+  Eigen::MatrixXd best = criterion.points();
+  double best_value = criterion.value();
+  double threshold = 0.005 * best_value;
+  iterations_done = 0;
+  for (int outer = 0; outer < options.iterations; ++outer) {
+    if (seconds_since(start) > options.time_limit) break;
+    const double old_best = best_value;
+    int accepted = 0, improved = 0;
+    for (int inner = 0; inner < m_inner; ++inner) {
+      const Eigen::Index k = static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(d)));
+      Eigen::Index best_r1 = 0, best_r2 = 1;
+      double best_trial = std::numeric_limits<double>::infinity();
+      for (int t = 0; t < j_tries; ++t) {
+        const Eigen::Index r1 = static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(n)));
+        Eigen::Index r2 = static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(n - 1)));
+        if (r2 >= r1) ++r2;
+        const double v = criterion.trial(r1, r2, k);
+        if (v < best_trial) {
+          best_trial = v;
+          best_r1 = r1;
+          best_r2 = r2;
+        }
+      }
+      if (best_trial - criterion.value() <= threshold * rng.uniform()) {
+        criterion.apply(best_r1, best_r2, k);
+        ++accepted;
+        if (criterion.value() < best_value) {
+          best_value = criterion.value();
+          best = criterion.points();
+          ++improved;
+        }
+      }
+    }
+    ++iterations_done;
+    const double acceptance = static_cast<double>(accepted) / m_inner;
+    if (best_value < old_best - 1e-12 * std::abs(old_best)) {  // improvement phase
+      if (acceptance > 0.1 && improved < accepted) {
+        threshold *= 0.8;
+      } else if (acceptance <= 0.1) {
+        threshold /= 0.8;
+      }
+    } else {  // exploration phase
+      if (acceptance < 0.1) {
+        threshold /= 0.7;
+      } else if (acceptance > 0.8) {
+        threshold *= 0.9;
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+DesignKind design_kind_from_string(const std::string& name) {
+  if (name == "lhs") return DesignKind::lhs;
+  if (name == "lhs-centred" || name == "lhs-centered") return DesignKind::lhs_centred;
+  if (name == "lhs-maximin") return DesignKind::lhs_maximin;
+  if (name == "lhs-cl2") return DesignKind::lhs_cl2;
+  if (name == "sobol") return DesignKind::sobol;
+  throw InputError(fmt::format("unknown design '{}' (valid: lhs, lhs-centred, lhs-maximin, lhs-cl2, sobol)", name));
+}
+
+std::string to_string(DesignKind kind) {
+  switch (kind) {
+    case DesignKind::lhs:
+      return "lhs";
+    case DesignKind::lhs_centred:
+      return "lhs-centred";
+    case DesignKind::lhs_maximin:
+      return "lhs-maximin";
+    case DesignKind::lhs_cl2:
+      return "lhs-cl2";
+    case DesignKind::sobol:
+      return "sobol";
+  }
+  assert(false && "unhandled DesignKind");
+  return {};
+}
+
+std::vector<std::string> design_kind_names() { return {"lhs", "lhs-centred", "lhs-maximin", "lhs-cl2", "sobol"}; }
+
+DesignKind lhs_criterion_from_string(const std::string& name) {
+  if (name == "maximin") return DesignKind::lhs_maximin;
+  if (name == "cl2") return DesignKind::lhs_cl2;
+  throw InputError(fmt::format("unknown LHS criterion '{}' (valid: maximin, cl2)", name));
+}
+
+void DesignOptions::validate() const {
+  const int min_samples = kind == DesignKind::sobol ? 1 : 2;
+  if (samples < min_samples)
+    throw InputError(fmt::format("design samples = {}: must be at least {}", samples, min_samples));
+  if (dimension < 1) throw InputError(fmt::format("design dimension = {}: must be at least 1", dimension));
+  if (kind == DesignKind::sobol && dimension > k_max_sobol_dimension)
+    throw InputError(fmt::format("design dimension = {}: the Sobol' sequence supports at most {} dimensions", dimension,
+                                 k_max_sobol_dimension));
+  if (!(phi_p_power >= 1.0) || !std::isfinite(phi_p_power))
+    throw InputError(fmt::format("design phi_p_power = {}: must be a finite number >= 1", phi_p_power));
+  if (iterations < 1) throw InputError(fmt::format("design iterations = {}: must be at least 1", iterations));
+  if (!(time_limit > 0.0)) throw InputError(fmt::format("design time_limit = {}: must be > 0", time_limit));
+}
+
+Eigen::MatrixXd latin_hypercube(int samples, int dimension, std::uint64_t seed, bool centred) {
+  assert(samples >= 1 && dimension >= 1);
+  Random rng(seed);
+  Eigen::MatrixXd x(samples, dimension);
+  std::vector<int> perm(static_cast<std::size_t>(samples));
+  for (int k = 0; k < dimension; ++k) {
+    std::iota(perm.begin(), perm.end(), 0);
+    rng.shuffle(perm);
+    for (int i = 0; i < samples; ++i) {
+      const double offset = centred ? 0.5 : rng.uniform();
+      x(i, k) = (perm[static_cast<std::size_t>(i)] + offset) / samples;
+    }
+  }
+  return x;
+}
+
+Eigen::MatrixXd scrambled_sobol(int samples, int dimension, std::uint64_t seed) {
+  if (dimension < 1 || dimension > k_max_sobol_dimension)
+    throw InputError(fmt::format("Sobol' sequence: dimension {} is outside 1..{}", dimension, k_max_sobol_dimension));
+  if (samples < 1) throw InputError(fmt::format("Sobol' sequence: {} samples requested, need at least 1", samples));
+  constexpr int bits = 30;                // GSL's Sobol' numerators have 30 bits
+  constexpr double scale = 1073741824.0;  // 2^30
+  std::unique_ptr<gsl_qrng, decltype(&gsl_qrng_free)> gen(
+      gsl_qrng_alloc(gsl_qrng_sobol, static_cast<unsigned>(dimension)), &gsl_qrng_free);
+  assert(gen);
+
+  // Matoušek's random linear scrambling: digit vector a (most significant first) -> L a + e (mod 2), L lower
+  // triangular with a unit diagonal. Row r of L as a mask over the integer's bits (bit 29 = first digit).
+  Random rng(seed);
+  std::vector<std::uint32_t> masks(static_cast<std::size_t>(dimension * bits));
+  std::vector<std::uint32_t> shifts(static_cast<std::size_t>(dimension));
+  for (int k = 0; k < dimension; ++k) {
+    for (int r = 0; r < bits; ++r) {
+      const std::uint32_t diagonal = 1u << (bits - 1 - r);
+      const std::uint32_t above =
+          r == 0 ? 0u : static_cast<std::uint32_t>(rng.bits()) & ~((diagonal << 1) - 1u) & ((1u << bits) - 1u);
+      masks[static_cast<std::size_t>(k * bits + r)] = diagonal | above;
+    }
+    shifts[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(rng.bits()) & ((1u << bits) - 1u);
+  }
+
+  Eigen::MatrixXd x(samples, dimension);
+  std::vector<double> point(static_cast<std::size_t>(dimension), 0.0);
+  for (int i = 0; i < samples; ++i) {
+    // GSL starts at the sequence's second point; the first is the origin, which completes the (t,m,d)-nets.
+    if (i > 0) gsl_qrng_get(gen.get(), point.data());
+    for (int k = 0; k < dimension; ++k) {
+      const double numerator = point[static_cast<std::size_t>(k)] * scale;
+      const auto a = static_cast<std::uint32_t>(numerator);
+      assert(static_cast<double>(a) == numerator);
+      std::uint32_t y = 0;
+      for (int r = 0; r < bits; ++r)
+        y |= static_cast<std::uint32_t>(std::popcount(masks[static_cast<std::size_t>(k * bits + r)] & a) & 1)
+             << (bits - 1 - r);
+      y ^= shifts[static_cast<std::size_t>(k)];
+      // The digits below 2^-30 are uniform (the shift continued), keeping points off the cell corners.
+      x(i, k) = (static_cast<double>(y) + rng.uniform()) / scale;
+    }
+  }
+  return x;
+}
+
+double min_distance(const Eigen::MatrixXd& points) {
+  double best = std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    for (Eigen::Index j = i + 1; j < points.rows(); ++j)
+      best = std::min(best, (points.row(i) - points.row(j)).squaredNorm());
+  return std::sqrt(best);
+}
+
+double phi_p(const Eigen::MatrixXd& points, double p) {
+  // Factor out the smallest distance so that d^-p stays in range for large p.
+  const double dmin = min_distance(points);
+  if (dmin == 0.0) return std::numeric_limits<double>::infinity();
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    for (Eigen::Index j = i + 1; j < points.rows(); ++j)
+      sum += std::pow((points.row(i) - points.row(j)).norm() / dmin, -p);
+  return std::pow(sum, 1.0 / p) / dmin;
+}
+
+double centred_l2_discrepancy(const Eigen::MatrixXd& points) { return Cl2Criterion(points).value(); }
+
+DesignMetrics design_metrics(const Eigen::MatrixXd& points, double phi_p_power) {
+  DesignMetrics m;
+  m.min_distance = min_distance(points);
+  m.phi_p = phi_p(points, phi_p_power);
+  m.phi_p_power = phi_p_power;
+  m.centred_l2 = centred_l2_discrepancy(points);
+  return m;
+}
+
+DesignResult make_design(const DesignOptions& options) {
+  options.validate();
+  const Clock::time_point start = Clock::now();
+  DesignResult result;
+  result.kind = options.kind;
+  result.seed = options.seed;
+  switch (options.kind) {
+    case DesignKind::lhs:
+      result.points = latin_hypercube(options.samples, options.dimension, options.seed, false);
+      break;
+    case DesignKind::lhs_centred:
+      result.points = latin_hypercube(options.samples, options.dimension, options.seed, true);
+      break;
+    case DesignKind::lhs_maximin:
+      result.points = optimise_lhs(
+          PhiPCriterion(latin_hypercube(options.samples, options.dimension, options.seed, false), options.phi_p_power),
+          options, result.iterations, start);
+      break;
+    case DesignKind::lhs_cl2:
+      result.points =
+          optimise_lhs(Cl2Criterion(latin_hypercube(options.samples, options.dimension, options.seed, false)), options,
+                       result.iterations, start);
+      break;
+    case DesignKind::sobol:
+      result.points = scrambled_sobol(options.samples, options.dimension, options.seed);
+      break;
+  }
+  result.metrics = design_metrics(result.points, options.phi_p_power);
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace demsa::sobol

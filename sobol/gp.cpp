@@ -1,0 +1,285 @@
+#include "sobol/gp.hpp"
+
+#include "sobol/random.hpp"
+
+#include <fmt/core.h>
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <nlopt.hpp>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace demsa::sobol {
+
+namespace {
+
+/// Added to the diagonal of every correlation matrix for a stable Cholesky factor (relative to the unit variance).
+constexpr double k_jitter = 1e-10;
+
+double kernel_of_r2(GpKernel kernel, double r2) {
+  if (kernel == GpKernel::squared_exponential) return std::exp(-0.5 * r2);
+  const double r = std::sqrt(5.0 * r2);  // Matérn 5/2 (Rasmussen & Williams 2006, eq. 4.17)
+  return (1.0 + r + r * r / 3.0) * std::exp(-r);
+}
+
+/// Correlation between the rows of a and b, inputs already divided by the length scales.
+Eigen::MatrixXd cross_correlation(GpKernel kernel, const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  Eigen::MatrixXd r2 = -2.0 * a * b.transpose();
+  r2.colwise() += a.rowwise().squaredNorm();
+  r2.rowwise() += b.rowwise().squaredNorm().transpose();
+  for (Eigen::Index j = 0; j < r2.cols(); ++j)
+    for (Eigen::Index i = 0; i < r2.rows(); ++i) r2(i, j) = kernel_of_r2(kernel, std::max(r2(i, j), 0.0));
+  return r2;
+}
+
+Eigen::MatrixXd scaled(const Eigen::MatrixXd& x, const Eigen::VectorXd& lengths) {
+  return x * lengths.cwiseInverse().asDiagonal();
+}
+
+/// Correlation matrix of the training inputs (exact differences: no cancellation on the diagonal band).
+Eigen::MatrixXd training_correlation(GpKernel kernel, const Eigen::MatrixXd& xs, double nugget) {
+  const Eigen::Index n = xs.rows();
+  const Eigen::MatrixXd points = xs.transpose();  // one column per point: contiguous differences
+  Eigen::MatrixXd r(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    r(j, j) = 1.0 + nugget + k_jitter;
+    for (Eigen::Index i = j + 1; i < n; ++i)
+      r(i, j) = kernel_of_r2(kernel, (points.col(i) - points.col(j)).squaredNorm());
+  }
+  r.triangularView<Eigen::StrictlyUpper>() = r.transpose();
+  return r;
+}
+
+/// Everything the concentrated likelihood produces (Santner, Williams, Notz 2003, §3.3.2).
+struct LikelihoodState {
+  bool ok = false;
+  double log_likelihood = -std::numeric_limits<double>::infinity();
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  Eigen::VectorXd beta;
+  Eigen::VectorXd alpha;
+  double sigma2 = 0.0;
+};
+
+LikelihoodState evaluate(GpKernel kernel, const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::MatrixXd& f,
+                         const Eigen::VectorXd& lengths, double nugget) {
+  LikelihoodState s;
+  const Eigen::Index n = x.rows();
+  s.llt.compute(training_correlation(kernel, scaled(x, lengths), nugget));
+  if (s.llt.info() != Eigen::Success) return s;
+  const Eigen::MatrixXd rinv_f = s.llt.solve(f);
+  const Eigen::VectorXd rinv_y = s.llt.solve(y);
+  // β = (Fᵀ R⁻¹ F)⁻¹ Fᵀ R⁻¹ y, by a pivoting QR of the small trend system.
+  const Eigen::MatrixXd ftrf = f.transpose() * rinv_f;
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(ftrf);
+  if (qr.rank() < ftrf.cols()) return s;
+  s.beta = qr.solve(f.transpose() * rinv_y);
+  const Eigen::VectorXd resid = y - f * s.beta;
+  s.alpha = s.llt.solve(resid);
+  s.sigma2 = resid.dot(s.alpha) / static_cast<double>(n);
+  if (!(s.sigma2 > 0.0) || !std::isfinite(s.sigma2)) return s;
+  const Eigen::MatrixXd& l = s.llt.matrixLLT();
+  const double log_det = 2.0 * l.diagonal().array().log().sum();
+  s.log_likelihood = -0.5 * static_cast<double>(n) * std::log(s.sigma2) - 0.5 * log_det;
+  s.ok = std::isfinite(s.log_likelihood);
+  return s;
+}
+
+}  // namespace
+
+GaussianProcess::GaussianProcess(const GpOptions& options) : m_options(options) { m_options.validate(); }
+
+Eigen::MatrixXd GaussianProcess::trend_basis(const Eigen::MatrixXd& x) const {
+  if (m_options.trend == GpTrend::constant) return Eigen::MatrixXd::Ones(x.rows(), 1);
+  Eigen::MatrixXd f(x.rows(), x.cols() + 1);
+  f.col(0).setOnes();
+  f.rightCols(x.cols()) = x;
+  return f;
+}
+
+double GaussianProcess::concentrated_log_likelihood(const Eigen::VectorXd& lengths, double nugget) const {
+  assert(m_x.rows() > 0 && lengths.size() == m_x.cols());
+  const double mean = m_y.mean();
+  const double sd = std::sqrt((m_y.array() - mean).square().mean());
+  const Eigen::VectorXd yn = (m_y.array() - mean) / (sd > 0.0 ? sd : 1.0);
+  return evaluate(m_options.kernel, m_x, yn, trend_basis(m_x), lengths, nugget).log_likelihood;
+}
+
+void GaussianProcess::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
+  const Eigen::Index d = x.cols();
+  const int trend_terms = m_options.trend == GpTrend::constant ? 1 : static_cast<int>(d) + 1;
+  store_training_data(x, y, trend_terms + 2);
+  if (!m_options.nugget) check_no_duplicates(x);
+  const double mean = y.mean();
+  const double sd = std::sqrt((y.array() - mean).square().mean());
+  if (!(sd > 0.0)) throw InputError(fmt::format("gp: every output equals {}: nothing to model", mean));
+  const Eigen::VectorXd yn = (y.array() - mean) / sd;
+  const Eigen::MatrixXd f = trend_basis(x);
+
+  // Maximise the concentrated log-likelihood over log θ (and log τ) with BOBYQA from several starts.
+  const unsigned dim = static_cast<unsigned>(d) + (m_options.nugget ? 1u : 0u);
+  std::vector<double> lower(dim), upper(dim);
+  for (Eigen::Index k = 0; k < d; ++k) {
+    lower[static_cast<std::size_t>(k)] = std::log(m_options.min_length);
+    upper[static_cast<std::size_t>(k)] = std::log(m_options.max_length);
+  }
+  if (m_options.nugget) {
+    lower.back() = std::log(m_options.min_nugget);
+    upper.back() = std::log(m_options.max_nugget);
+  }
+  auto unpack_point = [&](const double* p, Eigen::VectorXd& lengths, double& nugget) {
+    lengths.resize(d);
+    for (Eigen::Index k = 0; k < d; ++k) lengths(k) = std::exp(p[k]);
+    nugget = m_options.nugget ? std::exp(p[d]) : 0.0;
+  };
+  struct Context {
+    const GaussianProcess* self;
+    const Eigen::MatrixXd* x;
+    const Eigen::VectorXd* y;
+    const Eigen::MatrixXd* f;
+    decltype(unpack_point)* unpack;
+    int evaluations;
+  } context{this, &x, &yn, &f, &unpack_point, 0};
+  auto objective = [](unsigned, const double* p, double*, void* data) -> double {
+    auto* c = static_cast<Context*>(data);
+    ++c->evaluations;
+    Eigen::VectorXd lengths;
+    double nugget = 0.0;
+    (*c->unpack)(p, lengths, nugget);
+    const LikelihoodState s = evaluate(c->self->m_options.kernel, *c->x, *c->y, *c->f, lengths, nugget);
+    return s.ok ? -s.log_likelihood : 1e300;
+  };
+
+  Random rng(m_options.seed);
+  std::vector<double> best_p;
+  double best_value = std::numeric_limits<double>::infinity();
+  for (int start = 0; start < m_options.starts; ++start) {
+    std::vector<double> p(dim);
+    for (unsigned k = 0; k < dim; ++k) {
+      const bool is_nugget = m_options.nugget && k + 1 == dim;
+      // First start: θ = 0.5 (half the cube), τ = 1e-4; then log-uniform over a plausible part of the box.
+      const double lo = is_nugget ? lower[k] : std::max(lower[k], std::log(0.05));
+      const double hi = is_nugget ? upper[k] : std::min(upper[k], std::log(5.0));
+      p[k] = start == 0 ? (is_nugget ? std::log(1e-4) : std::log(0.5)) : lo + (hi - lo) * rng.uniform();
+      p[k] = std::clamp(p[k], lower[k], upper[k]);
+    }
+    nlopt::opt opt(nlopt::LN_BOBYQA, dim);
+    opt.set_lower_bounds(lower);
+    opt.set_upper_bounds(upper);
+    opt.set_min_objective(objective, &context);
+    opt.set_maxeval(m_options.max_evaluations);
+    opt.set_xtol_abs(1e-4);
+    opt.set_ftol_abs(1e-7);
+    double value = std::numeric_limits<double>::infinity();
+    try {
+      opt.optimize(p, value);
+    } catch (const std::exception&) {
+      // roundoff-limited or similar: p holds the last point NLopt kept; judge it by its value below.
+      value = objective(dim, p.data(), nullptr, &context);
+    }
+    if (value < best_value) {
+      best_value = value;
+      best_p = p;
+    }
+  }
+  m_starts_done = m_options.starts;
+  m_evaluations = context.evaluations;
+  if (best_p.empty() || !(best_value < 1e300))
+    throw NumericalError(
+        "gp: the correlation matrix is singular for every length scale tried (duplicated or "
+        "nearly duplicated points; enable the nugget)");
+  Eigen::VectorXd lengths;
+  double nugget = 0.0;
+  unpack_point(best_p.data(), lengths, nugget);
+  finish_fit(lengths, nugget);
+}
+
+void GaussianProcess::fit_with(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& lengths,
+                               double nugget) {
+  assert(lengths.size() == x.cols());
+  const int trend_terms = m_options.trend == GpTrend::constant ? 1 : static_cast<int>(x.cols()) + 1;
+  store_training_data(x, y, trend_terms + 2);
+  if (!m_options.nugget) check_no_duplicates(x);
+  m_starts_done = 0;
+  m_evaluations = 0;
+  finish_fit(lengths, nugget);
+}
+
+void GaussianProcess::finish_fit(const Eigen::VectorXd& lengths, double nugget) {
+  const double mean = m_y.mean();
+  const double sd = std::sqrt((m_y.array() - mean).square().mean());
+  if (!(sd > 0.0)) throw InputError(fmt::format("gp: every output equals {}: nothing to model", mean));
+  const Eigen::VectorXd yn = (m_y.array() - mean) / sd;
+  const Eigen::MatrixXd f = trend_basis(m_x);
+  LikelihoodState s = evaluate(m_options.kernel, m_x, yn, f, lengths, nugget);
+  if (!s.ok)
+    throw NumericalError(
+        "gp: the correlation matrix is not positive definite (duplicated or nearly duplicated "
+        "points; enable the nugget)");
+  m_lengths = lengths;
+  m_nugget = nugget;
+  m_log_likelihood = s.log_likelihood;
+  // Back to the units of y: the model of (y - mean)/sd is scaled and shifted.
+  m_beta = s.beta * sd;
+  m_beta(0) += mean;
+  m_alpha = s.alpha * sd;
+  m_sigma2 = s.sigma2 * sd * sd;
+  m_llt = std::move(s.llt);
+  // Closed-form LOO (Dubrule 1983): e = Q y / diag(Q), Q = R⁻¹ - R⁻¹F (FᵀR⁻¹F)⁻¹ FᵀR⁻¹; Q y = R⁻¹(y - Fβ).
+  const Eigen::Index n = m_x.rows();
+  const Eigen::MatrixXd rinv = m_llt.solve(Eigen::MatrixXd::Identity(n, n));
+  const Eigen::MatrixXd rinv_f = rinv * f;
+  const Eigen::MatrixXd ftrf = f.transpose() * rinv_f;
+  const Eigen::MatrixXd correction = rinv_f * ftrf.colPivHouseholderQr().solve(rinv_f.transpose());
+  m_loo.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) m_loo(i) = m_alpha(i) / (rinv(i, i) - correction(i, i));
+  m_fitted = true;
+}
+
+Eigen::VectorXd GaussianProcess::predict(const Eigen::MatrixXd& x) const {
+  assert(m_fitted && x.cols() == m_x.cols());
+  Eigen::VectorXd out(x.rows());
+  const Eigen::MatrixXd centres = scaled(m_x, m_lengths);
+  const Eigen::Index block = 2048;
+  for (Eigen::Index start = 0; start < x.rows(); start += block) {
+    const Eigen::Index rows = std::min(block, x.rows() - start);
+    const Eigen::MatrixXd xb = x.middleRows(start, rows);
+    out.segment(start, rows) =
+        trend_basis(xb) * m_beta + cross_correlation(m_options.kernel, scaled(xb, m_lengths), centres) * m_alpha;
+  }
+  return out;
+}
+
+Eigen::VectorXd GaussianProcess::predict_sd(const Eigen::MatrixXd& x) const {
+  assert(m_fitted && x.cols() == m_x.cols());
+  const Eigen::MatrixXd r = cross_correlation(m_options.kernel, scaled(x, m_lengths), scaled(m_x, m_lengths));
+  const Eigen::MatrixXd rinv_r = m_llt.solve(r.transpose());
+  Eigen::VectorXd out(x.rows());
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    out(i) = std::sqrt(std::max(m_sigma2 * (1.0 + m_nugget - r.row(i).dot(rinv_r.col(i))), 0.0));
+  return out;
+}
+
+MetamodelSummary GaussianProcess::summary() const {
+  assert(m_fitted);
+  // Fitted values at the training points (with a nugget they differ from y).
+  MetamodelSummary s = base_summary(predict(m_x), static_cast<int>(m_beta.size()));
+  for (Eigen::Index k = 0; k < m_lengths.size(); ++k)
+    s.parameters.push_back({fmt::format("length_{}", k + 1), m_lengths(k)});
+  s.parameters.push_back({"process_variance", m_sigma2});
+  s.parameters.push_back({"nugget", m_nugget});
+  s.parameters.push_back({"log_likelihood", m_log_likelihood});
+  s.parameters.push_back({"likelihood_evaluations", static_cast<double>(m_evaluations)});
+  return s;
+}
+
+std::unique_ptr<Metamodel> GaussianProcess::refit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const {
+  assert(m_fitted);
+  auto copy = std::make_unique<GaussianProcess>(m_options);
+  copy->fit_with(x, y, m_lengths, m_nugget);
+  return copy;
+}
+
+}  // namespace demsa::sobol

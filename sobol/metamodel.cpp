@@ -1,0 +1,173 @@
+#include "sobol/metamodel.hpp"
+
+#include "sobol/gp.hpp"
+#include "sobol/rbf.hpp"
+#include "sobol/rsm.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+
+namespace demsa::sobol {
+
+MetamodelKind metamodel_kind_from_string(const std::string& name) {
+  if (name == "rsm1") return MetamodelKind::rsm1;
+  if (name == "rsm2") return MetamodelKind::rsm2;
+  if (name == "rsm3") return MetamodelKind::rsm3;
+  if (name == "rbf-cubic") return MetamodelKind::rbf_cubic;
+  if (name == "rbf-tps") return MetamodelKind::rbf_tps;
+  if (name == "gp") return MetamodelKind::gp;
+  throw InputError(fmt::format("unknown metamodel '{}' (valid: rsm1, rsm2, rsm3, rbf-cubic, rbf-tps, gp)", name));
+}
+
+std::string to_string(MetamodelKind kind) {
+  switch (kind) {
+    case MetamodelKind::rsm1:
+      return "rsm1";
+    case MetamodelKind::rsm2:
+      return "rsm2";
+    case MetamodelKind::rsm3:
+      return "rsm3";
+    case MetamodelKind::rbf_cubic:
+      return "rbf-cubic";
+    case MetamodelKind::rbf_tps:
+      return "rbf-tps";
+    case MetamodelKind::gp:
+      return "gp";
+  }
+  assert(false && "unhandled MetamodelKind");
+  return {};
+}
+
+std::vector<std::string> metamodel_names() { return {"rsm1", "rsm2", "rsm3", "rbf-cubic", "rbf-tps", "gp"}; }
+
+GpKernel gp_kernel_from_string(const std::string& name) {
+  if (name == "squared-exponential" || name == "se" || name == "gaussian") return GpKernel::squared_exponential;
+  if (name == "matern52" || name == "matern-5/2") return GpKernel::matern52;
+  throw InputError(fmt::format("unknown GP kernel '{}' (valid: squared-exponential, matern52)", name));
+}
+
+std::string to_string(GpKernel kernel) {
+  return kernel == GpKernel::squared_exponential ? "squared-exponential" : "matern52";
+}
+
+GpTrend gp_trend_from_string(const std::string& name) {
+  if (name == "constant") return GpTrend::constant;
+  if (name == "linear") return GpTrend::linear;
+  throw InputError(fmt::format("unknown GP trend '{}' (valid: constant, linear)", name));
+}
+
+std::string to_string(GpTrend trend) { return trend == GpTrend::constant ? "constant" : "linear"; }
+
+void GpOptions::validate() const {
+  if (!(min_length > 0.0)) throw InputError(fmt::format("gp min_length = {}: must be > 0", min_length));
+  if (!(max_length > min_length))
+    throw InputError(fmt::format("gp max_length = {}: must be > min_length ({})", max_length, min_length));
+  if (!(min_nugget > 0.0)) throw InputError(fmt::format("gp min_nugget = {}: must be > 0", min_nugget));
+  if (!(max_nugget > min_nugget))
+    throw InputError(fmt::format("gp max_nugget = {}: must be > min_nugget ({})", max_nugget, min_nugget));
+  if (starts < 1) throw InputError(fmt::format("gp starts = {}: must be at least 1", starts));
+  if (max_evaluations < 10)
+    throw InputError(fmt::format("gp max_evaluations = {}: must be at least 10", max_evaluations));
+}
+
+void MetamodelOptions::validate() const { gp.validate(); }
+
+void Metamodel::store_training_data(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, int min_samples) {
+  m_fitted = false;
+  if (x.rows() != y.size())
+    throw InputError(fmt::format("{}: {} input rows but {} outputs", name(), x.rows(), y.size()));
+  if (x.cols() < 1) throw InputError(fmt::format("{}: the data have no input column", name()));
+  if (x.rows() < min_samples)
+    throw InputError(
+        fmt::format("{} needs at least {} samples for {} inputs (got {})", name(), min_samples, x.cols(), x.rows()));
+  constexpr double tolerance = 1e-9;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    for (Eigen::Index k = 0; k < x.cols(); ++k) {
+      const double v = x(i, k);
+      if (!std::isfinite(v))
+        throw DataError(static_cast<int>(i), static_cast<int>(k), fmt::format("{} is not a finite number", v));
+      if (v < -tolerance || v > 1.0 + tolerance)
+        throw DataError(static_cast<int>(i), static_cast<int>(k),
+                        fmt::format("{} is outside the unit cube [0, 1] (scale the inputs to their bounds first)", v));
+    }
+    if (!std::isfinite(y(i)))
+      throw DataError(static_cast<int>(i), -1, fmt::format("output {} is not a finite number", y(i)));
+  }
+  for (Eigen::Index k = 0; k < x.cols(); ++k)
+    if (x.col(k).maxCoeff() == x.col(k).minCoeff())
+      throw DataError(-1, static_cast<int>(k),
+                      fmt::format("constant input (every sample is {}): it carries no information; drop it", x(0, k)));
+  m_x = x;
+  m_y = y;
+}
+
+MetamodelSummary Metamodel::base_summary(const Eigen::VectorXd& fitted_values, int terms) const {
+  const Eigen::VectorXd loo = loo_residuals();
+  MetamodelSummary s;
+  s.name = name();
+  s.samples = static_cast<int>(m_x.rows());
+  s.dimension = static_cast<int>(m_x.cols());
+  s.terms = terms;
+  s.mean = m_y.mean();
+  const double sst = (m_y.array() - s.mean).square().sum();
+  s.sd = s.samples > 1 ? std::sqrt(sst / (s.samples - 1)) : 0.0;
+  const double sse = (m_y - fitted_values).squaredNorm();
+  const double press = loo.squaredNorm();
+  s.r2 = sst > 0.0 ? 1.0 - sse / sst : std::numeric_limits<double>::quiet_NaN();
+  s.adjusted_r2 = s.r2;
+  s.q2 = sst > 0.0 ? 1.0 - press / sst : std::numeric_limits<double>::quiet_NaN();
+  s.rmse_loo = std::sqrt(press / s.samples);
+  return s;
+}
+
+void check_no_duplicates(const Eigen::MatrixXd& x) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(x.rows()));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  auto less = [&](Eigen::Index a, Eigen::Index b) {
+    for (Eigen::Index k = 0; k < x.cols(); ++k)
+      if (x(a, k) != x(b, k)) return x(a, k) < x(b, k);
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  for (std::size_t t = 1; t < order.size(); ++t) {
+    const Eigen::Index a = order[t - 1], b = order[t];
+    if (x.row(a) == x.row(b)) {
+      const Eigen::Index first = std::min(a, b), second = std::max(a, b);
+      throw DataError(static_cast<int>(second), -1,
+                      fmt::format("duplicates the point of sample {}: an interpolating metamodel needs distinct "
+                                  "points (average the repeats, or use an RSM or a GP with a nugget)",
+                                  first + 1));
+    }
+  }
+}
+
+std::unique_ptr<Metamodel> make_metamodel(MetamodelKind kind, const MetamodelOptions& options) {
+  options.validate();
+  switch (kind) {
+    case MetamodelKind::rsm1:
+      return std::make_unique<PolynomialRsm>(1);
+    case MetamodelKind::rsm2:
+      return std::make_unique<PolynomialRsm>(2);
+    case MetamodelKind::rsm3:
+      return std::make_unique<PolynomialRsm>(3);
+    case MetamodelKind::rbf_cubic:
+    case MetamodelKind::rbf_tps:
+      return std::make_unique<RbfInterpolant>(kind);
+    case MetamodelKind::gp:
+      return std::make_unique<GaussianProcess>(options.gp);
+  }
+  assert(false && "unhandled MetamodelKind");
+  return nullptr;
+}
+
+std::unique_ptr<Metamodel> make_metamodel(const std::string& name, const MetamodelOptions& options) {
+  return make_metamodel(metamodel_kind_from_string(name), options);
+}
+
+}  // namespace demsa::sobol

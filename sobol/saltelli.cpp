@@ -1,0 +1,317 @@
+#include "sobol/saltelli.hpp"
+
+#include "sobol/design.hpp"
+#include "sobol/error.hpp"
+#include "sobol/random.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace demsa::sobol {
+
+namespace {
+
+constexpr int k_max_saltelli_dimension = k_max_sobol_dimension / 2;
+
+/// Point estimates on the base rows `rows` (a bootstrap resample or 0..N-1), outputs centred by `shift`.
+struct Estimates {
+  std::vector<double> first, total, second;  // second: row-major over i < j
+  double mean = 0.0, variance = 0.0;
+};
+
+Estimates estimate(const SaltelliResponses& y, const std::vector<int>& rows, bool second_order, double shift) {
+  const int d = y.dimension;
+  const double n = static_cast<double>(rows.size());
+  Estimates e;
+  // Mean and variance over A and B together (Saltelli 2010, §3; as in SALib).
+  double s = 0.0, s2 = 0.0;
+  for (const int r : rows) {
+    const double a = y.a(r) - shift, b = y.b(r) - shift;
+    s += a + b;
+    s2 += a * a + b * b;
+  }
+  const double mean = s / (2.0 * n);
+  e.mean = mean + shift;
+  e.variance = s2 / (2.0 * n) - mean * mean;
+  const double v = e.variance;
+  e.first.assign(static_cast<std::size_t>(d), 0.0);
+  e.total.assign(static_cast<std::size_t>(d), 0.0);
+  for (int i = 0; i < d; ++i) {
+    double v1 = 0.0, vt = 0.0;
+    const Eigen::VectorXd& ab = y.ab[static_cast<std::size_t>(i)];
+    for (const int r : rows) {
+      const double fa = y.a(r) - shift, fb = y.b(r) - shift, fab = ab(r) - shift;
+      v1 += fb * (fab - fa);                // Saltelli et al. 2010, Table 2 (b)
+      vt += 0.5 * (fa - fab) * (fa - fab);  // Jansen 1999; Saltelli et al. 2010, Table 2 (f)
+    }
+    e.first[static_cast<std::size_t>(i)] = v1 / n / v;
+    e.total[static_cast<std::size_t>(i)] = vt / n / v;
+  }
+  if (second_order) {
+    double ab_sum = 0.0;
+    for (const int r : rows) ab_sum += (y.a(r) - shift) * (y.b(r) - shift);
+    for (int i = 0; i < d; ++i) {
+      const Eigen::VectorXd& ba = y.ba[static_cast<std::size_t>(i)];
+      for (int j = i + 1; j < d; ++j) {
+        const Eigen::VectorXd& ab = y.ab[static_cast<std::size_t>(j)];
+        double vc = 0.0;
+        for (const int r : rows) vc += (ba(r) - shift) * (ab(r) - shift);
+        // Saltelli 2002, eq. (12) (closed index of {i, j}), minus the first-order parts.
+        const double closed = (vc - ab_sum) / n / v;
+        e.second.push_back(closed - e.first[static_cast<std::size_t>(i)] - e.first[static_cast<std::size_t>(j)]);
+      }
+    }
+  }
+  return e;
+}
+
+/// Percentile of sorted values, linear interpolation between order statistics (Hyndman & Fan type 7).
+double percentile(const std::vector<double>& sorted, double q) {
+  assert(!sorted.empty());
+  const double h = q * static_cast<double>(sorted.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
+  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
+IndexEstimate interval(double value, std::vector<double> replicates, double confidence) {
+  IndexEstimate out{value, value, value};
+  if (replicates.empty()) return out;
+  std::sort(replicates.begin(), replicates.end());
+  out.lower = percentile(replicates, 0.5 * (1.0 - confidence));
+  out.upper = percentile(replicates, 0.5 * (1.0 + confidence));
+  return out;
+}
+
+void check_finite(const Eigen::VectorXd& v, int offset) {
+  for (Eigen::Index r = 0; r < v.size(); ++r)
+    if (!std::isfinite(v(r)))
+      throw DataError(static_cast<int>(offset + r), -1, fmt::format("response {} is not a finite number", v(r)));
+}
+
+}  // namespace
+
+void SaltelliOptions::validate() const {
+  if (base < 2) throw InputError(fmt::format("saltelli base = {}: must be at least 2", base));
+  if (dimension < 1 || dimension > k_max_saltelli_dimension)
+    throw InputError(
+        fmt::format("saltelli dimension = {}: must be in 1..{} (A and B come from one {}-dimensional "
+                    "Sobol' sequence)",
+                    dimension, k_max_saltelli_dimension, 2 * k_max_saltelli_dimension));
+}
+
+void SobolOptions::validate() const {
+  if (bootstrap < 0) throw InputError(fmt::format("sobol bootstrap = {}: must be >= 0", bootstrap));
+  if (!(confidence > 0.0 && confidence < 1.0))
+    throw InputError(fmt::format("sobol confidence = {}: must be in (0, 1)", confidence));
+}
+
+Eigen::MatrixXd SaltelliDesign::stacked() const {
+  Eigen::MatrixXd out(rows(), dimension);
+  Eigen::Index row = 0;
+  auto put = [&](const Eigen::MatrixXd& block) {
+    out.middleRows(row, block.rows()) = block;
+    row += block.rows();
+  };
+  put(a);
+  put(b);
+  for (const Eigen::MatrixXd& m : ab) put(m);
+  for (const Eigen::MatrixXd& m : ba) put(m);
+  assert(row == out.rows());
+  return out;
+}
+
+std::vector<int> SaltelliDesign::block_codes() const {
+  std::vector<int> codes;
+  codes.reserve(static_cast<std::size_t>(rows()));
+  const int blocks = second_order ? 2 * dimension + 2 : dimension + 2;
+  for (int c = 0; c < blocks; ++c) codes.insert(codes.end(), static_cast<std::size_t>(base), c);
+  return codes;
+}
+
+int SaltelliDesign::rows() const { return base * (second_order ? 2 * dimension + 2 : dimension + 2); }
+
+SaltelliDesign saltelli_design(const SaltelliOptions& options) {
+  options.validate();
+  const int d = options.dimension;
+  // One 2d-dimensional sequence: A = its first d coordinates, B = the last d (Saltelli 2010, §3). Consecutive blocks
+  // of one d-dimensional sequence would not be independent.
+  const Eigen::MatrixXd sequence = scrambled_sobol(options.base, 2 * d, options.seed);
+  SaltelliDesign design;
+  design.base = options.base;
+  design.dimension = d;
+  design.second_order = options.second_order;
+  design.seed = options.seed;
+  design.a = sequence.leftCols(d);
+  design.b = sequence.rightCols(d);
+  for (int i = 0; i < d; ++i) {
+    Eigen::MatrixXd ab = design.a;
+    ab.col(i) = design.b.col(i);
+    design.ab.push_back(std::move(ab));
+    if (options.second_order) {
+      Eigen::MatrixXd ba = design.b;
+      ba.col(i) = design.a.col(i);
+      design.ba.push_back(std::move(ba));
+    }
+  }
+  return design;
+}
+
+std::string block_name(int code, int dimension) {
+  assert(code >= 0 && code <= 2 * dimension + 1);
+  if (code == 0) return "A";
+  if (code == 1) return "B";
+  if (code <= dimension + 1) return fmt::format("AB{}", code - 1);
+  return fmt::format("BA{}", code - 1 - dimension);
+}
+
+SaltelliResponses split_responses(const Eigen::VectorXd& stacked, int dimension, bool second_order) {
+  assert(dimension >= 1);
+  const int blocks = second_order ? 2 * dimension + 2 : dimension + 2;
+  if (stacked.size() == 0 || stacked.size() % blocks != 0)
+    throw InputError(
+        fmt::format("{} responses cannot be a Saltelli design of dimension {}{}: expected a multiple "
+                    "of {}",
+                    stacked.size(), dimension, second_order ? " with second order" : "", blocks));
+  check_finite(stacked, 0);
+  const Eigen::Index n = stacked.size() / blocks;
+  SaltelliResponses y;
+  y.dimension = dimension;
+  y.a = stacked.segment(0, n);
+  y.b = stacked.segment(n, n);
+  for (int i = 0; i < dimension; ++i) y.ab.push_back(stacked.segment((2 + i) * n, n));
+  if (second_order)
+    for (int i = 0; i < dimension; ++i) y.ba.push_back(stacked.segment((2 + dimension + i) * n, n));
+  return y;
+}
+
+SaltelliResponses group_responses(const Eigen::VectorXd& values, const std::vector<int>& codes, int dimension) {
+  assert(dimension >= 1);
+  assert(static_cast<std::size_t>(values.size()) == codes.size());
+  const int max_code = 2 * dimension + 1;
+  std::vector<std::vector<double>> blocks(static_cast<std::size_t>(max_code + 1));
+  std::vector<int> first_row(static_cast<std::size_t>(max_code + 1), -1);
+  for (std::size_t r = 0; r < codes.size(); ++r) {
+    const int c = codes[r];
+    if (c < 0 || c > max_code)
+      throw DataError(static_cast<int>(r), -1,
+                      fmt::format("block code {} is not one of 0..{} (A, B, AB1..AB{}, BA1..BA{})", c, max_code,
+                                  dimension, dimension));
+    if (!std::isfinite(values(static_cast<Eigen::Index>(r))))
+      throw DataError(static_cast<int>(r), -1,
+                      fmt::format("response {} is not a finite number", values(static_cast<Eigen::Index>(r))));
+    if (first_row[static_cast<std::size_t>(c)] < 0) first_row[static_cast<std::size_t>(c)] = static_cast<int>(r);
+    blocks[static_cast<std::size_t>(c)].push_back(values(static_cast<Eigen::Index>(r)));
+  }
+  const std::size_t n = blocks[0].size();
+  if (n == 0) throw InputError("the Saltelli design has no rows of block A (code 0)");
+  bool has_ba = false;
+  for (int c = 0; c <= max_code; ++c) {
+    const std::size_t size = blocks[static_cast<std::size_t>(c)].size();
+    if (c > dimension + 1 && size > 0) has_ba = true;
+  }
+  const int last = has_ba ? max_code : dimension + 1;
+  for (int c = 1; c <= last; ++c) {
+    const std::size_t size = blocks[static_cast<std::size_t>(c)].size();
+    if (size != n) {
+      const int row = size == 0 ? -1 : first_row[static_cast<std::size_t>(c)];
+      throw DataError(row, -1,
+                      fmt::format("block {} has {} rows but block A has {}: every block of a Saltelli design has N "
+                                  "rows",
+                                  block_name(c, dimension), size, n));
+    }
+  }
+  auto to_vector = [](const std::vector<double>& v) {
+    return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+  };
+  SaltelliResponses y;
+  y.dimension = dimension;
+  y.a = to_vector(blocks[0]);
+  y.b = to_vector(blocks[1]);
+  for (int i = 0; i < dimension; ++i) y.ab.push_back(to_vector(blocks[static_cast<std::size_t>(2 + i)]));
+  if (has_ba)
+    for (int i = 0; i < dimension; ++i) y.ba.push_back(to_vector(blocks[static_cast<std::size_t>(2 + dimension + i)]));
+  return y;
+}
+
+SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& options) {
+  options.validate();
+  const int d = y.dimension;
+  const int n = y.base();
+  assert(d >= 1 && static_cast<int>(y.ab.size()) == d);
+  if (n < 2) throw InputError(fmt::format("a Saltelli design needs a base of at least 2 rows (got {})", n));
+  if (options.second_order && !y.second_order())
+    throw InputError("second-order indices need the BA blocks of a second-order Saltelli design");
+  check_finite(y.a, 0);
+  check_finite(y.b, n);
+  for (int i = 0; i < d; ++i) check_finite(y.ab[static_cast<std::size_t>(i)], (2 + i) * n);
+
+  std::vector<int> rows(static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = r;
+  const double shift = 0.5 * (y.a.mean() + y.b.mean());
+  const Estimates full = estimate(y, rows, options.second_order, shift);
+  if (!(full.variance > 0.0))
+    throw NumericalError(
+        fmt::format("the output has zero variance over the {} base rows: Sobol' indices are "
+                    "undefined",
+                    n));
+
+  // Percentile bootstrap over the base rows (Archer, Saltelli, Sobol' 1997).
+  const std::size_t s2_count = full.second.size();
+  std::vector<std::vector<double>> rep_first(static_cast<std::size_t>(d)), rep_total(static_cast<std::size_t>(d)),
+      rep_second(s2_count);
+  std::vector<double> rep_residual;
+  Random rng(options.seed);
+  std::vector<int> resample(static_cast<std::size_t>(n));
+  for (int b = 0; b < options.bootstrap; ++b) {
+    for (int& r : resample) r = static_cast<int>(rng.below(static_cast<std::uint64_t>(n)));
+    const Estimates e = estimate(y, resample, options.second_order, shift);
+    if (!(e.variance > 0.0)) continue;
+    double sum = 0.0;
+    for (int i = 0; i < d; ++i) {
+      rep_first[static_cast<std::size_t>(i)].push_back(e.first[static_cast<std::size_t>(i)]);
+      rep_total[static_cast<std::size_t>(i)].push_back(e.total[static_cast<std::size_t>(i)]);
+      sum += e.first[static_cast<std::size_t>(i)];
+    }
+    rep_residual.push_back(1.0 - sum);
+    for (std::size_t k = 0; k < s2_count; ++k) rep_second[k].push_back(e.second[k]);
+  }
+
+  SobolResult result;
+  result.method = "saltelli-qmc";
+  result.dimension = d;
+  result.base = n;
+  result.evaluations = n * (y.second_order() ? 2 * d + 2 : d + 2);
+  result.mean = full.mean;
+  result.variance = full.variance;
+  result.bootstrap = options.bootstrap;
+  result.confidence = options.confidence;
+  result.seed = options.seed;
+  double sum = 0.0;
+  for (int i = 0; i < d; ++i) {
+    result.first.push_back(
+        interval(full.first[static_cast<std::size_t>(i)], rep_first[static_cast<std::size_t>(i)], options.confidence));
+    result.total.push_back(
+        interval(full.total[static_cast<std::size_t>(i)], rep_total[static_cast<std::size_t>(i)], options.confidence));
+    sum += full.first[static_cast<std::size_t>(i)];
+  }
+  result.residual = interval(1.0 - sum, rep_residual, options.confidence);
+  std::size_t k = 0;
+  for (int i = 0; i < d && options.second_order; ++i)
+    for (int j = i + 1; j < d; ++j, ++k)
+      result.second.push_back({i, j, interval(full.second[k], rep_second[k], options.confidence)});
+  return result;
+}
+
+SobolResult sobol_indices(const BatchModel& model, const SaltelliDesign& design, const SobolOptions& options) {
+  const Eigen::MatrixXd x = design.stacked();
+  const Eigen::VectorXd y = model(x);
+  assert(y.size() == x.rows());
+  SobolResult result = sobol_indices(split_responses(y, design.dimension, design.second_order), options);
+  return result;
+}
+
+}  // namespace demsa::sobol
