@@ -484,7 +484,7 @@ PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& h, 
   std::string body;
   body += fmt::format("  set title {} noenhanced\n", gnuplot_quote(h.title));
   body += "  set xlabel 'time step'\n  set ylabel 'force on the plate [N]'\n";
-  body += "  set grid lc rgb '#dddddd'\n  set key top left box opaque\n";
+  body += "  set grid lc rgb '#dddddd'\n  set key outside bottom center horizontal\n  set yrange [0:*]\n";
   if (!h.plate_z.empty()) body += "  set y2label 'plate height z [mm]'\n  set y2tics\n  set ytics nomirror\n";
   body += fmt::format(
       "  plot $history using 1:3 with lines lw 1.5 lc rgb '{}' title 'particle force F_R', \\\n"

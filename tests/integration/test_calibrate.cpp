@@ -1,0 +1,125 @@
+// `demsa calibrate` and `demsa report` through the real binary, on a synthetic study folder (store written
+// directly, no LIGGGHTS): exit statuses, JSON output, error messages, files.
+#include "orchestrator/store.hpp"
+#include "orchestrator/study_config.hpp"
+#include "support/test_support.hpp"
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <random>
+
+namespace demsa::test {
+namespace {
+namespace fs = std::filesystem;
+
+double angle_of(double u1, double u2) { return 21.0 + 12.0 * u2 + 6.0 * u1 * u1; }
+double height_of(double u1, double u2) { return 0.025 + 0.008 * u1 + 0.003 * u2; }
+
+void write_study(const fs::path& dir) {
+  fs::create_directories(dir);
+  write_file(dir / "study.toml", R"(
+[study]
+name = "cli-synthetic"
+experiment = "pile"
+seed = 3
+
+[design]
+method = "lhs"
+samples = 25
+
+[parameters]
+mu_pw = { low = 0.4, high = 1.9 }
+mu_r_pw = { low = 0.1, high = 0.5 }
+
+[analysis]
+metamodels = ["rsm2"]
+bootstrap = 5
+base_samples = 256
+)");
+  const StudyConfig config = load_study(dir / "study.toml");
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<SampleRow> samples;
+  for (int i = 0; i < config.samples; ++i) {
+    SampleRow row{i, {u(rng), u(rng)}, {}};
+    for (size_t j = 0; j < 2; ++j) row.physical.push_back(sobol::to_physical(row.unit[j], config.parameters[j].bounds));
+    samples.push_back(row);
+  }
+  Store store((dir / "study.db").string());
+  store.initialize(design_hash(config), config.name, samples);
+  for (const SampleRow& row : samples) {
+    RunOutcome done;
+    done.exit_code = 0;
+    store.record_done(
+        store.add_run(row.sample, 1), done,
+        {{"angle", angle_of(row.unit[0], row.unit[1])}, {"pile_height", height_of(row.unit[0], row.unit[1])}});
+  }
+}
+
+TEST(CalibrateCli, JsonOutputRecoversTheOptimum) {
+  TempDir dir;
+  write_study(dir / "study");
+  const CommandResult r =
+      run_demsa({"calibrate", (dir / "study").string(), "--target", fmt::format("angle={:.12g}", angle_of(0.7, 0.2)),
+                 "--target", fmt::format("pile_height={:.12g}", height_of(0.7, 0.2)), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j.at("parameters").at(0).at("unit").get<double>(), 0.7, 0.02);
+  EXPECT_NEAR(j.at("parameters").at(1).at("unit").get<double>(), 0.2, 0.02);
+  EXPECT_NEAR(j.at("parameters").at(0).at("value").get<double>(), 0.4 + 1.5 * 0.7, 0.02 * 1.5);
+  EXPECT_EQ(j.at("targets").at(0).at("model").get<std::string>(), "rsm2");
+  EXPECT_TRUE(fs::exists(dir / "study" / "analysis" / "calibration.json"));
+}
+
+TEST(CalibrateCli, TextOutputNamesOptimumAndMisfit) {
+  TempDir dir;
+  write_study(dir / "study");
+  const CommandResult r = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=30"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("optimum:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("mu_pw"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("misfit J = "), std::string::npos) << r.out;
+}
+
+TEST(CalibrateCli, UnknownObservableExits2) {
+  TempDir dir;
+  write_study(dir / "study");
+  const CommandResult r = run_demsa({"calibrate", (dir / "study").string(), "--target", "slope=30"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("demsa: error: --target 'slope=30': unknown observable 'slope'"), std::string::npos) << r.err;
+}
+
+TEST(CalibrateCli, UnknownAlgorithmExits2) {
+  TempDir dir;
+  write_study(dir / "study");
+  const CommandResult r = run_demsa({"calibrate", (dir / "study").string(), "--global", "simplex"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("simplex"), std::string::npos) << r.err;
+}
+
+TEST(ReportCli, WritesReportAndListsItInJson) {
+  TempDir dir;
+  write_study(dir / "study");
+  ASSERT_EQ(run_demsa({"calibrate", (dir / "study").string()}).exit_code, 0);
+  const CommandResult r = run_demsa({"report", (dir / "study").string(), "--json", "--width", "800"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(fs::exists(j.at("markdown").get<std::string>()));
+  EXPECT_TRUE(fs::exists(j.at("html").get<std::string>()));
+  // 2 observables × (bars, LOO, response) + calibration; no case files: one note for the pile figure
+  EXPECT_EQ(j.at("images").size(), 7u);
+  for (const auto& png : j.at("images")) EXPECT_TRUE(fs::exists(png.get<std::string>())) << png;
+  EXPECT_EQ(j.at("notes").size(), 1u);
+}
+
+TEST(ReportCli, NotAStudyExits2) {
+  TempDir dir;
+  const CommandResult r = run_demsa({"report", dir.path().string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("not a study folder"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace demsa::test

@@ -1,0 +1,105 @@
+// The report and the calibration of a tiny real study (LIGGGHTS runs): `demsa run`, `demsa calibrate --verify`
+// (one more real run at the optimum), `demsa report`: every file exists, every PNG decodes and is not blank, the
+// HTML page holds every image.
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sstream>
+
+namespace demsa::test {
+namespace {
+namespace fs = std::filesystem;
+
+constexpr const char* k_study = R"(
+[study]
+name = "report-real"
+experiment = "pile"
+seed = 31
+
+[design]
+method = "lhs"
+samples = 6
+
+[parameters]
+mu_pp = { low = 0.4, high = 0.9 }
+mu_r_pp = { low = 0.05, high = 0.4 }
+
+[pile]
+particles = 200
+fill_height = 0.03
+settle_time = 0.15
+directions = 36
+levels = 4
+
+[run]
+ranks = 1
+
+[analysis]
+metamodels = ["rsm2", "rbf-cubic"]
+bootstrap = 10
+base_samples = 512
+)";
+
+TEST(ReportReal, TinyPileStudyReportAndVerifiedCalibration) {
+  TempDir dir;
+  write_file(dir / "study.toml", k_study);
+  const fs::path study = dir / "study";
+  const CommandResult run = run_demsa({"run", (dir / "study.toml").string(), "--dir", study.string(), "--quiet"});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+
+  // Calibrate to the mean simulated angle (reachable by construction) and verify with a real run.
+  const nlohmann::json analysis = nlohmann::json::parse(read_file(study / "analysis" / "analysis.json"));
+  double mean_angle = 0;
+  for (const auto& o : analysis.at("observables"))
+    if (o.at("name") == "angle") mean_angle = o.at("mean").get<double>();
+  ASSERT_GT(mean_angle, 5.0);
+  const CommandResult cal =
+      run_demsa({"calibrate", study.string(), "--target", "angle=" + std::to_string(mean_angle), "--verify", "--json"});
+  ASSERT_EQ(cal.exit_code, 0) << cal.out << cal.err;
+  const nlohmann::json c = nlohmann::json::parse(cal.out);
+  EXPECT_TRUE(c.at("verification").at("verified").get<bool>()) << cal.out;
+  const nlohmann::json& target = c.at("targets").at(0);
+  EXPECT_NEAR(target.at("predicted").get<double>(), mean_angle, 0.05);
+  ASSERT_FALSE(target.at("measured").is_null());
+  EXPECT_GT(target.at("measured").get<double>(), 5.0);
+  EXPECT_LT(target.at("measured").get<double>(), 80.0);
+  EXPECT_TRUE(fs::exists(study / "calibration" / "verify" / "pile_final.dump"));
+
+  const CommandResult rep = run_demsa({"report", study.string(), "--json"});
+  ASSERT_EQ(rep.exit_code, 0) << rep.out << rep.err;
+  const nlohmann::json r = nlohmann::json::parse(rep.out);
+  EXPECT_TRUE(r.at("notes").empty()) << rep.out;
+  const std::string md = read_file(r.at("markdown").get<std::string>());
+  const std::string html = read_file(r.at("html").get<std::string>());
+  EXPECT_NE(md.find("## Calibration"), std::string::npos);
+  EXPECT_NE(md.find("the pile (paper Fig. 4)"), std::string::npos);
+  // angle and pile height: bars, LOO for 2 models each, response; the pile; the calibration
+  ASSERT_EQ(r.at("images").size(), 2u * 5u + 2u) << rep.out;
+  size_t inlined = 0;
+  for (size_t at = html.find("data:image/png;base64,"); at != std::string::npos;
+       at = html.find("data:image/png;base64,", at + 1))
+    ++inlined;
+  EXPECT_EQ(inlined, r.at("images").size());
+  for (const auto& image : r.at("images")) {
+    const fs::path png = image.get<std::string>();
+    ASSERT_TRUE(fs::exists(png)) << png;
+    EXPECT_TRUE(fs::exists(fs::path(png).replace_extension(".svg"))) << png;
+    EXPECT_TRUE(fs::exists(fs::path(png).replace_extension(".gp"))) << png;
+    const CommandResult stats = run_command({"python3", data_path("report/png_stats.py").string(), png.string()});
+    ASSERT_EQ(stats.exit_code, 0) << png << ": " << stats.err;
+    std::istringstream in(stats.out);
+    int width = 0, height = 0;
+    long colours = 0;
+    double nonbackground = 0;
+    in >> width >> height >> colours >> nonbackground;
+    EXPECT_GE(width, 200) << png;
+    EXPECT_GE(height, 150) << png;
+    EXPECT_GT(colours, 8) << png;
+    EXPECT_GT(nonbackground, 0.01) << png;
+  }
+}
+
+}  // namespace
+}  // namespace demsa::test

@@ -1,0 +1,203 @@
+// Calibration of a study on its metamodels (orchestrator/calibration_cmd.hpp): a synthetic study whose observables
+// are known functions of the parameters, so that the parameters matching given targets are known exactly.
+#include "orchestrator/calibration_cmd.hpp"
+#include "orchestrator/errors.hpp"
+#include "orchestrator/store.hpp"
+#include "orchestrator/study_config.hpp"
+#include "support/test_support.hpp"
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace demsa::test {
+namespace {
+namespace fs = std::filesystem;
+
+// angle and pile height as functions of the unit-cube point (u1 = μ_PP, u2 = μ_R,PP): quadratic, so the RSM of
+// degree 2 reproduces them exactly, and with one solution in [0,1]² for any pair of reachable targets.
+double angle_of(double u1, double u2) { return 22.0 + 14.0 * u2 + 5.0 * u1 * u1; }
+double height_of(double u1, double u2) { return 0.02 + 0.01 * u1 + 0.004 * u2; }
+
+constexpr const char* k_study = R"(
+[study]
+name = "synthetic"
+experiment = "pile"
+seed = 7
+
+[design]
+method = "lhs"
+samples = 30
+
+[parameters]
+mu_pp = { low = 0.7, high = 1.9 }
+mu_r_pp = { low = 0.05, high = 0.5 }
+
+[analysis]
+metamodels = ["rsm2", "rbf-cubic"]
+)";
+
+/// DIR/study.toml and DIR/study.db with 30 done samples (random points, fixed seed) measuring angle and height.
+void write_synthetic_study(const fs::path& dir) {
+  fs::create_directories(dir);
+  write_file(dir / "study.toml", k_study);
+  const StudyConfig config = load_study(dir / "study.toml");
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<SampleRow> samples;
+  for (int i = 0; i < config.samples; ++i) {
+    SampleRow row;
+    row.sample = i;
+    row.unit = {u(rng), u(rng)};
+    for (size_t j = 0; j < 2; ++j) row.physical.push_back(sobol::to_physical(row.unit[j], config.parameters[j].bounds));
+    samples.push_back(row);
+  }
+  Store store((dir / "study.db").string());
+  store.initialize(design_hash(config), config.name, samples);
+  for (const SampleRow& row : samples) {
+    const long run = store.add_run(row.sample, 1);
+    RunOutcome outcome;
+    outcome.exit_code = 0;
+    outcome.cpu_seconds = 2.0;
+    outcome.wall_seconds = 2.5;
+    store.record_done(
+        run, outcome,
+        {{"angle", angle_of(row.unit[0], row.unit[1])}, {"pile_height", height_of(row.unit[0], row.unit[1])}});
+  }
+}
+
+TEST(Calibration, RecoversKnownOptimumWithinTwoPercentOfRange) {
+  TempDir dir;
+  write_synthetic_study(dir.path());
+  const double u1 = 0.35;
+  const double u2 = 0.62;
+  CalibrateOptions options;
+  options.dir = dir.path();
+  options.targets = {fmt::format("angle={:.12g}", angle_of(u1, u2)),
+                     fmt::format("pile_height={:.12g}", height_of(u1, u2))};
+  const CalibrationOutcome o = calibrate_study(options);
+  ASSERT_EQ(o.unit.size(), 2u);
+  EXPECT_NEAR(o.unit[0], u1, 0.02);  // 2% of each parameter's range
+  EXPECT_NEAR(o.unit[1], u2, 0.02);
+  EXPECT_NEAR(o.physical[0], 0.7 + 1.2 * u1, 0.02 * 1.2);
+  EXPECT_NEAR(o.physical[1], 0.05 + 0.45 * u2, 0.02 * 0.45);
+  ASSERT_EQ(o.targets.size(), 2u);
+  EXPECT_EQ(o.targets[0].model, "rsm2");  // exact for a quadratic: Q² = 1
+  EXPECT_NEAR(o.targets[0].q2, 1.0, 1e-9);
+  EXPECT_NEAR(o.targets[0].predicted, angle_of(u1, u2), 1e-3);
+  EXPECT_NEAR(o.targets[1].predicted, height_of(u1, u2), 1e-6);
+  EXPECT_LT(o.misfit, 1e-8);
+  EXPECT_EQ(o.samples, 30);
+  EXPECT_EQ(o.seed, 7u);
+  EXPECT_FALSE(o.verified);
+}
+
+TEST(Calibration, WritesCalibrationJsonThatReadsBack) {
+  TempDir dir;
+  write_synthetic_study(dir.path());
+  CalibrateOptions options;
+  options.dir = dir.path();
+  options.targets = {"angle=30"};
+  options.weights = {"angle=2"};
+  const CalibrationOutcome o = calibrate_study(options);
+  const CalibrationOutcome back = read_calibration(dir / "analysis/calibration.json");
+  EXPECT_EQ(back.parameters, o.parameters);
+  EXPECT_EQ(back.unit, o.unit);
+  ASSERT_EQ(back.targets.size(), 1u);
+  EXPECT_EQ(back.targets[0].weight, 2.0);
+  EXPECT_EQ(back.targets[0].scale, 30.0);
+  EXPECT_NEAR(back.targets[0].predicted, 30.0, 1e-3);
+  EXPECT_FALSE(back.targets[0].measured.has_value());
+  EXPECT_NE(calibration_text(o).find("angle"), std::string::npos);
+}
+
+TEST(Calibration, DefaultTargetIsTheStudysTargetAngle) {
+  TempDir dir;
+  write_synthetic_study(dir.path());
+  CalibrateOptions options;
+  options.dir = dir.path();
+  const CalibrationOutcome o = calibrate_study(options);
+  ASSERT_EQ(o.targets.size(), 1u);
+  EXPECT_EQ(o.targets[0].name, "angle");
+  EXPECT_EQ(o.targets[0].target, 33.5);  // [pile] target_angle default, paper §3.3
+  EXPECT_NEAR(o.targets[0].predicted, 33.5, 1e-3);
+  // Any point on the curve angle = 33.5 is an optimum: check that this one lies on it.
+  EXPECT_NEAR(angle_of(o.unit[0], o.unit[1]), 33.5, 1e-3);
+}
+
+TEST(Calibration, ForcedModelIsUsed) {
+  TempDir dir;
+  write_synthetic_study(dir.path());
+  CalibrateOptions options;
+  options.dir = dir.path();
+  options.model = "rbf-cubic";
+  options.targets = {"angle=28"};
+  const CalibrationOutcome o = calibrate_study(options);
+  EXPECT_EQ(o.targets[0].model, "rbf-cubic");
+  EXPECT_LT(o.targets[0].q2, 1.0);
+  EXPECT_NEAR(o.targets[0].predicted, 28.0, 1e-3);
+}
+
+std::string error_of(const CalibrateOptions& options) {
+  try {
+    calibrate_study(options);
+  } catch (const UserError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Calibration, UnknownObservableListsTheValidOnes) {
+  TempDir dir;
+  write_synthetic_study(dir.path());
+  CalibrateOptions options;
+  options.dir = dir.path();
+  options.targets = {"angel=33"};
+  const std::string e = error_of(options);
+  EXPECT_NE(e.find("unknown observable 'angel'"), std::string::npos) << e;
+  EXPECT_NE(e.find("angle, pile_height"), std::string::npos) << e;
+}
+
+TEST(Calibration, MalformedTargetsAndWeightsAreUserErrors) {
+  TempDir dir;
+  write_synthetic_study(dir.path());
+  CalibrateOptions options;
+  options.dir = dir.path();
+  options.targets = {"angle"};
+  EXPECT_NE(error_of(options).find("expected NAME=VALUE"), std::string::npos) << error_of(options);
+  options.targets = {"angle=abc"};
+  EXPECT_NE(error_of(options).find("'abc' is not a number"), std::string::npos) << error_of(options);
+  options.targets = {"angle=30", "angle=31"};
+  EXPECT_NE(error_of(options).find("given twice"), std::string::npos) << error_of(options);
+  options.targets = {"angle=30"};
+  options.weights = {"pile_height=2"};
+  EXPECT_NE(error_of(options).find("is not a target"), std::string::npos) << error_of(options);
+  options.weights = {"angle=-1"};
+  EXPECT_NE(error_of(options).find(">= 0"), std::string::npos) << error_of(options);
+  options.weights = {};
+  options.model = "rsm9";
+  EXPECT_NE(error_of(options).find("rsm9"), std::string::npos) << error_of(options);
+}
+
+TEST(Calibration, NotAStudyFolder) {
+  TempDir dir;
+  CalibrateOptions options;
+  options.dir = dir.path();
+  EXPECT_NE(error_of(options).find("not a study folder"), std::string::npos) << error_of(options);
+}
+
+TEST(Calibration, UnreadableCalibrationFileNamesIt) {
+  TempDir dir;
+  write_file(dir / "calibration.json", "{\"study\": 3}");
+  try {
+    read_calibration(dir / "calibration.json");
+    FAIL() << "accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibration.json"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace demsa::test
