@@ -97,7 +97,9 @@ ProgramResult run_program(const std::vector<std::string>& argv, std::chrono::mil
     throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
   }
   if (pid == 0) {
-    // The caller may block or ignore signals (SIGINT handling); the program gets the defaults.
+    // Its own process group: a Ctrl-C meant for demsa must not kill an sbatch half-way (a job submitted whose id
+    // demsa never learns). The caller may block or ignore signals; the program gets the defaults.
+    ::setpgid(0, 0);
     sigset_t none;
     sigemptyset(&none);
     ::sigprocmask(SIG_SETMASK, &none, nullptr);

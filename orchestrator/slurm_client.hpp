@@ -27,8 +27,8 @@ struct ProgramResult {
   bool timed_out = false;
 };
 
-/// Runs argv[0] (looked up on PATH) with the remaining arguments, stdin from /dev/null, and captures its output.
-/// Kills it (SIGKILL) after `timeout`.
+/// Runs argv[0] (looked up on PATH) with the remaining arguments, stdin from /dev/null, in a process group of its
+/// own (a Ctrl-C at the terminal does not reach it), and captures its output. Kills it (SIGKILL) after `timeout`.
 ProgramResult run_program(const std::vector<std::string>& argv,
                           std::chrono::milliseconds timeout = std::chrono::seconds(120));
 
