@@ -1,0 +1,154 @@
+// The study file parser: values, defaults, presets, and a message naming file, line and value for every mistake.
+#include "orchestrator/errors.hpp"
+#include "orchestrator/study_config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace demsa {
+namespace {
+
+const char* k_minimal = R"(
+[study]
+name = "s"
+experiment = "pile"
+
+[parameters]
+mu_r_pp = { low = 0.45, high = 4.5 }
+E = { low = 1e8, high = 1e9, scale = "log" }
+)";
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_study(text, "study.toml");
+  } catch (const UserError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(StudyConfig, MinimalFileTakesDefaultsAndPaperOrder) {
+  const StudyConfig c = parse_study(k_minimal, "dir/study.toml");
+  EXPECT_EQ(c.name, "s");
+  EXPECT_EQ(c.experiment, Experiment::pile);
+  ASSERT_EQ(c.parameters.size(), 2u);
+  EXPECT_EQ(c.parameters[0].name, "E");  // paper eq. (1) order, not file order
+  EXPECT_EQ(c.parameters[1].name, "mu_r_pp");
+  EXPECT_EQ(c.parameters[0].bounds.scale, sobol::Scale::log_uniform);
+  EXPECT_DOUBLE_EQ(c.parameters[1].bounds.high, 4.5);
+  EXPECT_EQ(c.parameters[1].line, 7);
+  EXPECT_DOUBLE_EQ(c.timestep.fraction, 0.15);
+  EXPECT_DOUBLE_EQ(c.pile.settle_time, 0.6);
+  EXPECT_EQ(c.oedometer.trial_steps, 15000);
+  EXPECT_EQ(c.oedometer.relax_steps, 80000);
+  EXPECT_DOUBLE_EQ(c.oedometer.trial_step0, 0.0075e-3);
+}
+
+TEST(StudyConfig, PilePresetsFillTable2AndExplicitKeysOverride) {
+  StudyConfig c = parse_study(std::string(k_minimal) + "[pile]\npreset = \"set2\"\n", "study.toml");
+  EXPECT_EQ(c.pile.particles, 8000);
+  EXPECT_DOUBLE_EQ(c.pile.radii.r_min, 0.8e-3);
+  EXPECT_DOUBLE_EQ(c.pile.radii.r_max, 2.5e-3);
+  EXPECT_DOUBLE_EQ(c.pile.radii.mean, 1.5e-3);
+  EXPECT_DOUBLE_EQ(c.pile.radii.sd, 0.35e-3);
+  c = parse_study(std::string(k_minimal) + "[pile]\nparticles = 300\npreset = \"set1\"\n", "study.toml");
+  EXPECT_EQ(c.pile.particles, 300);
+  EXPECT_DOUBLE_EQ(c.pile.radii.r_max, 3.5e-3);
+}
+
+TEST(StudyConfig, OedometerSectionIsRead) {
+  const StudyConfig c = parse_study(std::string(k_minimal) + R"(
+[oedometer]
+preset = "paper"
+loads = [100, 400.0, 1100, 2700]
+measured_settlements = [1e-3, 2e-3, 3e-3]
+plate_mode = "trial-step"
+trial_steps = 100
+)",
+                                    "study.toml");
+  EXPECT_EQ(c.oedometer.particles, 4642);
+  EXPECT_EQ(c.oedometer.plate_mode, PlateMode::trial_step);
+  ASSERT_EQ(c.oedometer.loads.size(), 4u);
+  EXPECT_DOUBLE_EQ(c.oedometer.loads[2], 1100.0);
+  EXPECT_EQ(c.oedometer.trial_steps, 100);
+}
+
+TEST(StudyConfig, UnknownKeyNamesLineAndValidKeys) {
+  const std::string e = error_of(std::string(k_minimal) + "[pile]\nparticles = 10\nsettle = 0.5\n");
+  EXPECT_NE(e.find("study.toml:11: unknown key 'settle' in [pile]"), std::string::npos) << e;
+  EXPECT_NE(e.find("settle_time"), std::string::npos) << e;
+}
+
+TEST(StudyConfig, UnknownSectionIsRefused) {
+  const std::string e = error_of(std::string(k_minimal) + "[piles]\nparticles = 10\n");
+  EXPECT_NE(e.find("study.toml:9: unknown section [piles]"), std::string::npos) << e;
+}
+
+TEST(StudyConfig, WrongTypeNamesTheValue) {
+  const std::string e = error_of(std::string(k_minimal) + "[pile]\nparticles = \"many\"\n");
+  EXPECT_NE(e.find("study.toml:10: [pile] particles: expected an integer, got the string \"many\""), std::string::npos)
+      << e;
+}
+
+TEST(StudyConfig, ImpossibleValuesAreRefused) {
+  EXPECT_NE(error_of(std::string(k_minimal) + "[material]\nnu = 0.5\n")
+                .find("study.toml:10: [material] nu: must lie "
+                      "in (0, 0.5), got 0.5"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(k_minimal) + "[timestep]\nfraction = 0.4\n").find("must lie in (0, 0.3], got 0.4"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(k_minimal) + "[oedometer]\nloads = [400, 100]\n").find("loads must increase"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(k_minimal) + "[pile]\nr_min = 4e-3\n").find("r_min (0.004) must be less than r_max"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(k_minimal) + "[oedometer]\nplate_mode = \"hydraulic\"\n")
+                .find("unknown value 'hydraulic' (valid: servo, trial-step)"),
+            std::string::npos);
+}
+
+TEST(StudyConfig, ParameterRangesAreChecked) {
+  const std::string base = "[study]\nname = \"s\"\nexperiment = \"pile\"\n[parameters]\n";
+  EXPECT_NE(error_of(base + "E = { low = 1e9, high = 1e8 }\n").find("study.toml:5: [parameters] E:"),
+            std::string::npos);
+  EXPECT_NE(error_of(base + "nu = { low = 0.2, high = 0.6 }\n").find("must lie in (0, 0.5)"), std::string::npos);
+  EXPECT_NE(error_of(base + "E = { low = 1e8 }\n").find("needs both 'low' and 'high'"), std::string::npos);
+  EXPECT_NE(error_of(base + "E = { low = 1e8, high = 2e8, scale = \"cubic\" }\n").find("unknown scale 'cubic'"),
+            std::string::npos);
+  EXPECT_NE(error_of(base + "young = { low = 1e8, high = 2e8 }\n").find("unknown key 'young' in [parameters]"),
+            std::string::npos);
+}
+
+TEST(StudyConfig, MissingRequiredParts) {
+  EXPECT_NE(error_of("[study]\nname = \"s\"\n").find("experiment is required"), std::string::npos);
+  EXPECT_NE(error_of("[study]\nname = \"s\"\nexperiment = \"pile\"\n").find("[parameters] must vary"),
+            std::string::npos);
+}
+
+TEST(StudyConfig, TomlSyntaxErrorHasLine) {
+  const std::string e = error_of(std::string(k_minimal) + "[pile\n");
+  EXPECT_EQ(e.rfind("study.toml:9:", 0), 0u) << e;
+}
+
+TEST(StudyConfig, DesignHashIgnoresRunAndAnalysisButNotPhysics) {
+  const StudyConfig a = parse_study(k_minimal, "study.toml");
+  const StudyConfig b =
+      parse_study(std::string(k_minimal) + "[run]\nparallel = 2\n[analysis]\nbootstrap = 5\n", "study.toml");
+  const StudyConfig c = parse_study(std::string(k_minimal) + "[material]\ndensity = 2600\n", "study.toml");
+  EXPECT_EQ(design_hash(a), design_hash(b));
+  EXPECT_NE(design_hash(a), design_hash(c));
+  EXPECT_EQ(design_hash(a).size(), 16u);
+}
+
+TEST(StudyConfig, MaterialForSetsTheVariedParameters) {
+  const StudyConfig c = parse_study(k_minimal, "study.toml");
+  const Material m = material_for(c, {3e8, 2.0});
+  EXPECT_DOUBLE_EQ(m.E, 3e8);
+  EXPECT_DOUBLE_EQ(m.mu_r_pp, 2.0);
+  EXPECT_DOUBLE_EQ(m.nu, c.material.nu);
+}
+
+TEST(StudyConfig, LoadStudyReportsMissingFile) { EXPECT_THROW(load_study("/nonexistent/study.toml"), UserError); }
+
+}  // namespace
+}  // namespace demsa
