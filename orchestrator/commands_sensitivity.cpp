@@ -1,9 +1,380 @@
+// `demsa sensitivity`: Sobol' indices for any simulator (DESIGN.md §3, §7), either
+//   --saltelli DESIGN.csv --responses Y.csv   outputs evaluated outside on a `demsa design saltelli` design, or
+//   --data DATA.csv --inputs ... --output ... samples the user already has: metamodels fitted on the unit cube
+//                                             (scaled by --bounds or by the data's range), indices of each.
+// Every input error names the user's file, line, column and value.
 #include "orchestrator/commands.hpp"
+#include "orchestrator/csv.hpp"
+#include "orchestrator/errors.hpp"
+#include "sobol/error.hpp"
+#include "sobol/metamodel.hpp"
+#include "sobol/metamodel_sobol.hpp"
+#include "sobol/saltelli.hpp"
+#include "sobol/scaling.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace demsa {
 
+namespace {
+
+struct SensitivityArgs {
+  std::string saltelli;
+  std::string responses;
+  std::string data;
+  std::string inputs;
+  std::string outputs;
+  std::string bounds;
+  std::string metamodels = "rsm2,rsm3,rbf-cubic,rbf-tps,gp";
+  bool second_order = false;
+  int bootstrap = -1;  ///< -1: the mode's default
+  double confidence = 0.95;
+  int base = 16384;
+  std::uint64_t seed = 12345;
+  std::string json;  ///< file, or "-" for standard output
+};
+
+nlohmann::json estimate_json(const sobol::IndexEstimate& e) {
+  return {{"value", e.value}, {"lower", e.lower}, {"upper", e.upper}};
+}
+
+nlohmann::json sobol_json(const sobol::SobolResult& r, const std::vector<std::string>& names) {
+  nlohmann::json first = nlohmann::json::array(), total = nlohmann::json::array(), second = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.first.size(); ++k) {
+    nlohmann::json f = estimate_json(r.first[k]), t = estimate_json(r.total[k]);
+    f["input"] = names[k];
+    t["input"] = names[k];
+    first.push_back(f);
+    total.push_back(t);
+  }
+  for (const sobol::SecondOrderIndex& s : r.second) {
+    nlohmann::json e = estimate_json(s.s);
+    e["inputs"] = {names[static_cast<std::size_t>(s.i)], names[static_cast<std::size_t>(s.j)]};
+    second.push_back(e);
+  }
+  return {{"method", r.method},
+          {"dimension", r.dimension},
+          {"base", r.base},
+          {"evaluations", r.evaluations},
+          {"mean", r.mean},
+          {"variance", r.variance},
+          {"first_order", first},
+          {"total_order", total},
+          {"second_order", second},
+          {"residual", estimate_json(r.residual)},
+          {"bootstrap", r.bootstrap},
+          {"confidence", r.confidence},
+          {"seed", r.seed}};
+}
+
+nlohmann::json summary_json(const sobol::MetamodelSummary& s) {
+  nlohmann::json parameters = nlohmann::json::object();
+  for (const sobol::NamedValue& v : s.parameters) parameters[v.name] = v.value;
+  return {{"name", s.name},
+          {"samples", s.samples},
+          {"dimension", s.dimension},
+          {"terms", s.terms},
+          {"r2", s.r2},
+          {"adjusted_r2", s.adjusted_r2},
+          {"q2_loo", s.q2},
+          {"rmse_loo", s.rmse_loo},
+          {"mean", s.mean},
+          {"sd", s.sd},
+          {"parameters", parameters}};
+}
+
+std::string interval_text(const sobol::IndexEstimate& e) {
+  if (e.lower == e.value && e.upper == e.value) return fmt::format("{:8.4f}", e.value);
+  return fmt::format("{:8.4f} [{:7.4f}, {:7.4f}]", e.value, e.lower, e.upper);
+}
+
+void print_indices(const sobol::SobolResult& r, const std::vector<std::string>& names) {
+  std::size_t width = 5;
+  for (const std::string& n : names) width = std::max(width, n.size());
+  fmt::print("  {:<{}}  {:<27}  {:<27}\n", "input", width, "S1", "ST");
+  for (std::size_t k = 0; k < names.size(); ++k)
+    fmt::print("  {:<{}}  {:<27}  {:<27}\n", names[k], width, interval_text(r.first[k]), interval_text(r.total[k]));
+  fmt::print("  residual 1 - sum S1: {}\n", interval_text(r.residual));
+  for (const sobol::SecondOrderIndex& s : r.second)
+    fmt::print("  S2 {},{}: {}\n", names[static_cast<std::size_t>(s.i)], names[static_cast<std::size_t>(s.j)],
+               interval_text(s.s));
+  if (r.bootstrap > 0) fmt::print("  ({:g}% intervals from {} bootstrap resamples)\n", 100 * r.confidence, r.bootstrap);
+}
+
+void write_json(const std::string& target, const nlohmann::json& j) {
+  if (target.empty()) return;
+  if (target == "-") {
+    fmt::print("{}\n", j.dump(2));
+    return;
+  }
+  std::ofstream out(target, std::ios::trunc);
+  if (!out) throw UserError(target, 0, "cannot write the file");
+  out << j.dump(2) << '\n';
+  if (!out.flush()) throw UserError(target, 0, "write failed");
+}
+
+// ---------------------------------------------------------------- --saltelli DESIGN.csv --responses Y.csv
+
+void run_saltelli(const SensitivityArgs& args) {
+  if (args.responses.empty()) throw UserError("--saltelli needs --responses Y.csv (the outputs of every design row)");
+  const CsvTable design = read_csv(args.saltelli);
+  const int block_column = design.column_index("block");
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < design.columns.size(); ++k)
+    if (static_cast<int>(k) != block_column) names.push_back(design.columns[k]);
+  const int d = static_cast<int>(names.size());
+  if (d < 1) design.fail(-1, -1, "no parameter column besides 'block'");
+  std::vector<int> codes(static_cast<std::size_t>(design.rows()));
+  for (int r = 0; r < design.rows(); ++r) {
+    const double c = design.values(r, block_column);
+    if (c != std::floor(c) || c < 0 || c > 2 * d + 1)
+      design.fail(
+          r, block_column,
+          fmt::format("'{}' is not a block code 0..{} (0 = A, 1 = B, 1+i = AB_i, 1+{}+i = BA_i)", c, 2 * d + 1, d));
+    codes[static_cast<std::size_t>(r)] = static_cast<int>(c);
+  }
+
+  const CsvTable y = read_csv(args.responses);
+  if (y.rows() != design.rows())
+    throw UserError(args.responses, 0,
+                    fmt::format("{} rows, but the design {} has {}: give one output row per design row, in order",
+                                y.rows(), args.saltelli, design.rows()));
+  const std::vector<std::string> outputs = args.outputs.empty() ? y.columns : split_list(args.outputs);
+
+  sobol::SobolOptions options;
+  options.second_order = args.second_order;
+  options.bootstrap = args.bootstrap < 0 ? 200 : args.bootstrap;
+  options.confidence = args.confidence;
+  options.seed = args.seed;
+  try {
+    options.validate();
+  } catch (const sobol::InputError& e) {
+    throw UserError(e.what());
+  }
+
+  nlohmann::json results = nlohmann::json::array();
+  for (const std::string& name : outputs) {
+    const int column = y.column_index(name);
+    sobol::SaltelliResponses split;
+    try {
+      split = sobol::group_responses(y.values.col(column), codes, d);
+    } catch (const sobol::DataError& e) {
+      // Block structure problems belong to the design file, value problems to the responses file.
+      if (e.detail().rfind("response", 0) == 0) y.fail(e.row(), column, e.detail());
+      design.fail(e.row(), block_column, e.detail());
+    } catch (const sobol::InputError& e) {
+      throw UserError(args.saltelli, 0, e.what());
+    }
+    sobol::SobolResult r;
+    try {
+      r = sobol::sobol_indices(split, options);
+    } catch (const sobol::InputError& e) {
+      throw UserError(args.saltelli, 0, e.what());
+    } catch (const sobol::NumericalError& e) {
+      throw UserError(args.responses, 0, fmt::format("column '{}': {}", name, e.what()));
+    }
+    if (args.json != "-") {
+      fmt::print("{}: Sobol' indices from a Saltelli design, N = {}, {} evaluations\n", name, r.base, r.evaluations);
+      print_indices(r, names);
+    }
+    nlohmann::json j = sobol_json(r, names);
+    j["output"] = name;
+    results.push_back(j);
+  }
+  write_json(args.json,
+             {{"design", args.saltelli}, {"responses", args.responses}, {"inputs", names}, {"outputs", results}});
+}
+
+// ---------------------------------------------------------------- --data DATA.csv: metamodels, then indices
+
+/// "name=low:high[:log],..." -> bounds per input (inputs without an entry: the data's range).
+std::vector<sobol::Bounds> parse_bounds(const std::string& text, const std::vector<std::string>& inputs,
+                                        const CsvTable& data, const std::vector<int>& columns) {
+  std::vector<sobol::Bounds> bounds(inputs.size());
+  std::vector<bool> given(inputs.size(), false);
+  for (const std::string& item : split_list(text)) {
+    const std::size_t eq = item.find('=');
+    const std::string name = eq == std::string::npos ? "" : item.substr(0, eq);
+    std::size_t k = 0;
+    while (k < inputs.size() && inputs[k] != name) ++k;
+    if (eq == std::string::npos || k == inputs.size())
+      throw UserError(fmt::format("--bounds '{}': expected NAME=LOW:HIGH[:log] with NAME one of --inputs", item));
+    std::vector<std::string> parts;
+    std::string rest = item.substr(eq + 1);
+    for (std::size_t c = rest.find(':'); c != std::string::npos; c = rest.find(':')) {
+      parts.push_back(rest.substr(0, c));
+      rest = rest.substr(c + 1);
+    }
+    parts.push_back(rest);
+    if (parts.size() < 2 || parts.size() > 3)
+      throw UserError(fmt::format("--bounds '{}': expected NAME=LOW:HIGH[:log]", item));
+    auto number = [&](const std::string& s) {
+      char* end = nullptr;
+      const double v = std::strtod(s.c_str(), &end);
+      if (s.empty() || *end != '\0') throw UserError(fmt::format("--bounds '{}': '{}' is not a number", item, s));
+      return v;
+    };
+    bounds[k].low = number(parts[0]);
+    bounds[k].high = number(parts[1]);
+    if (parts.size() == 3) {
+      try {
+        bounds[k].scale = sobol::scale_from_string(parts[2]);
+      } catch (const sobol::InputError& e) {
+        throw UserError(fmt::format("--bounds '{}': {}", item, e.what()));
+      }
+    }
+    given[k] = true;
+  }
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    if (given[k]) continue;
+    const Eigen::VectorXd col = data.values.col(columns[k]);
+    bounds[k].low = col.minCoeff();
+    bounds[k].high = col.maxCoeff();
+    if (bounds[k].low == bounds[k].high)
+      throw UserError(data.file, 0,
+                      fmt::format("column '{}': constant input (every sample is {}): it carries no information; "
+                                  "drop it from --inputs",
+                                  inputs[k], bounds[k].low));
+  }
+  try {
+    sobol::validate_bounds(bounds, inputs);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--bounds: {}", e.what()));
+  }
+  return bounds;
+}
+
+void run_data(const SensitivityArgs& args) {
+  const CsvTable data = read_csv(args.data);
+  const std::vector<std::string> inputs = split_list(args.inputs);
+  const std::vector<std::string> outputs = split_list(args.outputs);
+  if (inputs.empty()) throw UserError("--data needs --inputs NAME,... (the input columns)");
+  if (outputs.empty()) throw UserError("--data needs --output NAME[,...] (the output columns)");
+  std::vector<int> columns;
+  for (const std::string& n : inputs) columns.push_back(data.column_index(n));
+  const std::vector<sobol::Bounds> bounds = parse_bounds(args.bounds, inputs, data, columns);
+
+  // Inputs to the unit cube; a value outside its bounds is the user's to fix.
+  Eigen::MatrixXd x(data.rows(), static_cast<Eigen::Index>(inputs.size()));
+  for (int r = 0; r < data.rows(); ++r)
+    for (std::size_t k = 0; k < inputs.size(); ++k) {
+      const double v = data.values(r, columns[k]);
+      const sobol::Bounds& b = bounds[k];
+      if (v < b.low || v > b.high || (b.scale == sobol::Scale::log_uniform && v <= 0.0))
+        data.fail(r, columns[k], fmt::format("{} is outside the bounds [{}, {}]", v, b.low, b.high));
+      x(r, static_cast<Eigen::Index>(k)) = sobol::to_unit(v, b);
+    }
+
+  std::vector<sobol::MetamodelKind> kinds;
+  for (const std::string& name : split_list(args.metamodels)) {
+    try {
+      kinds.push_back(sobol::metamodel_kind_from_string(name));
+    } catch (const sobol::InputError& e) {
+      throw UserError(fmt::format("--metamodels: {}", e.what()));
+    }
+  }
+  if (kinds.empty()) throw UserError("--metamodels: no metamodel named");
+
+  sobol::MetamodelSobolOptions options;
+  options.base = args.base;
+  options.second_order = args.second_order;
+  options.bootstrap = args.bootstrap < 0 ? 100 : args.bootstrap;
+  options.confidence = args.confidence;
+  options.seed = args.seed;
+  try {
+    options.validate();
+  } catch (const sobol::InputError& e) {
+    throw UserError(e.what());
+  }
+  sobol::MetamodelOptions model_options;
+  model_options.gp.seed = args.seed;
+
+  nlohmann::json results = nlohmann::json::array();
+  for (const std::string& output : outputs) {
+    const Eigen::VectorXd y = data.column(output);
+    nlohmann::json models = nlohmann::json::array();
+    for (const sobol::MetamodelKind kind : kinds) {
+      const std::string model_name = sobol::to_string(kind);
+      std::unique_ptr<sobol::Metamodel> model = sobol::make_metamodel(kind, model_options);
+      sobol::MetamodelSummary summary;
+      sobol::SobolResult indices;
+      try {
+        model->fit(x, y);
+        summary = model->summary();
+        indices = sobol::metamodel_sobol(*model, options);
+      } catch (const sobol::DataError& e) {
+        const int column = e.column() >= 0 ? columns[static_cast<std::size_t>(e.column())] : -1;
+        const std::string other =
+            e.other_row() >= 0 ? fmt::format(" (line {})", data.lines[static_cast<std::size_t>(e.other_row())]) : "";
+        data.fail(e.row(), column,
+                  fmt::format("{}{} (metamodel {}, output '{}')", e.detail(), other, model_name, output));
+      } catch (const sobol::InputError& e) {
+        throw UserError(data.file, 0, fmt::format("output '{}': {}", output, e.what()));
+      } catch (const sobol::NumericalError& e) {
+        throw UserError(data.file, 0, fmt::format("output '{}': {}", output, e.what()));
+      }
+      if (args.json != "-") {
+        fmt::print("{} ~ {}: R2 {:.4f}, adjusted R2 {:.4f}, Q2_LOO {:.4f} ({} samples)\n", output, model_name,
+                   summary.r2, summary.adjusted_r2, summary.q2, summary.samples);
+        print_indices(indices, inputs);
+      }
+      models.push_back(
+          {{"metamodel", model_name}, {"quality", summary_json(summary)}, {"sobol", sobol_json(indices, inputs)}});
+    }
+    results.push_back({{"output", output}, {"metamodels", models}});
+  }
+  nlohmann::json bounds_json = nlohmann::json::array();
+  for (std::size_t k = 0; k < inputs.size(); ++k)
+    bounds_json.push_back({{"input", inputs[k]},
+                           {"low", bounds[k].low},
+                           {"high", bounds[k].high},
+                           {"scale", sobol::to_string(bounds[k].scale)}});
+  write_json(args.json, {{"data", args.data},
+                         {"samples", data.rows()},
+                         {"inputs", inputs},
+                         {"bounds", bounds_json},
+                         {"outputs", results}});
+}
+
+}  // namespace
+
 void register_sensitivity_command(CLI::App& app, CliState& state) {
-  register_not_built(app, state, "sensitivity", "Metamodels and Sobol' indices from a CSV of samples and responses");
+  auto args = std::make_shared<SensitivityArgs>();
+  CLI::App* sub =
+      app.add_subcommand("sensitivity", "Metamodels and Sobol' indices from a CSV of samples and responses");
+  sub->add_option("--saltelli", args->saltelli, "Saltelli design written by `demsa design saltelli`");
+  sub->add_option("--responses", args->responses, "CSV of outputs, one row per design row (with --saltelli)");
+  sub->add_option("--data", args->data, "CSV of samples: input and output columns");
+  sub->add_option("--inputs", args->inputs, "Input columns of --data, comma-separated");
+  sub->add_option("--output", args->outputs, "Output column(s), comma-separated (default with --saltelli: all)");
+  sub->add_option("--bounds", args->bounds, "NAME=LOW:HIGH[:log],... bounds of inputs (default: the data's range)");
+  sub->add_option("--metamodels", args->metamodels, "rsm1, rsm2, rsm3, rbf-cubic, rbf-tps, gp (comma-separated)")
+      ->capture_default_str();
+  sub->add_flag("--second-order", args->second_order, "Also compute second-order indices S2");
+  sub->add_option("--bootstrap", args->bootstrap,
+                  "Bootstrap resamples (default 200 for --saltelli, 100 design refits for --data)");
+  sub->add_option("--confidence", args->confidence, "Confidence level of the intervals")->capture_default_str();
+  sub->add_option("--base", args->base, "QMC base sample size N for metamodel indices")->capture_default_str();
+  sub->add_option("--seed", args->seed, "Seed of the QMC design and of the bootstrap")->capture_default_str();
+  sub->add_option("--json", args->json, "Write the results as JSON to this file ('-': standard output only)");
+  sub->callback([args, &state] {
+    if (!args->saltelli.empty() == !args->data.empty())
+      throw UserError("give exactly one of --saltelli DESIGN.csv (with --responses) or --data DATA.csv");
+    if (!args->saltelli.empty())
+      run_saltelli(*args);
+    else
+      run_data(*args);
+    state.exit_code = k_exit_ok;
+  });
 }
 
 }  // namespace demsa

@@ -18,10 +18,16 @@ class DataError : public InputError {
  public:
   /// `row`: 0-based sample index, or -1; `column`: 0-based input column, or -1; `detail`: what is wrong, without
   /// position (e.g. "duplicates the point of sample 3").
-  DataError(int row, int column, const std::string& detail)
-      : InputError(describe(row, column, detail)), m_row(row), m_column(column), m_detail(detail) {}
+  /// `other_row`: a second sample the problem involves (the first copy of a duplicated point), or -1.
+  DataError(int row, int column, const std::string& detail, int other_row = -1)
+      : InputError(describe(row, column, detail)),
+        m_row(row),
+        m_column(column),
+        m_other_row(other_row),
+        m_detail(detail) {}
   int row() const { return m_row; }
   int column() const { return m_column; }
+  int other_row() const { return m_other_row; }
   const std::string& detail() const { return m_detail; }
 
  private:
@@ -33,6 +39,7 @@ class DataError : public InputError {
   }
   int m_row;
   int m_column;
+  int m_other_row;
   std::string m_detail;
 };
 

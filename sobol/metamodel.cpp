@@ -142,7 +142,8 @@ void check_no_duplicates(const Eigen::MatrixXd& x) {
       throw DataError(static_cast<int>(second), -1,
                       fmt::format("duplicates the point of sample {}: an interpolating metamodel needs distinct "
                                   "points (average the repeats, or use an RSM or a GP with a nugget)",
-                                  first + 1));
+                                  first + 1),
+                      static_cast<int>(first));
     }
   }
 }

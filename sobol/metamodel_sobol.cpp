@@ -155,10 +155,13 @@ SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions
                     "training points for a design bootstrap",
                     fitted.name(), succeeded, options.bootstrap));
   const double lo = 0.5 * (1.0 - options.confidence), hi = 0.5 * (1.0 + options.confidence);
+  // The refits see fewer distinct points than the full fit, which shifts their indices; only the spread of the
+  // replicates is used: the percentile interval is moved so that its median sits on the full-data estimate.
   auto widen = [&](IndexEstimate& e, const std::vector<double>& reps) {
     if (reps.empty()) return;
-    e.lower = percentile(reps, lo);
-    e.upper = percentile(reps, hi);
+    const double median = percentile(reps, 0.5);
+    e.lower = e.value - (median - percentile(reps, lo));
+    e.upper = e.value + (percentile(reps, hi) - median);
   };
   for (int k = 0; k < d; ++k) {
     widen(result.first[static_cast<std::size_t>(k)], first[static_cast<std::size_t>(k)]);

@@ -4,7 +4,9 @@
 //       V = Σ_{α≠0} c_α², S_u = Σ_{supp α = u} c_α² / V, ST_i = Σ_{α_i>0} c_α² / V;
 //   - for any metamodel by QMC on a Saltelli design (sobol/saltelli.hpp), with a *design bootstrap*: the model is
 //     refitted on B resamples of its training points and the indices recomputed, so that the interval carries the
-//     metamodel's own uncertainty (the percentile interval of the B replicates; the estimate is from the full fit).
+//     metamodel's own uncertainty. The estimate is from the full fit; the interval is the percentile interval of the
+//     B replicates moved so that their median sits on the estimate (refits see fewer distinct points, which shifts
+//     the replicates; only their spread is used).
 //     Interpolators (RBF, GP without nugget) are refitted on the distinct points of each resample (duplicates would
 //     make their systems singular); an RSM keeps the duplicates. A GP keeps its hyperparameters (Metamodel::refit).
 #include "sobol/metamodel.hpp"

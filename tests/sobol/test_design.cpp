@@ -1,0 +1,169 @@
+// Designs on the unit cube: Latin property, optimisation gains, the scrambled Sobol' nets, metrics against hand
+// computations, option validation.
+#include "sobol/design.hpp"
+#include "sobol/error.hpp"
+#include "sobol/scaling.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+namespace demsa::sobol {
+namespace {
+
+/// Every column of x has exactly one point in each of the n strata [k/n, (k+1)/n).
+void expect_latin(const Eigen::MatrixXd& x) {
+  const Eigen::Index n = x.rows();
+  for (Eigen::Index k = 0; k < x.cols(); ++k) {
+    std::set<long> strata;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      ASSERT_GE(x(i, k), 0.0);
+      ASSERT_LT(x(i, k), 1.0);
+      strata.insert(static_cast<long>(std::floor(x(i, k) * static_cast<double>(n))));
+    }
+    EXPECT_EQ(static_cast<Eigen::Index>(strata.size()), n) << "column " << k;
+  }
+}
+
+TEST(Design, EveryLhsKindHasOnePointPerStratum) {
+  for (const DesignKind kind :
+       {DesignKind::lhs, DesignKind::lhs_centred, DesignKind::lhs_maximin, DesignKind::lhs_cl2}) {
+    DesignOptions o;
+    o.kind = kind;
+    o.samples = 160;
+    o.dimension = 7;
+    o.seed = 3;
+    o.iterations = 5;
+    const DesignResult r = make_design(o);
+    ASSERT_EQ(r.points.rows(), 160);
+    ASSERT_EQ(r.points.cols(), 7);
+    SCOPED_TRACE(to_string(kind));
+    expect_latin(r.points);
+    EXPECT_EQ(r.seed, 3u);
+  }
+}
+
+TEST(Design, CentredLhsSitsAtStratumCentres) {
+  const Eigen::MatrixXd x = latin_hypercube(10, 3, 1, true);
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    for (Eigen::Index k = 0; k < x.cols(); ++k) {
+      const double scaled = x(i, k) * 10.0 - 0.5;
+      EXPECT_NEAR(scaled, std::round(scaled), 1e-12);
+    }
+}
+
+TEST(Design, SameSeedSameDesignOtherSeedOtherDesign) {
+  EXPECT_EQ(latin_hypercube(20, 4, 9), latin_hypercube(20, 4, 9));
+  EXPECT_NE(latin_hypercube(20, 4, 9), latin_hypercube(20, 4, 10));
+  EXPECT_EQ(scrambled_sobol(64, 5, 9), scrambled_sobol(64, 5, 9));
+}
+
+TEST(Design, OptimisationImprovesItsCriterion) {
+  DesignOptions o;
+  o.samples = 40;
+  o.dimension = 4;
+  o.seed = 11;
+  o.iterations = 30;
+  o.time_limit = 60.0;  // bounded by iterations
+  const DesignMetrics plain = design_metrics(latin_hypercube(40, 4, 11));
+  o.kind = DesignKind::lhs_maximin;
+  const DesignResult maximin = make_design(o);
+  o.kind = DesignKind::lhs_cl2;
+  const DesignResult cl2 = make_design(o);
+  EXPECT_LT(maximin.metrics.phi_p, 0.8 * plain.phi_p);
+  EXPECT_GT(maximin.metrics.min_distance, 1.3 * plain.min_distance);
+  EXPECT_LT(cl2.metrics.centred_l2, 0.8 * plain.centred_l2);
+  EXPECT_EQ(maximin.iterations, 30);
+}
+
+TEST(Design, ScrambledSobolFirstPowerOfTwoIsBalancedInEveryDimension) {
+  // The first 2^m points of a (scrambled) Sobol' sequence put one point in each interval [j/2^m, (j+1)/2^m).
+  const Eigen::MatrixXd x = scrambled_sobol(256, 12, 5);
+  expect_latin(x);
+  // And in every 2-D projection of the first two dimensions, one point per 16 x 16 box (t = 0 for them).
+  std::set<int> boxes;
+  for (Eigen::Index i = 0; i < 256; ++i)
+    boxes.insert(static_cast<int>(x(i, 0) * 16) * 16 + static_cast<int>(x(i, 1) * 16));
+  EXPECT_EQ(boxes.size(), 256u);
+}
+
+TEST(Design, MetricsMatchHandComputations) {
+  // One point at the centre of [0,1]: C2² = 13/12 - 2 + 1 = 1/12 (Hickernell 1998, eq. 5.1c).
+  EXPECT_NEAR(centred_l2_discrepancy(Eigen::MatrixXd::Constant(1, 1, 0.5)), std::sqrt(1.0 / 12.0), 1e-14);
+  // Brute-force formula on a small 2-D design.
+  Eigen::MatrixXd x(3, 2);
+  x << 0.1, 0.7, 0.5, 0.2, 0.9, 0.6;
+  double a = 0.0, b = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    double g = 1.0;
+    for (int k = 0; k < 2; ++k) {
+      const double z = std::abs(x(i, k) - 0.5);
+      g *= 1 + 0.5 * z - 0.5 * z * z;
+    }
+    a += g;
+    for (int j = 0; j < 3; ++j) {
+      double c = 1.0;
+      for (int k = 0; k < 2; ++k)
+        c *= 1 + 0.5 * std::abs(x(i, k) - 0.5) + 0.5 * std::abs(x(j, k) - 0.5) - 0.5 * std::abs(x(i, k) - x(j, k));
+      b += c;
+    }
+  }
+  EXPECT_NEAR(centred_l2_discrepancy(x), std::sqrt(std::pow(13.0 / 12.0, 2) - 2.0 / 3.0 * a + b / 9.0), 1e-14);
+  // Distances: 0.1,0.7 - 0.5,0.2 = sqrt(0.41); 0.5,0.2 - 0.9,0.6 = sqrt(0.32); 0.1,0.7 - 0.9,0.6 = sqrt(0.65).
+  EXPECT_NEAR(min_distance(x), std::sqrt(0.32), 1e-14);
+  EXPECT_NEAR(phi_p(x, 2.0), std::sqrt(1 / 0.41 + 1 / 0.32 + 1 / 0.65), 1e-12);
+  // Large p: the closest pair dominates without overflow.
+  EXPECT_NEAR(phi_p(x, 50.0), 1.0 / std::sqrt(0.32), 1e-2);
+}
+
+TEST(Design, ScalingToBoundsUniformAndLog) {
+  Eigen::MatrixXd u(2, 2);
+  u << 0.0, 0.5, 1.0, 1.0;
+  const std::vector<Bounds> b{{1.0, 3.0, Scale::uniform}, {1e8, 1e9, Scale::log_uniform}};
+  const Eigen::MatrixXd p = to_physical(u, b);
+  EXPECT_DOUBLE_EQ(p(0, 0), 1.0);
+  EXPECT_DOUBLE_EQ(p(1, 0), 3.0);
+  EXPECT_NEAR(p(0, 1), std::sqrt(1e17), 1e-3);
+  EXPECT_NEAR(to_unit(p, b)(0, 1), 0.5, 1e-14);
+}
+
+TEST(DesignErrors, UnknownNamesListTheValidOnes) {
+  try {
+    design_kind_from_string("lhs-best");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lhs-best"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("lhs-maximin"), std::string::npos);
+  }
+  try {
+    lhs_criterion_from_string("entropy");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("valid: maximin, cl2"), std::string::npos);
+  }
+}
+
+TEST(DesignErrors, OptionsAreValidated) {
+  DesignOptions o;
+  o.samples = 1;
+  EXPECT_THROW(o.validate(), InputError);
+  o.samples = 10;
+  o.dimension = 0;
+  EXPECT_THROW(o.validate(), InputError);
+  o.dimension = 41;
+  o.kind = DesignKind::sobol;
+  try {
+    o.validate();
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("dimension = 41"), std::string::npos);
+  }
+  o.dimension = 3;
+  o.time_limit = 0.0;
+  EXPECT_THROW(o.validate(), InputError);
+  EXPECT_THROW(scrambled_sobol(8, 41, 1), InputError);
+}
+
+}  // namespace
+}  // namespace demsa::sobol
