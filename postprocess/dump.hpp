@@ -57,6 +57,8 @@ struct DumpReaderOptions {
   void validate() const;
 };
 
+DumpFrame read_last_frame(const std::filesystem::path& path, const DumpReaderOptions& options);
+
 /// Streams the frames of one dump file in order.
 ///
 ///   DumpReader reader("pile.dump");
@@ -86,6 +88,7 @@ class DumpReader {
   std::uint64_t bytes_read() const;
 
  private:
+  friend DumpFrame read_last_frame(const std::filesystem::path& path, const DumpReaderOptions& options);
   struct Impl;
   std::unique_ptr<Impl> m_impl;
 };

@@ -46,15 +46,14 @@ struct LiggghtsLog {
   long lost_atoms = 0;
   double loop_seconds = 0.0;                 ///< sum of the loop times
   long steps = 0;                            ///< sum of the steps of the finished runs
-  std::optional<double> total_wall_seconds;  ///< `Total wall time: h:mm:ss`, present when LIGGGHTS ended normally
-  bool finished() const { return total_wall_seconds.has_value() && errors.empty(); }
+  std::optional<double> total_wall_seconds;  ///< `Total wall time: h:mm:ss`, when the log has that line
 };
 
 /// Reads the log at `path`. Lines it does not recognise are skipped (a log also echoes the input script); a thermo
 /// row that is cut short (a killed run) ends its block. Throws ParseError only when the file cannot be read.
 LiggghtsLog read_liggghts_log(const std::filesystem::path& path);
 
-/// The same from text held in memory; `name` stands for the file in messages.
-LiggghtsLog parse_liggghts_log(const std::string& text, const std::string& name);
+/// The same from text held in memory.
+LiggghtsLog parse_liggghts_log(const std::string& text);
 
 }  // namespace demsa::postprocess

@@ -1,0 +1,279 @@
+#include "postprocess/oedometer.hpp"
+
+#include "postprocess/measures.hpp"
+
+#include <fmt/core.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace demsa::postprocess {
+
+namespace {
+
+std::vector<std::string> split_words(const std::string& line) {
+  std::vector<std::string> out;
+  std::istringstream in(line);
+  std::string word;
+  while (in >> word) out.push_back(word);
+  return out;
+}
+
+bool to_double(const std::string& s, double& value) {
+  const char* b = s.data();
+  const char* e = b + s.size();
+  if (b != e && *b == '+') ++b;
+  const auto [ptr, ec] = std::from_chars(b, e, value);
+  return ec == std::errc() && ptr == e && b != e && std::isfinite(value);
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw ParseError(path.string(), 0, "is a directory, not a plate file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ParseError(path.string(), 0, fmt::format("cannot open: {}", std::strerror(errno)));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// A whitespace table with `#` comments. `header_key` is the first column name that marks the column header
+/// comment (`# step ...`); the last such comment before the first row names the columns.
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  std::vector<long> lines;  // file line of each row
+};
+
+Table read_table(const std::filesystem::path& path, const std::string& header_key,
+                 const std::vector<std::string>& default_columns) {
+  const std::string text = read_text(path);
+  std::istringstream in(text);
+  std::string raw;
+  long line_no = 0;
+  Table table;
+  bool have_header = false;
+  while (std::getline(in, raw)) {
+    ++line_no;
+    const std::size_t first = raw.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    if (raw[first] == '#') {
+      if (!table.rows.empty()) continue;
+      std::vector<std::string> words = split_words(raw.substr(first + 1));
+      if (!words.empty() && words.front() == header_key) {
+        table.columns = std::move(words);
+        have_header = true;
+      }
+      continue;
+    }
+    if (!have_header) {
+      if (default_columns.empty())
+        throw ParseError(
+            path.string(), line_no,
+            fmt::format("data row before the column header (a comment line starting with '# {}')", header_key));
+      table.columns = default_columns;
+      have_header = true;
+    }
+    const std::vector<std::string> words = split_words(raw);
+    if (words.size() != table.columns.size())
+      throw ParseError(
+          path.string(), line_no,
+          fmt::format("row has {} values, the header names {} columns", words.size(), table.columns.size()));
+    std::vector<double> row(words.size());
+    for (std::size_t c = 0; c < words.size(); ++c)
+      if (!to_double(words[c], row[c]))
+        throw ParseError(path.string(), line_no,
+                         fmt::format("column '{}': '{}' is not a number", table.columns[c], words[c]));
+    table.rows.push_back(std::move(row));
+    table.lines.push_back(line_no);
+  }
+  return table;
+}
+
+int find_column(const Table& table, const std::string& name) {
+  for (std::size_t c = 0; c < table.columns.size(); ++c)
+    if (table.columns[c] == name) return static_cast<int>(c);
+  return -1;
+}
+
+int require_column(const Table& table, const std::filesystem::path& path, const std::string& name) {
+  const int c = find_column(table, name);
+  if (c < 0) {
+    std::string names;
+    for (const std::string& n : table.columns) names += " " + n;
+    throw ParseError(path.string(), 0, fmt::format("no column '{}' (columns:{})", name, names));
+  }
+  return c;
+}
+
+long whole(const std::filesystem::path& path, long line, const std::string& column, double value) {
+  if (value != std::floor(value) || std::fabs(value) > 9.0e15)
+    throw ParseError(path.string(), line, fmt::format("column '{}': {} is not an integer", column, value));
+  return static_cast<long>(value);
+}
+
+}  // namespace
+
+PlateHistory read_plate_history(const std::filesystem::path& path) {
+  const Table table = read_table(path, "step", {});
+  PlateHistory h;
+  h.file = path.string();
+  h.columns = table.columns;
+  if (table.columns.empty()) {
+    if (table.rows.empty()) return h;
+  }
+  const int c_step = require_column(table, path, "step");
+  const int c_load = require_column(table, path, "load_N");
+  const int c_z = require_column(table, path, "plate_z_m");
+  const int c_force = require_column(table, path, "force_N");
+  const int c_trial = find_column(table, "trial");
+  const int c_delta = find_column(table, "delta_m");
+  const int c_acc = find_column(table, "accepted");
+  for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    const std::vector<double>& row = table.rows[i];
+    const long line = table.lines[i];
+    h.step.push_back(whole(path, line, "step", row[static_cast<std::size_t>(c_step)]));
+    h.load_N.push_back(row[static_cast<std::size_t>(c_load)]);
+    h.plate_z_m.push_back(row[static_cast<std::size_t>(c_z)]);
+    h.force_N.push_back(row[static_cast<std::size_t>(c_force)]);
+    if (c_trial >= 0) h.trial.push_back(whole(path, line, "trial", row[static_cast<std::size_t>(c_trial)]));
+    if (c_delta >= 0) h.delta_m.push_back(row[static_cast<std::size_t>(c_delta)]);
+    if (c_acc >= 0) {
+      const double a = row[static_cast<std::size_t>(c_acc)];
+      if (a != 0.0 && a != 1.0)
+        throw ParseError(path.string(), line, fmt::format("column 'accepted': {} is not 0 or 1", a));
+      h.accepted.push_back(static_cast<int>(a));
+    }
+  }
+  return h;
+}
+
+std::vector<PlateState> read_plate_states(const std::filesystem::path& path) {
+  const Table table = read_table(path, "load_N", {"load_N", "plate_z_m", "force_N", "converged"});
+  std::vector<PlateState> states;
+  if (table.rows.empty()) return states;
+  const int c_load = require_column(table, path, "load_N");
+  const int c_z = require_column(table, path, "plate_z_m");
+  const int c_force = require_column(table, path, "force_N");
+  const int c_conv = require_column(table, path, "converged");
+  for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    const std::vector<double>& row = table.rows[i];
+    PlateState s;
+    s.load_N = row[static_cast<std::size_t>(c_load)];
+    s.plate_z_m = row[static_cast<std::size_t>(c_z)];
+    s.force_N = row[static_cast<std::size_t>(c_force)];
+    const double conv = row[static_cast<std::size_t>(c_conv)];
+    if (conv != 0.0 && conv != 1.0)
+      throw ParseError(path.string(), table.lines[i], fmt::format("column 'converged': {} is not 0 or 1", conv));
+    s.converged = conv == 1.0;
+    states.push_back(s);
+  }
+  return states;
+}
+
+std::vector<PlateState> states_from_history(const PlateHistory& history, double load_tolerance) {
+  std::vector<PlateState> states;
+  const bool trial_mode = !history.accepted.empty();
+  std::size_t i = 0;
+  while (i < history.size()) {
+    std::size_t j = i;
+    while (j < history.size() && history.load_N[j] == history.load_N[i]) ++j;
+    // rows [i, j) share one load: the last (accepted) row is the state reached
+    std::size_t pick = j;
+    for (std::size_t k = j; k-- > i;)
+      if (!trial_mode || history.accepted[k] == 1) {
+        pick = k;
+        break;
+      }
+    if (pick < j) {
+      PlateState s;
+      s.load_N = history.load_N[pick];
+      s.plate_z_m = history.plate_z_m[pick];
+      s.force_N = history.force_N[pick];
+      s.converged = std::fabs(s.force_N - s.load_N) <= load_tolerance;
+      states.push_back(s);
+    }
+    i = j;
+  }
+  return states;
+}
+
+void OedometerOptions::validate() const {
+  if (!(box_side > 0.0) || !std::isfinite(box_side))
+    throw std::invalid_argument(fmt::format("OedometerOptions.box_side = {}: must be a positive length [m]", box_side));
+  if (!std::isfinite(floor_z))
+    throw std::invalid_argument(fmt::format("OedometerOptions.floor_z = {}: must be finite [m]", floor_z));
+  if (!(solid_volume >= 0.0) || !std::isfinite(solid_volume))
+    throw std::invalid_argument(
+        fmt::format("OedometerOptions.solid_volume = {}: must be >= 0 [m^3] (0 = no void ratio)", solid_volume));
+  for (std::size_t i = 0; i < measured_settlements.size(); ++i)
+    if (!std::isfinite(measured_settlements[i]))
+      throw std::invalid_argument(fmt::format("OedometerOptions.measured_settlements[{}] = {}: must be finite [m]", i,
+                                              measured_settlements[i]));
+}
+
+OedometerResult measure_oedometer(const std::vector<PlateState>& states, const OedometerOptions& options,
+                                  std::optional<PlateHistory> history) {
+  options.validate();
+  if (states.empty()) throw InputError("no load state reached: the plate files hold no load step");
+  OedometerResult result;
+  result.options = options;
+  const double area = options.box_side * options.box_side;
+  // Paper §4: the settlement s = h_0 − h, h_0 being the plate height at the first load step (100 N).
+  const double h0 = states.front().plate_z_m;
+  result.all_converged = true;
+  for (const PlateState& s : states) {
+    OedometerStep step;
+    step.load_N = s.load_N;
+    step.plate_z_m = s.plate_z_m;
+    step.force_N = s.force_N;
+    step.converged = s.converged;
+    step.settlement_m = h0 - s.plate_z_m;
+    step.stress_Pa = s.load_N / area;
+    if (options.solid_volume > 0.0) {
+      // Void ratio e = V_voids / V_S (paper §4 writes V_S/V_P, but its values 0.66/0.67 are voids over solids).
+      const double total = area * (s.plate_z_m - options.floor_z);
+      step.void_ratio = (total - options.solid_volume) / options.solid_volume;
+    }
+    result.all_converged = result.all_converged && s.converged;
+    result.steps.push_back(step);
+  }
+  for (std::size_t i = 1; i < result.steps.size(); ++i) result.settlements.push_back(result.steps[i].settlement_m);
+
+  const std::size_t n = states.size();
+  const std::vector<double>& measured = options.measured_settlements;
+  if (!measured.empty()) {
+    // E_0 = sqrt(Σ (s̃_i − s_i)²) over the loads after the first (paper §4).
+    if (measured.size() == n - 1 && n > 1) {
+      result.settlement_error = settlement_error(result.settlements, measured);
+    } else if (measured.size() == n) {
+      std::vector<double> all{0.0};
+      all.insert(all.end(), result.settlements.begin(), result.settlements.end());
+      result.settlement_error = settlement_error(all, measured);
+    } else {
+      throw InputError(fmt::format(
+          "{} measured settlements for {} load states: give {} (one per load after the first) or {} (starting with "
+          "the first load's 0)",
+          measured.size(), n, n - 1, n));
+    }
+  }
+  if (history) {
+    for (int a : history->accepted) (a == 1 ? result.trials_accepted : result.trials_rejected) += 1;
+    result.history = std::move(history);
+  }
+  return result;
+}
+
+double solid_volume(const Particles& particles) {
+  double v = 0.0;
+  for (double r : particles.radius) v += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  return v;
+}
+
+}  // namespace demsa::postprocess

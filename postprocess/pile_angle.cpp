@@ -1,0 +1,257 @@
+#include "postprocess/pile_angle.hpp"
+
+#include "postprocess/measures.hpp"
+
+#include <fmt/core.h>
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+namespace demsa::postprocess {
+
+BoundaryPointKind boundary_point_kind_from_string(const std::string& name) {
+  if (name == "surface") return BoundaryPointKind::surface;
+  if (name == "centre" || name == "center") return BoundaryPointKind::centre;
+  throw std::invalid_argument(fmt::format("unknown boundary point '{}' (valid: surface, centre)", name));
+}
+
+std::string to_string(BoundaryPointKind kind) {
+  switch (kind) {
+    case BoundaryPointKind::surface:
+      return "surface";
+    case BoundaryPointKind::centre:
+      return "centre";
+  }
+  assert(false && "unhandled BoundaryPointKind");
+  return {};
+}
+
+void PileAngleOptions::validate() const {
+  auto bad = [](const char* field, double value, const char* rule) {
+    return std::invalid_argument(fmt::format("PileAngleOptions.{} = {}: {}", field, value, rule));
+  };
+  if (!(pedestal_radius > 0.0) || !std::isfinite(pedestal_radius))
+    throw bad("pedestal_radius", pedestal_radius, "must be a positive length [m]");
+  if (!std::isfinite(pedestal_top)) throw bad("pedestal_top", pedestal_top, "must be finite [m]");
+  if (!std::isfinite(axis_x)) throw bad("axis_x", axis_x, "must be finite [m]");
+  if (!std::isfinite(axis_y)) throw bad("axis_y", axis_y, "must be finite [m]");
+  if (particle_type < 0) throw bad("particle_type", particle_type, "must be 0 (all atoms) or an atom type >= 1");
+  if (directions < 1) throw bad("directions", directions, "must be at least 1");
+  if (levels < 2) throw bad("levels", levels, "must be at least 2");
+  if (!(level_low > 0.0 && level_low < 1.0)) throw bad("level_low", level_low, "must be in (0, 1)");
+  if (!(level_high > level_low && level_high < 1.0))
+    throw bad("level_high", level_high, fmt::format("must be in (level_low = {}, 1)", level_low).c_str());
+  if (min_points < 2) throw bad("min_points", min_points, "must be at least 2 (a line needs two points)");
+  if (!std::isfinite(target_angle)) throw bad("target_angle", target_angle, "must be finite [deg]");
+}
+
+std::vector<std::size_t> pedestal_particles(const Particles& particles, const PileAngleOptions& options) {
+  // Paper §3.2: particles off the pedestal or below its upper edge are removed before measuring.
+  std::vector<std::size_t> kept;
+  for (std::size_t j = 0; j < particles.size(); ++j) {
+    if (options.particle_type > 0 && particles.type[j] != options.particle_type) continue;
+    const double rho = std::hypot(particles.x[j] - options.axis_x, particles.y[j] - options.axis_y);
+    if (rho <= options.pedestal_radius && particles.z[j] >= options.pedestal_top) kept.push_back(j);
+  }
+  return kept;
+}
+
+TlsLine fit_tls_line(const std::vector<double>& u, const std::vector<double>& v) {
+  assert(u.size() == v.size() && u.size() >= 2);
+  const Eigen::Index n = static_cast<Eigen::Index>(u.size());
+  TlsLine line;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    line.u0 += u[static_cast<std::size_t>(j)];
+    line.v0 += v[static_cast<std::size_t>(j)];
+  }
+  line.u0 /= static_cast<double>(n);
+  line.v0 /= static_cast<double>(n);
+  Eigen::MatrixX2d centred(n, 2);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    centred(j, 0) = u[static_cast<std::size_t>(j)] - line.u0;
+    centred(j, 1) = v[static_cast<std::size_t>(j)] - line.v0;
+  }
+  // Total least squares: the line minimising the sum of squared orthogonal distances passes through the centroid
+  // along the first right singular vector of the centred points; the second singular value is the residual norm
+  // (Golub & Van Loan, Matrix Computations, §12.3).
+  const Eigen::JacobiSVD<Eigen::MatrixX2d> svd(centred, Eigen::ComputeFullV);
+  const Eigen::Vector2d dir = svd.matrixV().col(0);
+  line.du = dir(0);
+  line.dv = dir(1);
+  if (line.du < 0.0 || (line.du == 0.0 && line.dv < 0.0)) {
+    line.du = -line.du;
+    line.dv = -line.dv;
+  }
+  line.rms_distance = svd.singularValues()(1) / std::sqrt(static_cast<double>(n));
+  return line;
+}
+
+PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOptions& options) {
+  options.validate();
+  PileAngleResult result;
+  result.options = options;
+  for (std::size_t j = 0; j < particles.size(); ++j)
+    if (options.particle_type == 0 || particles.type[j] == options.particle_type) ++result.particles_total;
+
+  const std::vector<std::size_t> kept = pedestal_particles(particles, options);
+  result.particles_on_pedestal = kept.size();
+  if (kept.empty())
+    throw InputError(fmt::format(
+        "no particle{} on the pedestal (centre within {} m of the axis at ({}, {}) and at or above z = {} m) among "
+        "{} atoms",
+        options.particle_type > 0 ? fmt::format(" of type {}", options.particle_type) : std::string(),
+        options.pedestal_radius, options.axis_x, options.axis_y, options.pedestal_top, particles.size()));
+
+  // h_P: the top of the highest particle above the pedestal top (paper §3.2, determined during the filter).
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t j : kept) top = std::max(top, particles.z[j] + particles.radius[j]);
+  result.pile_height = top - options.pedestal_top;
+  if (!(result.pile_height > 0.0))
+    throw InputError(
+        fmt::format("pile height h_P = {} m: the particles on the pedestal have no extent", result.pile_height));
+
+  // Equidistant levels between level_low h_P and level_high h_P (paper §3.3: 0.2 h_P and 0.75 h_P).
+  const int nl = options.levels;
+  const int nd = options.directions;
+  result.level_heights.resize(static_cast<std::size_t>(nl));
+  for (int k = 0; k < nl; ++k)
+    result.level_heights[static_cast<std::size_t>(k)] =
+        result.pile_height *
+        (options.level_low + (options.level_high - options.level_low) * static_cast<double>(k) / (nl - 1));
+
+  // Directions e_i = (cos φ_i, −sin φ_i), φ_i = 360° i / φ_N (paper eq. 9); n_i is the horizontal normal of the
+  // vertical half-plane spanned by e_i and the z axis.
+  std::vector<double> ex(static_cast<std::size_t>(nd)), ey(ex.size()), nx(ex.size()), ny(ex.size());
+  for (int i = 0; i < nd; ++i) {
+    const double phi = 2.0 * std::numbers::pi * static_cast<double>(i) / nd;
+    ex[static_cast<std::size_t>(i)] = std::cos(phi);
+    ey[static_cast<std::size_t>(i)] = -std::sin(phi);
+    nx[static_cast<std::size_t>(i)] = std::sin(phi);
+    ny[static_cast<std::size_t>(i)] = std::cos(phi);
+  }
+
+  // For every (direction, level) cell the particle reaching furthest out (paper §3.3: "the particle with the
+  // largest radial distance"). A particle is in the cell when its sphere meets the direction's half-plane and the
+  // level's horizontal plane; in that cross-section its outline is a circle of radius r' = sqrt(r² − d²), d being
+  // the distance of its centre from the half-plane.
+  const std::size_t cells = static_cast<std::size_t>(nd) * static_cast<std::size_t>(nl);
+  const double none = -std::numeric_limits<double>::infinity();
+  std::vector<double> best_value(cells, none);
+  std::vector<double> best_radial(cells, 0.0), best_height(cells, 0.0);
+  std::vector<std::size_t> best_index(cells, 0);
+  const bool surface = options.point == BoundaryPointKind::surface;
+  for (std::size_t j : kept) {
+    const double px = particles.x[j] - options.axis_x;
+    const double py = particles.y[j] - options.axis_y;
+    const double pz = particles.z[j] - options.pedestal_top;
+    const double r = particles.radius[j];
+    for (int i = 0; i < nd; ++i) {
+      const std::size_t ui = static_cast<std::size_t>(i);
+      const double d = px * nx[ui] + py * ny[ui];
+      if (std::fabs(d) > r) continue;
+      const double s = px * ex[ui] + py * ey[ui];
+      const double rs = std::sqrt(r * r - d * d);
+      if (s + rs < 0.0) continue;  // lies on the opposite half-plane
+      for (int k = 0; k < nl; ++k) {
+        const double zk = result.level_heights[static_cast<std::size_t>(k)];
+        const double dz = pz - zk;
+        if (std::fabs(dz) > rs) continue;
+        const double reach = s + std::sqrt(rs * rs - dz * dz);
+        const double value = surface ? reach : s;
+        const std::size_t cell = ui * static_cast<std::size_t>(nl) + static_cast<std::size_t>(k);
+        if (value > best_value[cell]) {
+          best_value[cell] = value;
+          best_index[cell] = j;
+          best_radial[cell] = surface ? reach : s;
+          best_height[cell] = surface ? zk : pz;
+        }
+      }
+    }
+  }
+
+  // One orthogonal line per direction in the (radial distance, height) plane; its angle (paper §3.3, Fig. 4b).
+  std::vector<double> angles;
+  result.lines.reserve(static_cast<std::size_t>(nd));
+  std::vector<double> u, v;
+  for (int i = 0; i < nd; ++i) {
+    const std::size_t ui = static_cast<std::size_t>(i);
+    DirectionLine line;
+    line.direction = i;
+    line.phi = 360.0 * static_cast<double>(i) / nd;
+    line.ex = ex[ui];
+    line.ey = ey[ui];
+    u.clear();
+    v.clear();
+    for (int k = 0; k < nl; ++k) {
+      const std::size_t cell = ui * static_cast<std::size_t>(nl) + static_cast<std::size_t>(k);
+      if (best_value[cell] == none) continue;
+      const std::size_t j = best_index[cell];
+      BoundaryParticle b;
+      b.direction = i;
+      b.level = k;
+      b.index = j;
+      b.id = particles.id[j];
+      b.x = particles.x[j];
+      b.y = particles.y[j];
+      b.z = particles.z[j];
+      b.radius = particles.radius[j];
+      b.radial = best_radial[cell];
+      b.height = best_height[cell];
+      result.boundary.push_back(b);
+      u.push_back(b.radial);
+      v.push_back(b.height);
+    }
+    line.points = static_cast<int>(u.size());
+    if (line.points >= options.min_points) {
+      const TlsLine fit = fit_tls_line(u, v);
+      line.used = true;
+      line.angle = std::atan2(-fit.dv, fit.du) * 180.0 / std::numbers::pi;
+      line.rms_distance = fit.rms_distance;
+      double t_min = std::numeric_limits<double>::infinity();
+      double t_max = -t_min;
+      for (std::size_t p = 0; p < u.size(); ++p) {
+        const double t = (u[p] - fit.u0) * fit.du + (v[p] - fit.v0) * fit.dv;
+        t_min = std::min(t_min, t);
+        t_max = std::max(t_max, t);
+      }
+      // Segment ends ordered by height: "low" is the end nearer the pedestal.
+      double ua = fit.u0 + t_min * fit.du, va = fit.v0 + t_min * fit.dv;
+      double ub = fit.u0 + t_max * fit.du, vb = fit.v0 + t_max * fit.dv;
+      if (va > vb) {
+        std::swap(ua, ub);
+        std::swap(va, vb);
+      }
+      line.radial_low = ua;
+      line.height_low = va;
+      line.radial_high = ub;
+      line.height_high = vb;
+      angles.push_back(line.angle);
+    }
+    result.lines.push_back(line);
+  }
+  result.directions_used = static_cast<int>(angles.size());
+  if (angles.empty())
+    throw InputError(fmt::format(
+        "no direction has {} boundary points between {} h_P and {} h_P (h_P = {} m, {} particles on the pedestal): "
+        "not a pile",
+        options.min_points, options.level_low, options.level_high, result.pile_height, kept.size()));
+
+  // The angle of repose is the mean over the directions (paper §3.3); also their spread.
+  double sum = 0.0;
+  for (double a : angles) sum += a;
+  result.angle_mean = sum / static_cast<double>(angles.size());
+  double ss = 0.0;
+  for (double a : angles) ss += (a - result.angle_mean) * (a - result.angle_mean);
+  result.angle_sd = angles.size() > 1 ? std::sqrt(ss / static_cast<double>(angles.size() - 1)) : 0.0;
+  result.angle_min = *std::min_element(angles.begin(), angles.end());
+  result.angle_max = *std::max_element(angles.begin(), angles.end());
+  result.angle_error = angle_error(result.angle_mean, options.target_angle);
+  return result;
+}
+
+}  // namespace demsa::postprocess

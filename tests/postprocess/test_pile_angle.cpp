@@ -1,0 +1,170 @@
+// Angle of repose (paper §3.3) on synthetic piles of known flank angle and on a real LIGGGHTS pile.
+#include "postprocess/pile_angle.hpp"
+
+#include "postprocess/dump.hpp"
+#include "support/test_support.hpp"
+#include "synthetic_pile.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace demsa::postprocess {
+namespace {
+
+class SyntheticConeAngle : public ::testing::TestWithParam<double> {};
+
+TEST_P(SyntheticConeAngle, MeasuredAngleWithinOneDegree) {
+  test::SyntheticPileOptions pile;
+  pile.angle_deg = GetParam();
+  const Particles particles = test::make_synthetic_pile(pile);
+  const PileAngleResult r = measure_pile_angle(particles, {});
+  EXPECT_NEAR(r.angle_mean, pile.angle_deg, 1.0) << "sd " << r.angle_sd << " used " << r.directions_used;
+  EXPECT_EQ(r.directions_used, 180);
+  EXPECT_LT(r.particles_on_pedestal, r.particles_total);  // the rolled-off ones are dropped
+  // h_P: the outline's top plus at most the noise.
+  const double top = test::synthetic_pile_profile(pile, 0.0);
+  EXPECT_NEAR(r.pile_height, top, 0.5e-3);
+  EXPECT_DOUBLE_EQ(r.angle_error, (33.5 - r.angle_mean) * (33.5 - r.angle_mean));
+}
+
+TEST_P(SyntheticConeAngle, CentreModeAlsoWithinOneDegree) {
+  test::SyntheticPileOptions pile;
+  pile.angle_deg = GetParam();
+  pile.seed = 7;
+  PileAngleOptions options;
+  options.point = BoundaryPointKind::centre;
+  const PileAngleResult r = measure_pile_angle(test::make_synthetic_pile(pile), options);
+  EXPECT_NEAR(r.angle_mean, pile.angle_deg, 1.0) << "sd " << r.angle_sd;
+}
+
+INSTANTIATE_TEST_SUITE_P(PaperRange, SyntheticConeAngle, ::testing::Values(25.0, 30.0, 33.5, 38.0));
+
+}  // namespace
+}  // namespace demsa::postprocess
+
+namespace demsa::postprocess {
+namespace {
+
+TEST(PileAngle, RealLiggghtsPile) {
+  const Particles p = read_particles(test::data_path("postprocess/liggghts_pile/pile_final.dump"));
+  ASSERT_EQ(p.size(), 600u);
+  const PileAngleResult r = measure_pile_angle(p, {});
+  EXPECT_EQ(r.particles_on_pedestal, 591u);
+  // h_P independently: the highest z + r above 5 mm (pileinfo of the run: 21.65 mm).
+  EXPECT_NEAR(r.pile_height, 0.02165, 0.00001);
+  EXPECT_GT(r.angle_mean, 20.0);
+  EXPECT_LT(r.angle_mean, 45.0);
+  EXPECT_GT(r.directions_used, 150);
+}
+
+TEST(PileAngle, TlsLineIsOrthogonalNotOrdinary) {
+  // Points on z = 2 − u with symmetric perpendicular offsets: TLS recovers slope −1 exactly, while ordinary least
+  // squares on v would be biased by the offsets in u.
+  std::vector<double> u, v;
+  for (int k = 0; k < 5; ++k) {
+    const double t = k;
+    for (double off : {-0.1, 0.1}) {
+      u.push_back(t + off / std::sqrt(2.0));
+      v.push_back(2.0 - t + off / std::sqrt(2.0));
+    }
+  }
+  const TlsLine l = fit_tls_line(u, v);
+  EXPECT_NEAR(l.dv / l.du, -1.0, 1e-12);
+  EXPECT_NEAR(l.rms_distance, 0.1, 1e-12);
+  EXPECT_NEAR(l.u0, 2.0, 1e-12);
+  EXPECT_NEAR(l.v0, 0.0, 1e-12);
+}
+
+TEST(PileAngle, ExactConeOfSpheresFromTheSurface) {
+  // Spheres of one radius whose outermost point lies exactly on a 30° flank at every level height, one per
+  // direction: the surface points are exact, so every direction measures 30° up to rounding.
+  PileAngleOptions o;
+  o.directions = 36;
+  o.levels = 5;
+  Particles p;
+  const double theta = 30.0 * std::numbers::pi / 180.0;
+  const double base = 0.04, r = 0.001;
+  const double h = base * std::tan(theta);
+  // the apex particle defines h_P: top at h above the pedestal top
+  auto add = [&p](std::int64_t id, double x, double y, double z, double rad) {
+    p.id.push_back(id);
+    p.type.push_back(1);
+    p.x.push_back(x);
+    p.y.push_back(y);
+    p.z.push_back(z);
+    p.radius.push_back(rad);
+  };
+  add(1, 0, 0, o.pedestal_top + h - r, r);
+  std::int64_t id = 2;
+  for (int i = 0; i < o.directions; ++i) {
+    const double phi = 2.0 * std::numbers::pi * i / o.directions;
+    for (int k = 0; k < o.levels; ++k) {
+      const double zk = h * (0.2 + 0.55 * k / (o.levels - 1));
+      const double rho = (h - zk) / std::tan(theta) - r;  // centre at the level height, touching the flank
+      add(id++, rho * std::cos(phi), -rho * std::sin(phi), o.pedestal_top + zk, r);
+    }
+  }
+  const PileAngleResult res = measure_pile_angle(p, o);
+  EXPECT_NEAR(res.pile_height, h, 1e-15);
+  EXPECT_EQ(res.directions_used, 36);
+  EXPECT_NEAR(res.angle_mean, 30.0, 1e-9);
+  EXPECT_NEAR(res.angle_sd, 0.0, 1e-9);
+  ASSERT_EQ(res.boundary.size(), 36u * 5u);
+  EXPECT_EQ(res.boundary[0].direction, 0);
+  EXPECT_EQ(res.boundary[0].id, 2);
+  EXPECT_NEAR(res.lines[9].phi, 90.0, 1e-12);
+  EXPECT_NEAR(res.lines[9].ey, -1.0, 1e-12);
+  EXPECT_NEAR(res.lines[0].height_low, 0.2 * h, 1e-12);
+  EXPECT_NEAR(res.lines[0].height_high, 0.75 * h, 1e-12);
+  EXPECT_DOUBLE_EQ(res.angle_error, 3.5 * 3.5);
+}
+
+TEST(PileAngleErrors, NothingOnThePedestal) {
+  Particles p;
+  p.id = {1};
+  p.type = {1};
+  p.x = {0.2};
+  p.y = {0.0};
+  p.z = {0.01};
+  p.radius = {0.001};
+  EXPECT_THROW(measure_pile_angle(p, {}), InputError);
+}
+
+TEST(PileAngleErrors, FlatLayerHasNoLines) {
+  Particles p;
+  for (int k = 0; k < 3; ++k) {
+    p.id.push_back(k + 1);
+    p.type.push_back(1);
+    p.x.push_back(0.01 * k);
+    p.y.push_back(0.0);
+    p.z.push_back(0.006);
+    p.radius.push_back(0.001);
+  }
+  try {
+    measure_pile_angle(p, {});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a pile"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PileAngleErrors, OptionsValidateNamesField) {
+  PileAngleOptions o;
+  o.levels = 1;
+  try {
+    o.validate();
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "PileAngleOptions.levels = 1: must be at least 2");
+  }
+  o = {};
+  o.level_high = 0.1;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+  EXPECT_THROW(boundary_point_kind_from_string("middle"), std::invalid_argument);
+  EXPECT_EQ(boundary_point_kind_from_string("centre"), BoundaryPointKind::centre);
+}
+
+}  // namespace
+}  // namespace demsa::postprocess
