@@ -386,7 +386,7 @@ PlotFiles plot_pile_side(const Plotter& plotter, const PileSideView& v, const fs
   data += "EOD\n";
 
   const double half_width = v.pedestal_radius * mm * 1.1;
-  const double top = std::max(v.height * mm * 1.15, v.pedestal_height * mm * 4);
+  const double top = std::max((v.pedestal_height + v.height * 1.1) * mm, v.pedestal_height * mm * 4);
   std::string body;
   body += fmt::format("  set multiplot layout 2,1 title {} noenhanced\n",
                       gnuplot_quote(fmt::format("{}: angle of repose {:.2f}°, pile height {:.1f} mm, {} directions",
@@ -411,10 +411,11 @@ PlotFiles plot_pile_side(const Plotter& plotter, const PileSideView& v, const fs
   body += fmt::format("  set title {} noenhanced\n",
                       gnuplot_quote("all directions unrolled: boundary particles and fitted lines"));
   body += "  set xlabel 'radial distance along the direction [mm]'\n  set ylabel 'z [mm]'\n";
-  body += fmt::format("  set arrow 1 from 0,{0} to {1},{0} nohead dt 2 lc rgb '{2}'\n", num(0.2 * v.height * mm),
-                      num(half_width), k_purple);
-  body += fmt::format("  set arrow 2 from 0,{0} to {1},{0} nohead dt 2 lc rgb '{2}'\n", num(0.75 * v.height * mm),
-                      num(half_width), k_purple);
+  // The levels are measured from the pedestal top (paper §3.3).
+  body += fmt::format("  set arrow 1 from 0,{0} to {1},{0} nohead dt 2 lc rgb '{2}'\n",
+                      num((v.pedestal_height + 0.2 * v.height) * mm), num(half_width), k_purple);
+  body += fmt::format("  set arrow 2 from 0,{0} to {1},{0} nohead dt 2 lc rgb '{2}'\n",
+                      num((v.pedestal_height + 0.75 * v.height) * mm), num(half_width), k_purple);
   body +=
       "  plot $boundary using 1:2:3:4 with circles lc palette fs transparent solid 0.5 noborder "
       "title 'boundary particle', \\\n"

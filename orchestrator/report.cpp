@@ -61,7 +61,8 @@ namespace {
 /// A number with 3 significant digits, small ones in scientific notation (as the paper's tables: 3.7E-5).
 std::string short_number(double v) {
   if (!std::isfinite(v)) return "n/a";
-  if (v == 0.0) return "0";
+  // Below 1e-6 an index is round-off of a zero (exact RSM indices come out as 1e-31).
+  if (std::abs(v) < 1e-6) return "0";
   if (std::abs(v) < 1e-3 || std::abs(v) >= 1e5) return fmt::format("{:.2e}", v);
   return fmt::format("{:.3g}", v);
 }
@@ -70,7 +71,9 @@ std::string short_number(double v) {
 
 std::string format_interval(double value, double low, double high) {
   std::string text = short_number(value);
-  const bool has = std::isfinite(low) && std::isfinite(high) && !(low == value && high == value);
+  // An interval that rounds onto the value (exact indices) is left out.
+  const bool has =
+      std::isfinite(low) && std::isfinite(high) && !(short_number(low) == text && short_number(high) == text);
   if (has) text += fmt::format(" [{}, {}]", short_number(low), short_number(high));
   return text;
 }
@@ -145,17 +148,17 @@ std::string render_markdown(const ReportDocument& document, const fs::path& fold
   std::string md = fmt::format("# {}\n", document.title);
   for (const ReportSection& s : document.sections) {
     md += fmt::format("\n{} {}\n", std::string(static_cast<size_t>(std::clamp(s.level, 2, 4)), '#'), s.heading);
-    for (const std::string& p : s.paragraphs) md += "\n" + p + "\n";
+    for (const std::string& p : s.paragraphs) md += fmt::format("\n{}\n", p);
     for (const ReportTable& t : s.tables) {
       if (!t.caption.empty()) md += fmt::format("\n*{}*\n", t.caption);
       md += "\n|";
-      for (const std::string& h : t.header) md += " " + md_cell(h) + " |";
+      for (const std::string& h : t.header) md += fmt::format(" {} |", md_cell(h));
       md += "\n|";
       for (size_t i = 0; i < t.header.size(); ++i) md += i == 0 ? " :--- |" : " ---: |";
       md += "\n";
       for (const std::vector<std::string>& row : t.rows) {
         md += "|";
-        for (const std::string& c : row) md += " " + md_cell(c) + " |";
+        for (const std::string& c : row) md += fmt::format(" {} |", md_cell(c));
         md += "\n";
       }
     }
@@ -406,6 +409,11 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
                                            observable.at("samples").get<int>(),
                                            short_number(observable.at("mean").get<double>() * label.factor), label.unit,
                                            short_number(observable.at("sd").get<double>() * label.factor), label.unit));
+  const ObservableData data = observable_data(s, name);
+  if (data.y.size() < 2) {
+    section.paragraphs.push_back("Too few done samples measure it: no tables and no plots.");
+    return section;
+  }
   const std::vector<ModelEntry> models = model_entries(observable);
   std::vector<std::string> symbols;
   for (const std::string& p : names) symbols.push_back(parameter_label(p).plain);
@@ -490,7 +498,6 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
   for (const ReportTable& t : second_tables) section.tables.push_back(t);
 
   // Leave-one-out predictions: the metamodels are refitted to the same samples as the analysis.
-  const ObservableData data = observable_data(s, name);
   for (const ModelEntry& m : models) {
     if (!m.ok) continue;
     try {

@@ -49,6 +49,8 @@ TEST(Report, Base64KnownVectors) {  // RFC 4648 §10
 TEST(Report, IntervalFormatting) {
   EXPECT_EQ(format_interval(0.5302, 0.512, 0.551), "0.53 [0.512, 0.551]");
   EXPECT_EQ(format_interval(3.7e-5, 3.7e-5, 3.7e-5), "3.70e-05");  // collapsed interval (exact RSM indices)
+  EXPECT_EQ(format_interval(0.0213, 0.02130001, 0.0213), "0.0213");
+  EXPECT_EQ(format_interval(1e-31, 2e-33, 3e-30), "0");  // round-off of a zero
   EXPECT_EQ(format_interval(0.25, std::nan(""), std::nan("")), "0.25");
   EXPECT_EQ(format_interval(std::nan(""), 0, 1), "n/a [0, 1]");
 }
@@ -250,9 +252,9 @@ TEST(Report, PileStudyWithFigureFourAndCalibration) {
   EXPECT_NE(md.find("24 in the design, 23 done, 1 failed"), std::string::npos) << md;
   EXPECT_NE(md.find("| timeout | 1 | 2 |"), std::string::npos) << md;
   EXPECT_NE(md.find("CPU time of all attempts: 2.356 h"), std::string::npos) << md;  // (23·360 + 2·100) s
-  EXPECT_NE(md.find("| metamodel | μ_PP | μ_R,PP | e_r | Res |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| metamodel | μ_PP | e_r | μ_R,PP | Res |"), std::string::npos) << md;
   EXPECT_NE(md.find("Second-order indices S2 (RSM quad.)"), std::string::npos) << md;
-  EXPECT_NE(md.find("| RSM quad. | 6 | 1.0000 | 1.0000 | 1.0000 |"), std::string::npos) << md;  // exact fit
+  EXPECT_NE(md.find("| RSM quad. | 10 | 1.0000 | 1.0000 | 1.0000 |"), std::string::npos) << md;  // exact fit
   EXPECT_NE(md.find("the pile (paper Fig. 4)"), std::string::npos) << md;
   EXPECT_NE(md.find("## Calibration"), std::string::npos) << md;
   EXPECT_NE(md.find("![The pile of sample 3"), std::string::npos) << md;
@@ -269,8 +271,13 @@ TEST(Report, OedometerStudyWithFiguresFiveAndSixB) {
   TempDir dir;
   write_study(dir.path(), k_oedometer_study, [](const std::vector<double>& u) {
     const double soft = 1.0 - 0.6 * u[0] + 0.05 * u[1];
+    const double s1 = 0.5e-3 * soft, s2 = 1.2e-3 * soft, s3 = 2.0e-3 * soft;
     return std::map<std::string, double>{
-        {"settlement_1", 0.5e-3 * soft}, {"settlement_2", 1.2e-3 * soft}, {"settlement_3", 2.0e-3 * soft}};
+        {"settlement_1", s1},
+        {"settlement_2", s2},
+        {"settlement_3", s3},
+        {"settlement_error",
+         std::sqrt(std::pow(s1 - 0.4e-3, 2) + std::pow(s2 - 1.0e-3, 2) + std::pow(s3 - 1.8e-3, 2))}};
   });
   // Sample 5's plate files: four load states and a history with trial steps.
   const fs::path cases = dir / "cases" / "000005";
@@ -293,8 +300,8 @@ TEST(Report, OedometerStudyWithFiguresFiveAndSixB) {
   options.sample = 5;
   const ReportSummary summary = write_study_report(options);
   EXPECT_TRUE(summary.notes.empty()) << summary.notes.front();
-  // 3 observables × (1 bars + 1 LOO + 1 response) + settlement curve + plate history
-  EXPECT_EQ(summary.images.size(), 3u * 3u + 2u);
+  // 4 observables (settlements 1-3, E_0) × (1 bars + 1 LOO + 1 response) + settlement curve + plate history
+  EXPECT_EQ(summary.images.size(), 4u * 3u + 2u);
   expect_images_drawn(summary);
   const std::string md = read_file(summary.markdown);
   EXPECT_NE(md.find("the oedometer (paper Figs. 5 and 6b)"), std::string::npos) << md;
