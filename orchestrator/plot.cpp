@@ -485,7 +485,7 @@ PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& h, 
   std::string body;
   body += fmt::format("  set title {} noenhanced\n", gnuplot_quote(h.title));
   body += "  set xlabel 'time step'\n  set ylabel 'force on the plate [N]'\n";
-  body += "  set grid lc rgb '#dddddd'\n  set key outside bottom center horizontal\n  set yrange [0:*]\n";
+  body += "  set grid lc rgb '#dddddd'\n  set key outside top center horizontal\n  set yrange [0:*]\n";
   if (!h.plate_z.empty()) body += "  set y2label 'plate height z [mm]'\n  set y2tics\n  set ytics nomirror\n";
   body += fmt::format(
       "  plot $history using 1:3 with lines lw 1.5 lc rgb '{}' title 'particle force F_R', \\\n"
@@ -528,9 +528,11 @@ PlotFiles plot_calibration(const Plotter& plotter, const CalibrationPlot& c, con
       "       $optimum using 2:1 with points pt 7 ps 1.6 lc rgb '{}', \\\n"
       "       $optimum using 2:1:4 with labels offset 0,0.9 font ',{}'\n",
       k_red, std::max(8, plotter.options().font_size - 2));
+  // Without a verification run there is no measured bar.
+  body += c.measured.empty() ? "  set xtics ('target' 0, 'predicted' 1)\n  set xrange [-0.6:1.6]\n"
+                             : "  set xtics ('target' 0, 'predicted' 1, 'measured' 2)\n  set xrange [-0.6:2.6]\n";
   body +=
-      "  unset xrange\n  unset yrange\n  set grid ytics\n  unset xlabel\n  set xtics ('target' 0, "
-      "'predicted' 1, 'measured' 2)\n  set xrange [-0.6:2.6]\n  set style fill solid 0.85 border rgb 'black'\n"
+      "  unset yrange\n  set grid ytics\n  unset xlabel\n  set style fill solid 0.85 border rgb 'black'\n"
       "  set boxwidth 0.7\n";
   for (size_t k = 0; k < m; ++k) {
     double panel_top = 0;
