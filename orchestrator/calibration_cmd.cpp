@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <set>
@@ -240,7 +241,11 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
         std::unique_ptr<sobol::Metamodel> m = sobol::make_metamodel(name);
         m->fit(x, y);
         const sobol::MetamodelSummary s = m->summary();
-        if (!best || s.q2 > best_summary.q2) {
+        // A Q² that is not finite (as many terms as samples: no leave-one-out) ranks below every finite one.
+        const double q2 = std::isfinite(s.q2) ? s.q2 : -std::numeric_limits<double>::infinity();
+        const double best_q2 =
+            std::isfinite(best_summary.q2) ? best_summary.q2 : -std::numeric_limits<double>::infinity();
+        if (!best || q2 > best_q2) {
           best = std::move(m);
           best_summary = s;
         }
@@ -300,8 +305,9 @@ std::string calibration_to_json(const CalibrationOutcome& o) {
   j["parameters"] = parameters;
   json targets = json::array();
   for (const CalibratedTarget& t : o.targets) {
-    json e{{"name", t.name},     {"model", t.model},   {"q2", t.q2},       {"r2", t.r2},
-           {"target", t.target}, {"weight", t.weight}, {"scale", t.scale}, {"predicted", t.predicted}};
+    const auto finite = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+    json e{{"name", t.name},     {"model", t.model},   {"q2", finite(t.q2)}, {"r2", finite(t.r2)},
+           {"target", t.target}, {"weight", t.weight}, {"scale", t.scale},   {"predicted", t.predicted}};
     e["measured"] = t.measured ? json(*t.measured) : json(nullptr);
     targets.push_back(e);
   }
@@ -337,8 +343,8 @@ CalibrationOutcome read_calibration(const fs::path& file) {
       CalibratedTarget t;
       t.name = e.at("name").get<std::string>();
       t.model = e.at("model").get<std::string>();
-      t.q2 = e.at("q2").get<double>();
-      t.r2 = e.at("r2").get<double>();
+      t.q2 = e.at("q2").is_number() ? e.at("q2").get<double>() : std::numeric_limits<double>::quiet_NaN();
+      t.r2 = e.at("r2").is_number() ? e.at("r2").get<double>() : std::numeric_limits<double>::quiet_NaN();
       t.target = e.at("target").get<double>();
       t.weight = e.at("weight").get<double>();
       t.scale = e.at("scale").get<double>();

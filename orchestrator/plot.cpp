@@ -393,7 +393,7 @@ PlotFiles plot_pile_side(const Plotter& plotter, const PileSideView& v, const fs
                                                 v.title, v.angle_deg, v.height * mm, v.directions)));
   body += "  set palette defined (0 '#e41a1c', 0.5 '#4daf4a', 1 '#0000cc')\n";
   body += fmt::format("  set cbrange [0:{}]\n  set cblabel 'direction i_φ'\n", std::max(1, v.directions - 1));
-  body += "  set style fill solid 0.9 noborder\n  set grid lc rgb '#e5e5e5'\n  set key top right opaque box\n";
+  body += "  set style fill solid 0.9 noborder\n  set grid lc rgb '#e5e5e5'\n  set key below horizontal\n";
   body += fmt::format("  set xrange [{}:{}]\n  set yrange [{}:{}]\n  set size ratio -1\n", num(-half_width),
                       num(half_width), num(-0.5), num(top));
   body += fmt::format("  set object 1 rect from {},0 to {},{} fc rgb '#c8b27a' fs solid 0.6 border rgb 'black' back\n",
@@ -406,7 +406,7 @@ PlotFiles plot_pile_side(const Plotter& plotter, const PileSideView& v, const fs
       "       $section using 1:($4 >= 0 ? $2 : NaN):3:4 with circles lc palette title 'boundary particle', \\\n"
       "       $section_lines using 1:2:3:4 with vectors nohead lw 2.5 lc rgb 'black' title 'fitted line'\n",
       "#b4b4b4");
-  body += "  unset object 1\n";
+  body += "  unset object 1\n  set size noratio\n";
   body += fmt::format("  set xrange [0:{}]\n", num(half_width));
   body += fmt::format("  set title {} noenhanced\n",
                       gnuplot_quote("all directions unrolled: boundary particles and fitted lines"));
@@ -422,7 +422,7 @@ PlotFiles plot_pile_side(const Plotter& plotter, const PileSideView& v, const fs
       "       $lines using 1:2:3:4:5 with vectors nohead lw 1 lc palette title 'fitted line', \\\n"
       "       NaN with lines dt 2 lc rgb '" +
       std::string(k_purple) + "' title 'levels 0.2 h_P and 0.75 h_P'\n";
-  return plotter.render(stem, v.title, data, body, 1.6);
+  return plotter.render(stem, v.title, data, body, 1.5);
 }
 
 // --------------------------------------------------------------------------------------- settlement curve

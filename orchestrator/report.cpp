@@ -279,9 +279,13 @@ std::string hours(double seconds) {
   return seconds >= 3600 * 10 ? fmt::format("{:.1f} h", seconds / 3600) : fmt::format("{:.3f} h", seconds / 3600);
 }
 
-IntervalValue interval(const json& e) {
-  return {e.at("value").get<double>(), e.at("lower").get<double>(), e.at("upper").get<double>()};
-}
+/// A number of analysis.json; null (how JSON writes NaN, e.g. Q² of a model with as many terms as samples) is NaN.
+double number(const json& value) { return value.is_number() ? value.get<double>() : k_nan; }
+
+/// "0.9871", or "n/a" for NaN.
+std::string fixed4(double v) { return std::isfinite(v) ? fmt::format("{:.4f}", v) : "n/a"; }
+
+IntervalValue interval(const json& e) { return {number(e.at("value")), number(e.at("lower")), number(e.at("upper"))}; }
 
 std::string interval_text(const IntervalValue& v) { return format_interval(v.value, v.low, v.high); }
 
@@ -407,8 +411,8 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
   section.heading = fmt::format("Observable `{}`: {}", name, label.text);
   section.paragraphs.push_back(fmt::format("{} samples; mean {} {}, standard deviation {} {}.",
                                            observable.at("samples").get<int>(),
-                                           short_number(observable.at("mean").get<double>() * label.factor), label.unit,
-                                           short_number(observable.at("sd").get<double>() * label.factor), label.unit));
+                                           short_number(number(observable.at("mean")) * label.factor), label.unit,
+                                           short_number(number(observable.at("sd")) * label.factor), label.unit));
   const ObservableData data = observable_data(s, name);
   if (data.y.size() < 2) {
     section.paragraphs.push_back("Too few done samples measure it: no tables and no plots.");
@@ -427,10 +431,9 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
       continue;
     }
     quality.rows.push_back({model_title(m.name), std::to_string(m.quality.at("terms").get<int>()),
-                            fmt::format("{:.4f}", m.quality.at("r2").get<double>()),
-                            fmt::format("{:.4f}", m.quality.at("adjusted_r2").get<double>()),
-                            fmt::format("{:.4f}", m.quality.at("q2").get<double>()),
-                            short_number(m.quality.at("rmse_loo").get<double>() * label.factor)});
+                            fixed4(number(m.quality.at("r2"))), fixed4(number(m.quality.at("adjusted_r2"))),
+                            fixed4(number(m.quality.at("q2"))),
+                            short_number(number(m.quality.at("rmse_loo")) * label.factor)});
   }
   section.tables.push_back(quality);
 
@@ -511,8 +514,8 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
         p.observed.push_back(data.y(i) * label.factor);
         p.predicted.push_back((data.y(i) - residuals(i)) * label.factor);
       }
-      p.r2 = m.quality.at("r2").get<double>();
-      p.q2 = m.quality.at("q2").get<double>();
+      p.r2 = number(m.quality.at("r2"));
+      p.q2 = number(m.quality.at("q2"));
       const std::string stem = fmt::format("loo_{}_{}", name, m.name);
       section.figures.push_back({fmt::format("{}: each sample predicted by the {} metamodel fitted without it",
                                              label.text, model_title(m.name)),
@@ -725,7 +728,7 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
   bool any_measured = false;
   for (const CalibratedTarget& t : c.targets) {
     const ObservableLabel l = observable_label(t.name);
-    targets.rows.push_back({t.name, model_title(t.model), fmt::format("{:.4f}", t.q2),
+    targets.rows.push_back({t.name, model_title(t.model), fixed4(t.q2),
                             fmt::format("{:.5g} {}", t.target * l.factor, l.unit),
                             fmt::format("{:.5g} {}", t.predicted * l.factor, l.unit),
                             t.measured ? fmt::format("{:.5g} {}", *t.measured * l.factor, l.unit) : ""});
@@ -798,7 +801,7 @@ ReportSummary write_study_report(const ReportOptions& options) {
         "Analysis: {} samples used, {} left out; Sobol' intervals at {:.0f}% from {} bootstrap resamples; QMC base "
         "N = {}.",
         analysis.at("samples_used").size(), analysis.at("samples_left_out").size(),
-        analysis.at("confidence").get<double>() * 100, analysis.at("bootstrap").get<int>(),
+        number(analysis.at("confidence")) * 100, analysis.at("bootstrap").get<int>(),
         analysis.at("base_samples").get<int>()));
     for (const json& observable : analysis.at("observables"))
       doc.sections.push_back(observable_section(s, observable, names, plotter, summary.out_dir, summary));

@@ -75,8 +75,16 @@ TEST(ReportReal, TinyPileStudyReportAndVerifiedCalibration) {
   const std::string html = read_file(r.at("html").get<std::string>());
   EXPECT_NE(md.find("## Calibration"), std::string::npos);
   EXPECT_NE(md.find("the pile (paper Fig. 4)"), std::string::npos);
-  // angle and pile height: bars, LOO for 2 models each, response; the pile; the calibration
-  ASSERT_EQ(r.at("images").size(), 2u * 5u + 2u) << rep.out;
+  // Per observable: Sobol' bars and LOO per metamodel that worked (with 6 samples the design bootstrap of the
+  // quadratic RSM may fail: the analysis lists it as not fitted), and the response scatter; the pile; the
+  // calibration.
+  size_t expected = 2;
+  for (const auto& o : analysis.at("observables")) {
+    ++expected;
+    for (const auto& m : o.at("models"))
+      if (m.at("ok").get<bool>()) expected += 2;
+  }
+  ASSERT_EQ(r.at("images").size(), expected) << rep.out;
   size_t inlined = 0;
   for (size_t at = html.find("data:image/png;base64,"); at != std::string::npos;
        at = html.find("data:image/png;base64,", at + 1))

@@ -200,7 +200,7 @@ TEST(Plot, PileSideViewWithBoundaryParticlesAndLines) {
   TempDir dir;
   const Plotter plotter;
   const PlotFiles files = plot_pile_side(plotter, synthetic_pile(), dir / "pile");
-  expect_drawn(files, 960, 1024);
+  expect_drawn(files, 960, 960);
   const std::string script = read_file(files.script);
   EXPECT_NE(script.find("angle of repose 30.00°, pile height"), std::string::npos);
   EXPECT_NE(script.find("$section_lines"), std::string::npos);
