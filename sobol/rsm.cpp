@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 #include <Eigen/QR>
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -114,7 +115,14 @@ void PolynomialRsm::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
 
 Eigen::VectorXd PolynomialRsm::predict(const Eigen::MatrixXd& x) const {
   assert(m_fitted && x.cols() == m_x.cols());
-  return basis(x) * m_coefficients;
+  // Blocks of rows keep the basis matrix small (rsm3 in 7-D has 120 terms per row).
+  Eigen::VectorXd out(x.rows());
+  const Eigen::Index block = 4096;
+  for (Eigen::Index start = 0; start < x.rows(); start += block) {
+    const Eigen::Index rows = std::min(block, x.rows() - start);
+    out.segment(start, rows) = basis(x.middleRows(start, rows)) * m_coefficients;
+  }
+  return out;
 }
 
 Eigen::VectorXd PolynomialRsm::loo_residuals() const {
