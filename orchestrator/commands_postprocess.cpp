@@ -126,7 +126,7 @@ fs::path resolve_dump(const std::string& arg, const char* final_name) {
 struct PileArgs {
   std::string dump;
   pp::PileAngleOptions options;
-  std::string point = "surface";
+  std::string point = "centre";
   bool json = false;
 };
 
@@ -275,7 +275,7 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
   p->add_option("--min-points", pile->options.min_points, "Directions with fewer boundary points are skipped")
       ->check(CLI::Range(2, 100000))
       ->capture_default_str();
-  p->add_option("--point", pile->point, "Fitted point of a boundary particle: surface or centre")
+  p->add_option("--point", pile->point, "Fitted point of a boundary particle: centre or surface")
       ->check(CLI::IsMember({"surface", "centre", "center"}))
       ->capture_default_str();
   p->add_option("--target-angle", pile->options.target_angle, "Target angle for E_phi [deg]")->capture_default_str();

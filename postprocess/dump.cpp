@@ -286,7 +286,6 @@ bool DumpReader::Impl::read_frame(DumpFrame& frame) {
     fail(line, fmt::format("expected 'ITEM: NUMBER OF ATOMS', found {}", shown(trim(text))));
   const long count = read_long_line("ITEM: NUMBER OF ATOMS", frame_line);
   if (count < 0) fail(line, fmt::format("NUMBER OF ATOMS is {}: must not be negative", count));
-  const long count_line = line;
 
   expect_line(text, "'ITEM: BOX BOUNDS'", frame_line);
   if (!starts_with_item(text, "ITEM: BOX BOUNDS"))
@@ -329,14 +328,6 @@ bool DumpReader::Impl::read_frame(DumpFrame& frame) {
       }
   }
 
-  // Every row needs at least two bytes per value: a count the rest of the input cannot hold is an error now, not an
-  // allocation of whatever the header claims.
-  const std::uint64_t left = total_bytes > consumed ? total_bytes - consumed : 0;
-  const std::uint64_t room = (left + 1) / (2 * frame.columns.size());
-  if (static_cast<std::uint64_t>(count) > room)
-    fail(count_line, fmt::format("NUMBER OF ATOMS is {} but the rest of the file holds at most {} rows of {} columns "
-                                 "(truncated?)",
-                                 count, room, frame.columns.size()));
   frame.atom_count = static_cast<std::size_t>(count);
   read_rows(frame);
   ++frames;
@@ -346,8 +337,13 @@ bool DumpReader::Impl::read_frame(DumpFrame& frame) {
 void DumpReader::Impl::read_rows(DumpFrame& frame) {
   const std::size_t ncol = frame.columns.size();
   const std::size_t n = frame.atom_count;
+  // Every row needs at least two bytes per value: allocate no more rows than the rest of the input can hold, so a
+  // count that only the header claims costs nothing; a real frame never grows past this.
+  const std::uint64_t left = total_bytes > consumed ? total_bytes - consumed : 0;
+  const std::uint64_t room = (left + 1) / (2 * ncol);
+  std::size_t capacity = static_cast<std::size_t>(std::min<std::uint64_t>(n, room));
   frame.values.resize(ncol);
-  for (std::vector<double>& col : frame.values) col.resize(n);
+  for (std::vector<double>& col : frame.values) col.resize(capacity);
   std::vector<double*> out(ncol);
   for (std::size_t c = 0; c < ncol; ++c) out[c] = frame.values[c].data();
   const long atoms_rel = line;
@@ -358,13 +354,20 @@ void DumpReader::Impl::read_rows(DumpFrame& frame) {
       fail(line + 1, fmt::format("file ends after {} of the {} atom rows announced for the frame whose ITEM: ATOMS is "
                                  "at line {} (truncated?)",
                                  i, n, absolute_line(atoms_rel)));
+    if (i == capacity) {  // only when the input grows while it is read
+      capacity = std::min(n, 2 * capacity + 1024);
+      for (std::size_t c = 0; c < ncol; ++c) {
+        frame.values[c].resize(capacity);
+        out[c] = frame.values[c].data();
+      }
+    }
     const char* p = text.data();
     const char* e = p + text.size();
     for (std::size_t c = 0; c < ncol; ++c) {
       while (p != e && is_blank(*p)) ++p;
+      if (c == 0 && p != e && *p == 'I' && starts_with_item(text, "ITEM:"))
+        fail(line, fmt::format("only {} atom rows before {}, but NUMBER OF ATOMS is {}", i, shown(trim(text)), n));
       if (p == e) {
-        if (c == 0 && starts_with_item(text, "ITEM:"))
-          fail(line, fmt::format("only {} atom rows before {}, but NUMBER OF ATOMS is {}", i, shown(trim(text)), n));
         fail(line, fmt::format("atom row has {} values, ITEM: ATOMS names {} columns (line cut short?)", c, ncol));
       }
       const char* q = (*p == '+') ? p + 1 : p;

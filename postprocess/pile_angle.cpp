@@ -207,7 +207,12 @@ PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOp
       v.push_back(b.height);
     }
     line.points = static_cast<int>(u.size());
-    if (line.points >= options.min_points) {
+    // A line needs points that differ (one particle may be the boundary at every level).
+    const bool distinct =
+        !u.empty() &&
+        (*std::max_element(u.begin(), u.end()) - *std::min_element(u.begin(), u.end()) > 1e-9 * result.pile_height ||
+         *std::max_element(v.begin(), v.end()) - *std::min_element(v.begin(), v.end()) > 1e-9 * result.pile_height);
+    if (line.points >= options.min_points && distinct) {
       const TlsLine fit = fit_tls_line(u, v);
       line.used = true;
       line.angle = std::atan2(-fit.dv, fit.du) * 180.0 / std::numbers::pi;

@@ -18,7 +18,8 @@ struct SyntheticPileOptions {
   double cap_radius = 0.015;    ///< radius of the rounded top [m]
   double noise = 0.3e-3;        ///< depth noise of the outer layer, uniform in ±noise [m]
   int layers = 3;               ///< layers of spheres below the surface
-  double spacing = 4.0e-3;      ///< distance between neighbouring surface spheres [m]
+  double spacing = 3.5e-3;      ///< distance between neighbouring surface spheres [m]
+  double layer_depth = 2.5e-3;  ///< depth between layers (a layer sits in the hollows of the one above) [m]
   unsigned seed = 1;
 };
 
@@ -59,7 +60,7 @@ inline postprocess::Particles make_synthetic_pile(const SyntheticPileOptions& o)
   };
   // Walk the outline by arc length from the base edge to the top; each point has a unit outward normal (nr, nz).
   for (int layer = 0; layer < o.layers; ++layer) {
-    const double depth0 = layer * o.spacing;
+    const double depth0 = layer * o.layer_depth;
     for (double s = 0.5 * o.spacing; s < flank_length + cap_length; s += o.spacing * (0.8 + 0.4 * unit(rng))) {
       double rho = 0, z = 0, nr = 0, nz = 0;
       if (s < flank_length) {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace demsa::postprocess {
@@ -29,12 +30,12 @@ TEST_P(SyntheticConeAngle, MeasuredAngleWithinOneDegree) {
   EXPECT_DOUBLE_EQ(r.angle_error, (33.5 - r.angle_mean) * (33.5 - r.angle_mean));
 }
 
-TEST_P(SyntheticConeAngle, CentreModeAlsoWithinOneDegree) {
+TEST_P(SyntheticConeAngle, OtherSeedAndFinerLevels) {
   test::SyntheticPileOptions pile;
   pile.angle_deg = GetParam();
   pile.seed = 7;
   PileAngleOptions options;
-  options.point = BoundaryPointKind::centre;
+  options.levels = 20;
   const PileAngleResult r = measure_pile_angle(test::make_synthetic_pile(pile), options);
   EXPECT_NEAR(r.angle_mean, pile.angle_deg, 1.0) << "sd " << r.angle_sd;
 }
@@ -77,10 +78,14 @@ TEST(PileAngle, TlsLineIsOrthogonalNotOrdinary) {
   EXPECT_NEAR(l.v0, 0.0, 1e-12);
 }
 
-TEST(PileAngle, ExactConeOfSpheresFromTheSurface) {
+class ExactCone : public ::testing::TestWithParam<BoundaryPointKind> {};
+
+TEST_P(ExactCone, EveryDirectionMeasuresTheFlank) {
   // Spheres of one radius whose outermost point lies exactly on a 30° flank at every level height, one per
-  // direction: the surface points are exact, so every direction measures 30° up to rounding.
+  // direction and level: centres and surface points both lie on lines parallel to the flank, so every direction
+  // measures 30° up to rounding.
   PileAngleOptions o;
+  o.point = GetParam();
   o.directions = 36;
   o.levels = 5;
   Particles p;
@@ -118,8 +123,11 @@ TEST(PileAngle, ExactConeOfSpheresFromTheSurface) {
   EXPECT_NEAR(res.lines[9].ey, -1.0, 1e-12);
   EXPECT_NEAR(res.lines[0].height_low, 0.2 * h, 1e-12);
   EXPECT_NEAR(res.lines[0].height_high, 0.75 * h, 1e-12);
-  EXPECT_DOUBLE_EQ(res.angle_error, 3.5 * 3.5);
+  EXPECT_NEAR(res.angle_error, 3.5 * 3.5, 1e-9);
 }
+
+INSTANTIATE_TEST_SUITE_P(BothPoints, ExactCone,
+                         ::testing::Values(BoundaryPointKind::centre, BoundaryPointKind::surface));
 
 TEST(PileAngleErrors, NothingOnThePedestal) {
   Particles p;
