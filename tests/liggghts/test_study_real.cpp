@@ -44,7 +44,7 @@ retries = 0
 
 [analysis]
 metamodels = ["rsm2", "rbf-cubic"]
-bootstrap = 20
+bootstrap = 0
 base_samples = 1024
 second_order = false
 )";
