@@ -76,8 +76,9 @@ void check_pile(const PileSettings& s, std::uint64_t seed) {
   // Column: discs up to the fill height h_fu, no more.
   const double top = s.pedestal_height + s.radii.r_max + 2 * s.radii.r_max * (a.column_discs - 1);
   EXPECT_LE(top, s.pedestal_height + s.fill_height + 1e-12);
-  if (static_cast<int>(a.discs.size()) > a.column_discs)
+  if (static_cast<int>(a.discs.size()) > a.column_discs) {
     EXPECT_GT(top + 2 * s.radii.r_max, s.pedestal_height + s.fill_height);
+  }
 }
 
 TEST(Assembly, PaperPileSet1HasSixThousandValidParticles) {

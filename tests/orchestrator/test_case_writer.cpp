@@ -3,7 +3,7 @@
 #include "orchestrator/case_writer.hpp"
 #include "orchestrator/errors.hpp"
 #include "orchestrator/study_config.hpp"
-#include "test_support.hpp"
+#include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
