@@ -286,6 +286,31 @@ TEST(RunFake, SigintStopsTheCasesAndTheStudyResumes) {
   expect_each_sample_done_exactly_once(tmp / "study", tmp.path(), s.samples);
 }
 
+TEST(RunFake, OedometerPlateNotConvergedIsAFailureClass) {
+  test::TempDir tmp;
+  StudyText s;
+  s.experiment = "oedometer";
+  s.samples = 6;
+  s.extra = "\n[oedometer]\nparticles = 200\n";
+  test::write_file(tmp / "study.toml", study_toml(s));
+  FakeEnvironment env("2:plate", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(
+      {"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"});
+  EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
+  const test::CommandResult status = test::run_demsa({"status", (tmp / "study").string(), "--json"});
+  const nlohmann::json j = nlohmann::json::parse(status.out);
+  EXPECT_EQ(j.at("done").get<int>(), 5);
+  ASSERT_EQ(j.at("failures").size(), 1u);
+  EXPECT_EQ(j.at("failures")[0].at("sample").get<int>(), 2);
+  EXPECT_EQ(j.at("failures")[0].at("class").get<std::string>(), "plate-not-converged");
+  const Store store = Store::open_read_only((tmp / "study" / "study.db").string());
+  // Settlements relative to the first load: 3 loads after 100 N, growing with the load.
+  const std::map<std::string, double>& values = store.observables().at(0);
+  ASSERT_TRUE(values.count("settlement_3"));
+  EXPECT_GT(values.at("settlement_3"), values.at("settlement_1"));
+  EXPECT_GT(values.at("settlement_1"), 0.0);
+}
+
 TEST(RunFake, DryRunWritesEveryCaseAndRunsNothing) {
   test::TempDir tmp;
   StudyText s;
