@@ -47,7 +47,7 @@ TEST(CliPostprocess, OedometerStatesAndHistory) {
   TempDir dir;
   write_file(dir / "plate_states.txt", "# load_N plate_z_m force_N converged\n100 0.06 100 1\n400 0.059 400 1\n");
   write_file(dir / "plate_history.txt",
-             "# step load_N plate_z_m force_N\n1 100 0.061 50\n2 100 0.06 100\n"
+             "# step load_N plate_z_m force_N\n1 100 0.061 50\n2 100 0.06 99\n"
              "3 400 0.059 400\n");
   const CommandResult r =
       run_demsa({"postprocess", "oedometer", dir.path().string(), "--measured", "0.0012", "--json"});
