@@ -6,7 +6,7 @@
 #include "orchestrator/liggghts_locator.hpp"
 #include "orchestrator/oedometer_driver.hpp"
 #include "orchestrator/study_config.hpp"
-#include "sobol/design.hpp"
+#include "orchestrator/study_runner.hpp"
 
 #include <fmt/core.h>
 #include <mpi.h>
@@ -67,16 +67,9 @@ void run_case(const CaseOptions& o, CliState& state) {
     if (o.sample >= config.samples)
       throw UserError(
           fmt::format("--sample {}: the study has {} samples (0 to {})", o.sample, config.samples, config.samples - 1));
-    // The study's design, drawn again from its seed (as `demsa run` draws it).
-    sobol::DesignOptions design_options;
-    design_options.kind = sobol::design_kind_from_string(config.design);
-    design_options.samples = config.samples;
-    design_options.dimension = static_cast<int>(config.parameters.size());
-    design_options.seed = config.seed;
-    const sobol::DesignResult design = sobol::make_design(design_options);
-    std::vector<double> unit;
-    for (Eigen::Index j = 0; j < design.points.cols(); ++j) unit.push_back(design.points(o.sample, j));
-    request = request_from_unit_point(config, o.sample, unit);
+    // The study's design, drawn again from its seed exactly as `demsa run` draws it.
+    const std::vector<SampleRow> design = draw_design(config);
+    request = request_from_unit_point(config, o.sample, design.at(static_cast<std::size_t>(o.sample)).unit);
   } else {
     request = request_from_values(config, parse_sets(o.sets));
   }

@@ -25,6 +25,7 @@
 #include <cstring>
 #include <deque>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -97,29 +98,6 @@ std::string design_csv(const StudyConfig& config, const std::vector<SampleRow>& 
     text += "\n";
   }
   return text;
-}
-
-std::vector<SampleRow> draw_design(const StudyConfig& config) {
-  sobol::DesignOptions options;
-  options.kind = sobol::design_kind_from_string(config.design);
-  options.samples = config.samples;
-  options.dimension = static_cast<int>(config.parameters.size());
-  options.seed = config.seed;
-  const sobol::DesignResult design = sobol::make_design(options);
-  std::vector<sobol::Bounds> bounds;
-  for (const ParameterRange& p : config.parameters) bounds.push_back(p.bounds);
-  const Eigen::MatrixXd physical = sobol::to_physical(design.points, bounds);
-  std::vector<SampleRow> rows;
-  for (int i = 0; i < design.points.rows(); ++i) {
-    SampleRow row;
-    row.sample = i;
-    for (int j = 0; j < design.points.cols(); ++j) {
-      row.unit.push_back(design.points(i, j));
-      row.physical.push_back(physical(i, j));
-    }
-    rows.push_back(std::move(row));
-  }
-  return rows;
 }
 
 /// The result.json of a run, when the file is complete and belongs to run `run` of sample `sample`.
@@ -280,6 +258,32 @@ std::map<std::string, double> measure_case(const StudyConfig& config, const fs::
     values[fmt::format("settlement_{}", i + 1)] = result.settlements[i];
   if (result.settlement_error) values["settlement_error"] = *result.settlement_error;
   return values;
+}
+
+std::vector<SampleRow> draw_design(const StudyConfig& config) {
+  sobol::DesignOptions options;
+  options.kind = sobol::design_kind_from_string(config.design);
+  options.samples = config.samples;
+  options.dimension = static_cast<int>(config.parameters.size());
+  options.seed = config.seed;
+  // Reproducibility over speed: the iteration count alone ends the search (a wall-clock budget would make the
+  // design depend on the machine's load).
+  options.time_limit = std::numeric_limits<double>::infinity();
+  const sobol::DesignResult design = sobol::make_design(options);
+  std::vector<sobol::Bounds> bounds;
+  for (const ParameterRange& p : config.parameters) bounds.push_back(p.bounds);
+  const Eigen::MatrixXd physical = sobol::to_physical(design.points, bounds);
+  std::vector<SampleRow> rows;
+  for (int i = 0; i < design.points.rows(); ++i) {
+    SampleRow row;
+    row.sample = i;
+    for (int j = 0; j < design.points.cols(); ++j) {
+      row.unit.push_back(design.points(i, j));
+      row.physical.push_back(physical(i, j));
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 // ----------------------------------------------------------------------------------------------- run_study

@@ -14,6 +14,7 @@
 //   - done samples are never submitted again: the store allows one done run per sample.
 // SIGINT/SIGTERM (through the StopFlag) cancel the running cases, record them `requeued` and return.
 #include "orchestrator/executor.hpp"
+#include "orchestrator/store.hpp"
 #include "orchestrator/study_config.hpp"
 
 #include <csignal>
@@ -69,6 +70,11 @@ std::filesystem::path default_study_dir(const std::filesystem::path& study_file)
 /// Runs (or resumes) a study. Throws UserError for a bad study file, a changed design-relevant setting (unless
 /// new_study), or a study folder another demsa run holds.
 RunSummary run_study(const RunOptions& options);
+
+/// The study's design: the unit-cube points of config.design drawn from config.seed, with their physical values.
+/// Deterministic: an optimised LHS runs a fixed number of iterations (no wall-clock limit), so `demsa run` and
+/// `demsa case --sample K` draw the same points on any machine and under any load.
+std::vector<SampleRow> draw_design(const StudyConfig& config);
 
 /// Folder of a sample's case: DIR/cases/NNNNNN.
 std::filesystem::path case_dir(const std::filesystem::path& study_dir, int sample);

@@ -401,16 +401,17 @@ DumpReader::DumpReader(const std::filesystem::path& path, DumpReaderOptions opti
   s.data = s.storage.data();
 }
 
-DumpReader::DumpReader(std::string_view text, std::string name, DumpReaderOptions options) : m_impl(new Impl) {
+DumpReader::DumpReader(std::string text, std::string name, DumpReaderOptions options) : m_impl(new Impl) {
   options.validate();
   Impl& s = *m_impl;
   s.options = std::move(options);
   s.name = std::move(name);
-  s.data = text.data();
+  s.storage.assign(text.begin(), text.end());
+  s.data = s.storage.data();
   s.begin = 0;
-  s.end = text.size();
+  s.end = s.storage.size();
   s.eof = true;
-  s.total_bytes = text.size();
+  s.total_bytes = s.storage.size();
 }
 
 DumpReader::~DumpReader() = default;

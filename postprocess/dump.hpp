@@ -70,8 +70,8 @@ class DumpReader {
  public:
   /// Opens `path`; throws ParseError when it cannot be opened.
   explicit DumpReader(const std::filesystem::path& path, DumpReaderOptions options = {});
-  /// Reads a dump held in memory (`text` must outlive the reader); `name` stands for the file in error messages.
-  DumpReader(std::string_view text, std::string name, DumpReaderOptions options = {});
+  /// Reads a dump held in memory (the reader keeps its own copy); `name` stands for the file in error messages.
+  DumpReader(std::string text, std::string name, DumpReaderOptions options = {});
   ~DumpReader();
   DumpReader(const DumpReader&) = delete;
   DumpReader& operator=(const DumpReader&) = delete;
