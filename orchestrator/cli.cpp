@@ -29,15 +29,6 @@ void print_version() {
 
 }  // namespace
 
-void register_not_built(CLI::App& app, CliState& state, const std::string& name, const std::string& description) {
-  CLI::App* sub = app.add_subcommand(name, description + " [not built yet]");
-  sub->allow_extras();
-  sub->callback([&state, name] {
-    fmt::print(stderr, "demsa: error: `demsa {}` is not built yet in this version\n", name);
-    state.exit_code = k_exit_usage;
-  });
-}
-
 int run_cli(int argc, char** argv) {
   CLI::App app{
       "demsa: sensitivity analysis and calibration of DEM models in LIGGGHTS\n"

@@ -2,8 +2,6 @@
 // One registration function per subcommand family; each lives in its own commands_<name>.cpp.
 #include <CLI/CLI.hpp>
 
-#include <string>
-
 namespace demsa {
 
 /// What a subcommand's callback reports back to run_cli().
@@ -18,9 +16,5 @@ void register_design_command(CLI::App& app, CliState& state);       // design
 void register_sensitivity_command(CLI::App& app, CliState& state);  // sensitivity
 void register_postprocess_command(CLI::App& app, CliState& state);  // postprocess
 void register_compare_command(CLI::App& app, CliState& state);      // compare
-
-/// A subcommand that exists in the command line but is not built yet: it says so and exits 2, and never prints
-/// made-up output.
-void register_not_built(CLI::App& app, CliState& state, const std::string& name, const std::string& description);
 
 }  // namespace demsa

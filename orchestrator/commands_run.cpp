@@ -4,15 +4,18 @@
 #include "orchestrator/errors.hpp"
 #include "orchestrator/local_executor.hpp"
 #include "orchestrator/progress.hpp"
+#include "orchestrator/slurm_executor.hpp"
 #include "orchestrator/store.hpp"
 #include "orchestrator/study_config.hpp"
 #include "orchestrator/study_runner.hpp"
 
 #include <fmt/core.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -30,6 +33,8 @@ struct RunArgs {
   bool new_study = false;
   bool no_analyze = false;
   bool quiet = false;
+  bool submit_only = false;
+  bool cancel_on_interrupt = false;
   double progress_interval = 10.0;
 };
 
@@ -80,12 +85,31 @@ int do_run(const RunArgs& args) {
   options.new_study = args.new_study;
   options.quiet = args.quiet;
   options.progress_interval = args.progress_interval;
+  options.submit_only = args.submit_only;
+  options.cancel_on_interrupt = args.cancel_on_interrupt;
+  if (args.submit_only && args.dry_run)
+    throw UserError("--submit-only and --dry-run: a dry run submits nothing; use one of them");
+  if (::isatty(STDIN_FILENO) == 1)
+    options.ask_cancel = [](int in_flight) { return ask_cancel_on_interrupt(in_flight, std::cin, std::cerr); };
   if (!fs::exists(options.study_file)) throw UserError(fmt::format("{}: no such study file", args.study));
   StopFlag::install();
   const RunSummary summary = run_study(options);
   if (summary.dry_run) {
     fmt::print("{}: study valid; {} samples, design and {} cases written to {}\n", args.study, summary.samples,
                summary.samples, (summary.dir / "cases").string());
+    return k_exit_ok;
+  }
+  if (args.submit_only) {
+    fmt::print(
+        "{}: {} case(s) submitted to SLURM now, {} queued or running in all; {} of {} samples done ({} "
+        "recovered)\n",
+        summary.dir.string(), summary.submitted, summary.left_running, summary.done, summary.samples,
+        summary.recovered);
+    fmt::print("`demsa status {}` or `demsa run {}` collects them as they end\n", summary.dir.string(), args.study);
+    if (summary.interrupted) {
+      const int sig = StopFlag::signal_number();
+      return sig > 0 ? 128 + sig : k_exit_check_failed;
+    }
     return k_exit_ok;
   }
   fmt::print("{}: {} of {} samples done ({} now, {} recovered), {} failed, {}\n", summary.dir.string(), summary.done,
@@ -96,6 +120,11 @@ int do_run(const RunArgs& args) {
                join(summary.failed_samples));
   }
   if (summary.interrupted) {
+    if (summary.left_running > 0)
+      fmt::print(
+          "interrupted: {} SLURM task(s) keep running (not cancelled); a later `demsa run {}` or `demsa status "
+          "{}` collects them\n",
+          summary.left_running, args.study, summary.dir.string());
     fmt::print("interrupted: `demsa run {}` resumes the study\n", args.study);
     const int sig = StopFlag::signal_number();
     return sig > 0 ? 128 + sig : k_exit_check_failed;
@@ -108,10 +137,44 @@ int do_run(const RunArgs& args) {
   return summary.failed > 0 ? k_exit_check_failed : k_exit_ok;
 }
 
+/// `demsa status` on a SLURM study that no demsa runs: commits the runs whose tasks have ended (one look, no
+/// waiting), submits and cancels nothing. Returns the number of runs that ended; 0 when there was nothing to do or
+/// the study is not a SLURM study. A problem here (no sbatch on this machine, squeue failing, the study file no
+/// longer parsing) is reported on stderr and leaves status read-only.
+int collect_submitted(const fs::path& dir) {
+  const fs::path frozen = dir / "study.toml";
+  try {
+    if (StudyLock::holder(dir) != 0) return 0;
+    if (Store::open_read_only((dir / "study.db").string()).counts().running == 0) return 0;
+    ExecutorKind kind = ExecutorKind::local;
+    try {
+      kind = load_study(frozen).run.executor;
+    } catch (const std::exception&) {
+      return 0;  // status still works on a study whose file no longer parses here
+    }
+    if (kind != ExecutorKind::slurm) return 0;
+    RunOptions options;
+    options.study_file = frozen;
+    options.dir = dir;
+    options.collect_only = true;
+    options.quiet = true;
+    options.should_stop = [] { return false; };
+    const RunSummary summary = run_study(options);
+    if (summary.collected > 0)
+      fmt::print(stderr, "collected {} ended SLURM task(s): {} committed; {} still queued or running\n",
+                 summary.collected, summary.done_now, summary.left_running);
+    return summary.collected;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "demsa: warning: submitted runs not collected: {}\n", e.what());
+    return 0;
+  }
+}
+
 int do_status(const StatusArgs& args) {
   const fs::path dir = args.dir;
   const fs::path db = dir / "study.db";
   if (!fs::exists(db)) throw UserError(fmt::format("{}: not a study folder (no study.db)", dir.string()));
+  const int collected = collect_submitted(dir);
   const Store store = Store::open_read_only(db.string());
   const StoreCounts c = store.counts();
   const long holder = StudyLock::holder(dir);
@@ -134,7 +197,7 @@ int do_status(const StatusArgs& args) {
     nlohmann::json j{{"dir", dir.string()},  {"study", store.study_name()}, {"samples", c.samples},
                      {"done", c.done},       {"running", c.running},        {"failed", c.failed},
                      {"pending", c.pending}, {"attempts", c.attempts},      {"mean_case_seconds", c.mean_done_wall},
-                     {"eta_seconds", eta},   {"active_pid", holder}};
+                     {"eta_seconds", eta},   {"active_pid", holder},        {"collected", collected}};
     nlohmann::json list = nlohmann::json::array();
     for (const auto& [sample, r] : failures) {
       if (done.count(sample)) continue;
@@ -192,13 +255,19 @@ void register_run_commands(CLI::App& app, CliState& state) {
                 "Discard the store, design, cases and analysis in the study folder and start a new study");
   run->add_flag("--no-analyze", run_args->no_analyze, "Do not run the analysis at the end");
   run->add_flag("--quiet", run_args->quiet, "No progress output");
+  run->add_flag("--submit-only", run_args->submit_only,
+                "SLURM: submit every case still to do and return; a later `demsa run` or `demsa status` collects");
+  run->add_flag("--cancel-on-interrupt", run_args->cancel_on_interrupt,
+                "SLURM: scancel the tasks in flight on Ctrl-C (default: ask when stdin is a terminal, else leave "
+                "them running)");
   run->add_option("--progress-interval", run_args->progress_interval,
                   "Seconds between progress lines when stderr is not a terminal")
       ->check(CLI::PositiveNumber);
   run->callback([&state, run_args] { state.exit_code = do_run(*run_args); });
 
   auto status_args = std::make_shared<StatusArgs>();
-  CLI::App* status = app.add_subcommand("status", "Counts by state, failures with their class, ETA");
+  CLI::App* status = app.add_subcommand(
+      "status", "Counts by state, failures with their class, ETA; on a SLURM study, first collects ended tasks");
   status->add_option("dir", status_args->dir, "Study folder")->required();
   status->add_flag("--json", status_args->json, "Machine-readable output");
   status->callback([&state, status_args] { state.exit_code = do_status(*status_args); });

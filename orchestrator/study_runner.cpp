@@ -187,6 +187,10 @@ void RunOptions::validate() const {
   if (study_file.empty()) throw std::invalid_argument("study_file is empty: a study file is required");
   if (!(progress_interval > 0))
     throw std::invalid_argument(fmt::format("progress_interval = {}: must be > 0", progress_interval));
+  if (submit_only && collect_only)
+    throw std::invalid_argument("submit_only and collect_only are both set: at most one of them may be");
+  if (dry_run && (submit_only || collect_only))
+    throw std::invalid_argument("dry_run with submit_only or collect_only: a dry run submits and collects nothing");
 }
 
 fs::path default_study_dir(const fs::path& study_file) {
@@ -357,7 +361,12 @@ RunSummary run_study(const RunOptions& options) {
     return summary;
   }
 
+  if ((options.submit_only || options.collect_only) && config.run.executor != ExecutorKind::slurm)
+    throw UserError(fmt::format(
+        "{}: {} needs [run] executor = \"slurm\"; the local executor runs the cases inside `demsa run` itself",
+        options.study_file.string(), options.submit_only ? "--submit-only" : "collecting submitted runs"));
   std::unique_ptr<Executor> executor = make_executor(config.run, dir);
+  summary.executor = executor->name();
   const int parallel = config.run.executor == ExecutorKind::local ? local_parallel(config.run, machine_cores()) : 1;
 
   // Who is done, who has a run in flight.
@@ -371,8 +380,10 @@ RunSummary run_study(const RunOptions& options) {
   std::map<std::string, InFlight> in_flight;  // keyed by case folder
   auto key = [&](int sample) { return case_dir(dir, sample).string(); };
 
-  // Recover runs an earlier demsa left `submitted`.
+  // Recover runs an earlier demsa left `submitted`. With submit_only they are left to the cluster (no polling):
+  // they are only kept out of the queue.
   std::vector<SubmittedCase> adopt;
+  std::set<int> left_submitted;
   for (const RunRow& r : store.runs_in_state(RunState::submitted)) {
     const fs::path folder = case_dir(dir, r.sample);
     if (const auto observables = read_result(folder, r.sample, r.id)) {
@@ -382,6 +393,10 @@ RunSummary run_study(const RunOptions& options) {
       store.record_done(r.id, outcome, *observables);
       done.insert(r.sample);
       ++summary.recovered;
+      continue;
+    }
+    if (options.submit_only) {
+      left_submitted.insert(r.sample);
       continue;
     }
     adopt.push_back({CaseTask{r.sample, r.attempt, folder}, r.job_id});
@@ -396,10 +411,14 @@ RunSummary run_study(const RunOptions& options) {
   const int budget = 1 + std::max(0, config.run.retries);
   std::map<int, int> tries_now;
   std::deque<int> queue;
-  for (const SampleRow& s : samples)
-    if (!done.count(s.sample) && !in_flight.count(key(s.sample))) queue.push_back(s.sample);
+  if (!options.collect_only) {
+    for (const SampleRow& s : samples)
+      if (!done.count(s.sample) && !in_flight.count(key(s.sample)) && !left_submitted.count(s.sample))
+        queue.push_back(s.sample);
+  }
 
-  Progress progress(options.quiet ? nullptr : stderr, Progress::is_terminal(stderr), options.progress_interval);
+  const bool quiet = options.quiet || options.collect_only;
+  Progress progress(quiet ? nullptr : stderr, Progress::is_terminal(stderr), options.progress_interval);
   std::vector<double> walls;
   for (const RunRow& r : store.runs())
     if (r.state == RunState::done && r.wall_seconds > 0) walls.push_back(r.wall_seconds);
@@ -425,11 +444,12 @@ RunSummary run_study(const RunOptions& options) {
     if (it == in_flight.end()) return;  // not ours (cannot happen with one runner per study)
     const InFlight flight = it->second;
     in_flight.erase(it);
+    ++summary.collected;
     const fs::path folder = finished.task.folder;
     FailureReport report = classify_case(finished.exit, folder, failure_options(config, flight.particles));
     if (report.requeue) {
       store.record_requeued(flight.run, report.message);
-      if (!should_stop()) queue.push_front(flight.sample);
+      if (!should_stop() && !options.collect_only) queue.push_front(flight.sample);
       return;
     }
     RunOutcome outcome = outcome_from(finished.exit);
@@ -466,13 +486,20 @@ RunSummary run_study(const RunOptions& options) {
     outcome.log_tail = report.log_tail;
     store.record_failed(flight.run, outcome);
     ++summary.failures_by_class[outcome.failure];
+    if (options.collect_only) return;  // the next `demsa run` retries it
     if (tries_now[flight.sample] < budget && !should_stop())
       queue.push_back(flight.sample);
     else
       failed_final.insert(flight.sample);
   };
 
-  while ((!queue.empty() || executor->in_flight() > 0) && !should_stop()) {
+  if (options.collect_only) {
+    // One look without waiting (squeue once, the sentinels once); what has not ended stays submitted.
+    for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(0))) handle(finished);
+  }
+
+  while (!options.collect_only && (!queue.empty() || (!options.submit_only && executor->in_flight() > 0)) &&
+         !should_stop()) {
     std::vector<CaseTask> batch;
     std::vector<InFlight> flights;
     const int slots = executor->free_slots();
@@ -499,27 +526,46 @@ RunSummary run_study(const RunOptions& options) {
         store.set_job_id(flights[i].run, ids.at(i));
         in_flight[batch[i].folder.string()] = flights[i];
       }
+      summary.submitted += static_cast<int>(batch.size());
     }
+    if (options.submit_only) continue;  // no polling: the cluster runs them, a later run or status collects
     for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(200))) handle(finished);
     progress.update(counts(), eta());
   }
 
-  if (should_stop()) {
+  if (!options.collect_only && should_stop()) {
     summary.interrupted = true;
-    executor->cancel_all();
-    for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(0))) handle(finished);
-    store.add_event("interrupted", StopFlag::signal_number() != 0 ? fmt::format("signal {}", StopFlag::signal_number())
-                                                                  : std::string("stopped"));
+    const std::string why =
+        StopFlag::signal_number() != 0 ? fmt::format("signal {}", StopFlag::signal_number()) : std::string("stopped");
+    // Local cases die with demsa anyway; SLURM tasks are cancelled only on request (they cost nothing to keep).
+    // --submit-only never cancels what it submitted.
+    bool cancel = !options.submit_only;
+    if (cancel && config.run.executor == ExecutorKind::slurm && executor->in_flight() > 0)
+      cancel = options.cancel_on_interrupt || (options.ask_cancel && options.ask_cancel(executor->in_flight()));
+    if (cancel) {
+      executor->cancel_all();
+      for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(0))) handle(finished);
+      store.add_event("interrupted", why);
+    } else {
+      store.add_event("interrupted", fmt::format("{}; {} SLURM task(s) left running", why, in_flight.size()));
+    }
   }
   progress.finish(counts());
+  summary.left_running = static_cast<int>(in_flight.size() + left_submitted.size());
 
   summary.done = static_cast<int>(done.size());
   for (const SampleRow& s : samples)
     if (!done.count(s.sample) && failed_final.count(s.sample)) summary.failed_samples.push_back(s.sample);
   summary.failed = static_cast<int>(summary.failed_samples.size());
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  store.add_event("finished", fmt::format("{} done, {} failed, {} committed now in {:.1f} s", summary.done,
-                                          summary.failed, summary.done_now, summary.seconds));
+  if (options.collect_only)
+    store.add_event("collected", fmt::format("{} ended, {} committed, {} still on the cluster", summary.collected,
+                                             summary.done_now, summary.left_running));
+  else
+    store.add_event("finished", fmt::format("{} done, {} failed, {} committed now, {} submitted, {} left on the "
+                                            "cluster, in {:.1f} s",
+                                            summary.done, summary.failed, summary.done_now, summary.submitted,
+                                            summary.left_running, summary.seconds));
   return summary;
 }
 

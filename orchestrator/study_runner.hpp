@@ -12,7 +12,16 @@
 //   - the other `submitted` runs are handed to the executor's adopt() (local: leftover process groups are ended)
 //     and run again;
 //   - done samples are never submitted again: the store allows one done run per sample.
-// SIGINT/SIGTERM (through the StopFlag) cancel the running cases, record them `requeued` and return.
+// SIGINT/SIGTERM (through the StopFlag) end the loop. The local executor's cases are cancelled and recorded
+// `requeued`. SLURM tasks are cancelled (scancel) only when RunOptions::cancel_on_interrupt is set or
+// RunOptions::ask_cancel says so; otherwise they keep running on the cluster, stay `submitted` in the store, and a
+// later `demsa run` (adopt) or `demsa status` (collect_only) collects them.
+//
+// Two further modes, SLURM only:
+//   - submit_only: every sample still to do is prepared and submitted; the runner returns at once, without polling
+//     and without cancelling anything;
+//   - collect_only (`demsa status`): the runs left `submitted` are adopted and polled once without waiting; the
+//     ones that ended are measured and committed as in a full run; nothing is submitted, nothing is cancelled.
 #include "orchestrator/executor.hpp"
 #include "orchestrator/store.hpp"
 #include "orchestrator/study_config.hpp"
@@ -47,7 +56,13 @@ struct RunOptions {
   double progress_interval = 10.0;    ///< [s] between progress log lines when stderr is not a terminal
   bool quiet = false;                 ///< no progress output
   std::function<bool()> should_stop;  ///< polled in the loop; default: StopFlag::raised()
-  void validate() const;              ///< throws std::invalid_argument naming the field
+  bool submit_only = false;   ///< SLURM only: submit every case still to do and return (no polling, no cancelling)
+  bool collect_only = false;  ///< SLURM only: commit what has ended, submit nothing, cancel nothing (demsa status)
+  bool cancel_on_interrupt = false;  ///< SLURM: scancel the tasks in flight when stopped by a signal
+  /// SLURM, when stopped with tasks in flight and cancel_on_interrupt is off: asked with the number of tasks in
+  /// flight, returns true to scancel them. Empty: leave them running.
+  std::function<bool(int)> ask_cancel;
+  void validate() const;  ///< throws std::invalid_argument naming the field
 };
 
 struct RunSummary {
@@ -60,6 +75,10 @@ struct RunSummary {
   std::vector<int> failed_samples;               ///< their indices
   std::map<std::string, int> failures_by_class;  ///< failed attempts of this invocation, by class
   bool interrupted = false;                      ///< stopped by a signal or should_stop
+  std::string executor;                          ///< "local", "slurm" ("" for a dry run)
+  int submitted = 0;                             ///< cases submitted by this invocation
+  int collected = 0;                             ///< runs that ended and were recorded by this invocation
+  int left_running = 0;  ///< SLURM tasks left queued or running on the cluster (still `submitted` in the store)
   bool dry_run = false;
   double seconds = 0.0;  ///< wall time of this invocation
 };
@@ -68,7 +87,7 @@ struct RunSummary {
 std::filesystem::path default_study_dir(const std::filesystem::path& study_file);
 
 /// Runs (or resumes) a study. Throws UserError for a bad study file, a changed design-relevant setting (unless
-/// new_study), or a study folder another demsa run holds.
+/// new_study), a study folder another demsa run holds, or submit_only / collect_only with the local executor.
 RunSummary run_study(const RunOptions& options);
 
 /// The study's design: the unit-cube points of config.design drawn from config.seed, with their physical values.

@@ -1,0 +1,325 @@
+// `demsa run --submit-only`, `demsa status` collecting a SLURM study, and SIGINT on a SLURM study, against the fake
+// sbatch/squeue/scancel of tests/data/slurm and the fake LIGGGHTS of tests/integration/fake_liggghts. The test
+// plays the cluster: it runs a task by starting the batch script sbatch received with the SLURM array variables
+// set (the task runs the case's run.sh and writes its sentinel, as on a node), and writes squeue's answer.
+#include "orchestrator/store.hpp"
+#include "orchestrator/study_runner.hpp"
+
+#include "support/test_support.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace demsa {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+using test::read_file;
+using test::write_file;
+
+const fs::path k_fake_liggghts = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
+
+std::string study_toml(const std::string& executor, int samples) {
+  return fmt::format(R"(
+[study]
+name = "fake-slurm"
+experiment = "pile"
+seed = 5
+
+[design]
+method = "lhs"
+samples = {samples}
+
+[parameters]
+mu_pp = {{ low = 0.2, high = 0.8 }}
+e_r = {{ low = 0.3, high = 0.7 }}
+
+[pile]
+particles = 300
+
+[run]
+executor = "{executor}"
+liggghts = "{liggghts}"
+mpirun = "{mpirun}"
+parallel = 2
+oversubscribe = true
+retries = 0
+
+[run.slurm]
+time_limit = "00:10:00"
+poll_interval = 0.05
+)",
+                     fmt::arg("samples", samples), fmt::arg("executor", executor),
+                     fmt::arg("liggghts", (k_fake_liggghts / "liggghts").string()),
+                     fmt::arg("mpirun", (k_fake_liggghts / "mpirun").string()));
+}
+
+/// Fake SLURM first on PATH, its state folder, and the fake LIGGGHTS' environment; all restored at the end.
+class RunnerSlurm : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const char* path = std::getenv("PATH");
+    m_saved_path = path != nullptr ? path : "";
+    ::setenv("PATH", (test::data_path("slurm").string() + ":" + m_saved_path).c_str(), 1);
+    fs::create_directories(fake());
+    ::setenv("FAKE_SLURM_DIR", fake().c_str(), 1);
+    ::setenv("FAKE_LIGGGHTS_PLAN", "", 1);
+    ::setenv("FAKE_LIGGGHTS_STATE", m_tmp.path().c_str(), 1);
+    ::setenv("FAKE_LIGGGHTS_SECONDS", "0", 1);
+    m_dir = m_tmp / "study dir";
+    StopFlag::reset();
+  }
+  void TearDown() override {
+    ::setenv("PATH", m_saved_path.c_str(), 1);
+    for (const char* name : {"FAKE_SLURM_DIR", "FAKE_LIGGGHTS_PLAN", "FAKE_LIGGGHTS_STATE", "FAKE_LIGGGHTS_SECONDS"})
+      ::unsetenv(name);
+    StopFlag::reset();
+  }
+
+  fs::path fake() const { return m_tmp / "fake"; }
+  fs::path study(const std::string& executor, int samples) const {
+    write_file(m_tmp / "study.toml", study_toml(executor, samples));
+    return m_tmp / "study.toml";
+  }
+  std::vector<std::string> run_args(const std::vector<std::string>& extra = {}) const {
+    std::vector<std::string> args{"run",    (m_tmp / "study.toml").string(), "--dir", m_dir.string(), "--no-analyze",
+                                  "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  }
+  /// Runs task `task` of array job `job` as a node would: the batch script sbatch received, SLURM's variables set.
+  void run_task(const std::string& job, int task) const {
+    const test::CommandResult r =
+        test::run_command({"env", "SLURM_ARRAY_JOB_ID=" + job, "SLURM_ARRAY_TASK_ID=" + std::to_string(task),
+                           "SLURMD_NODENAME=node1", "bash", (fake() / "jobs" / job / "script").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  }
+  void set_squeue(const std::string& job, const std::string& lines) const {
+    write_file(fake() / "jobs" / job / "squeue", lines);
+  }
+  std::string next_job_id() const { return read_file(fake() / "next_id"); }
+  int squeue_calls() const {
+    if (!fs::exists(fake() / "squeue_calls")) return 0;
+    const std::string text = read_file(fake() / "squeue_calls");
+    return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  }
+  Store store() const { return Store::open_read_only((m_dir / "study.db").string()); }
+
+  test::TempDir m_tmp;
+  fs::path m_dir;
+  std::string m_saved_path;
+};
+
+/// Starts demsa in the background, stdin from /dev/null (not a terminal: it never asks), output to `log`.
+pid_t spawn_demsa(const std::vector<std::string>& args, const fs::path& log) {
+  std::vector<std::string> argv{DEMSA_BINARY};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int in = ::open("/dev/null", O_RDONLY);
+    const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    ::dup2(in, 0);
+    ::dup2(out, 1);
+    ::dup2(out, 2);
+    std::vector<char*> raw;
+    for (std::string& a : argv) raw.push_back(a.data());
+    raw.push_back(nullptr);
+    ::execv(raw[0], raw.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+int wait_exit(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+bool wait_until(const std::function<bool()>& condition, std::chrono::milliseconds limit = 20s) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (!condition()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(20ms);
+  }
+  return true;
+}
+
+std::vector<std::string> job_ids(const Store& store, RunState state) {
+  std::vector<std::string> ids;
+  for (const RunRow& r : store.runs_in_state(state)) ids.push_back(r.job_id);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+TEST_F(RunnerSlurm, SubmitOnlyThenStatusCollectsThenRunFinishes) {
+  study("slurm", 3);
+  const test::CommandResult submitted = test::run_demsa(run_args({"--submit-only"}));
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.out << submitted.err;
+  EXPECT_NE(submitted.out.find("3 case(s) submitted to SLURM now, 3 queued or running"), std::string::npos)
+      << submitted.out;
+  EXPECT_EQ(job_ids(store(), RunState::submitted), (std::vector<std::string>{"100_0", "100_1", "100_2"}));
+  EXPECT_NE(read_file(fake() / "jobs/100/args").find("--array=0-2\n"), std::string::npos);
+  EXPECT_EQ(squeue_calls(), 0) << "--submit-only must not poll";
+  EXPECT_FALSE(fs::exists(fake() / "scancel_args")) << "--submit-only must not cancel";
+
+  // Again: everything is already queued, nothing is submitted twice.
+  const test::CommandResult again = test::run_demsa(run_args({"--submit-only"}));
+  ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
+  EXPECT_NE(again.out.find("0 case(s) submitted to SLURM now, 3 queued or running"), std::string::npos) << again.out;
+  EXPECT_EQ(next_job_id(), "101\n");
+  EXPECT_EQ(squeue_calls(), 0);
+
+  // Two tasks end on the cluster; status collects them, submits and cancels nothing.
+  run_task("100", 0);
+  run_task("100", 1);
+  set_squeue("100", "0 COMPLETED 0\n1 COMPLETED 0\n2 RUNNING 0\n");
+  const test::CommandResult status = test::run_demsa({"status", m_dir.string(), "--json"});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const nlohmann::json j = nlohmann::json::parse(status.out);
+  EXPECT_EQ(j.at("done").get<int>(), 2) << status.out << status.err;
+  EXPECT_EQ(j.at("running").get<int>(), 1);
+  EXPECT_EQ(j.at("collected").get<int>(), 2);
+  EXPECT_GE(squeue_calls(), 1);
+  EXPECT_EQ(next_job_id(), "101\n");
+  EXPECT_FALSE(fs::exists(fake() / "scancel_args"));
+  for (int k : {0, 1}) {
+    const nlohmann::json result =
+        nlohmann::json::parse(read_file(m_dir / "cases" / fmt::format("{:06d}", k) / "result.json"));
+    EXPECT_EQ(result.at("host").get<std::string>(), "node1");
+    EXPECT_GT(result.at("observables").at("angle").get<double>(), 0.0);
+  }
+  EXPECT_EQ(job_ids(store(), RunState::submitted), (std::vector<std::string>{"100_2"}));
+
+  // Text status: nothing left to collect, the counts as always.
+  const test::CommandResult text = test::run_demsa({"status", m_dir.string()});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("samples 3: done 2, running 1, failed 0, pending 0"), std::string::npos) << text.out;
+
+  // The last task ends; `demsa run` adopts it and finishes the study without a new submission.
+  run_task("100", 2);
+  set_squeue("100", "0 COMPLETED 0\n1 COMPLETED 0\n2 COMPLETED 0\n");
+  const test::CommandResult run = test::run_demsa(run_args());
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("3 of 3 samples done (1 now, 0 recovered)"), std::string::npos) << run.out;
+  EXPECT_EQ(next_job_id(), "101\n");
+  EXPECT_EQ(store().counts().attempts, 3);
+}
+
+TEST_F(RunnerSlurm, StatusCollectsAFailedTaskAndRunRetriesIt) {
+  study("slurm", 2);
+  ::setenv("FAKE_LIGGGHTS_PLAN", "1:error", 1);
+  ASSERT_EQ(test::run_demsa(run_args({"--submit-only"})).exit_code, 0);
+  run_task("100", 0);
+  run_task("100", 1);
+  set_squeue("100", "0 COMPLETED 0\n1 FAILED 256\n");
+  const test::CommandResult status = test::run_demsa({"status", m_dir.string(), "--json"});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const nlohmann::json j = nlohmann::json::parse(status.out);
+  EXPECT_EQ(j.at("done").get<int>(), 1);
+  EXPECT_EQ(j.at("failed").get<int>(), 1);
+  ASSERT_EQ(j.at("failures").size(), 1u);
+  EXPECT_EQ(j.at("failures")[0].at("class").get<std::string>(), "liggghts-error");
+  EXPECT_EQ(next_job_id(), "101\n") << "status must not resubmit a failed case";
+
+  // `demsa run --submit-only` resubmits only the failed case.
+  ::setenv("FAKE_LIGGGHTS_PLAN", "", 1);
+  const test::CommandResult resubmitted = test::run_demsa(run_args({"--submit-only"}));
+  ASSERT_EQ(resubmitted.exit_code, 0) << resubmitted.err;
+  EXPECT_NE(resubmitted.out.find("1 case(s) submitted to SLURM now"), std::string::npos) << resubmitted.out;
+  EXPECT_EQ(job_ids(store(), RunState::submitted), (std::vector<std::string>{"101_0"}));
+}
+
+TEST_F(RunnerSlurm, SubmitOnlyIsRefusedForTheLocalExecutor) {
+  study("local", 2);
+  const test::CommandResult r = test::run_demsa(run_args({"--submit-only"}));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("--submit-only needs [run] executor = \"slurm\""), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(m_tmp / "starts.log")) << "no case may run";
+  EXPECT_FALSE(fs::exists(fake() / "next_id"));
+}
+
+TEST_F(RunnerSlurm, SigintLeavesTasksRunningUnlessCancelOnInterrupt) {
+  study("slurm", 2);
+  write_file(fake() / "sbatch_pending", "");
+  const fs::path log = m_tmp / "demsa.log";
+  {
+    const pid_t pid = spawn_demsa(run_args(), log);
+    ASSERT_TRUE(wait_until([&] { return squeue_calls() >= 2; })) << read_file(log);
+    ::kill(pid, SIGINT);
+    EXPECT_EQ(wait_exit(pid), 130) << read_file(log);
+  }
+  const std::string first = read_file(log);
+  EXPECT_NE(first.find("2 SLURM task(s) keep running (not cancelled)"), std::string::npos) << first;
+  EXPECT_FALSE(fs::exists(fake() / "scancel_args")) << "stdin is no terminal and no --cancel-on-interrupt";
+  EXPECT_EQ(job_ids(store(), RunState::submitted), (std::vector<std::string>{"100_0", "100_1"}));
+
+  // With --cancel-on-interrupt: the adopted tasks are scancelled and requeued.
+  {
+    const int calls = squeue_calls();
+    const pid_t pid = spawn_demsa(run_args({"--cancel-on-interrupt"}), log);
+    ASSERT_TRUE(wait_until([&] { return squeue_calls() >= calls + 2; })) << read_file(log);
+    ::kill(pid, SIGINT);
+    EXPECT_EQ(wait_exit(pid), 130) << read_file(log);
+  }
+  EXPECT_EQ(read_file(fake() / "scancel_args"), "100\n");
+  EXPECT_TRUE(store().runs_in_state(RunState::submitted).empty());
+  EXPECT_EQ(job_ids(store(), RunState::requeued), (std::vector<std::string>{"100_0", "100_1"}));
+  EXPECT_EQ(next_job_id(), "101\n");
+}
+
+TEST_F(RunnerSlurm, AskOnInterruptDecidesWhetherToCancel) {
+  const fs::path file = study("slurm", 2);
+  write_file(fake() / "sbatch_pending", "");
+  for (const bool answer : {false, true}) {
+    SCOPED_TRACE(answer ? "yes" : "no");
+    RunOptions options;
+    options.study_file = file;
+    options.dir = m_dir;
+    options.quiet = true;
+    const std::string job = answer ? "101" : "100";
+    // Stop once the array is submitted.
+    options.should_stop = [&] { return fs::exists(fake() / "jobs" / job / "args"); };
+    int asked = -1;
+    options.ask_cancel = [&](int in_flight) {
+      asked = in_flight;
+      return answer;
+    };
+    if (answer) {
+      // the first (unanswered) round left 100_0 and 100_1 submitted: cancel them by hand so that both are resubmitted
+      set_squeue("100", "0 CANCELLED 0\n1 CANCELLED 0\n");
+    }
+    const RunSummary summary = run_study(options);
+    EXPECT_TRUE(summary.interrupted);
+    EXPECT_EQ(asked, 2);
+    if (!answer) {
+      EXPECT_EQ(summary.left_running, 2);
+      EXPECT_FALSE(fs::exists(fake() / "scancel_args"));
+      EXPECT_EQ(job_ids(store(), RunState::submitted), (std::vector<std::string>{"100_0", "100_1"}));
+    } else {
+      EXPECT_EQ(summary.left_running, 0);
+      EXPECT_EQ(read_file(fake() / "scancel_args"), "101\n");
+      EXPECT_TRUE(store().runs_in_state(RunState::submitted).empty());
+      EXPECT_EQ(store().runs_in_state(RunState::requeued).size(), 4u);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace demsa
