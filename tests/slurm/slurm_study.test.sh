@@ -2,7 +2,8 @@
 # A small real-LIGGGHTS study through a real local SLURM (scripts/start-local-slurm.sh), in a folder whose name has
 # spaces: one running task is cancelled with scancel and one pending task is cancelled (it vanishes from squeue),
 # demsa is killed (SIGKILL) while tasks are still queued, and a second `demsa run` resumes and adopts them. The
-# results must equal those of the local executor on the same cases (same rank count: identical dumps).
+# results must equal those of the local executor on the same cases (same rank count: identical dumps). Then the
+# study is started anew with `demsa run --submit-only`, and `demsa status` alone collects the cases.
 # SLURM is stopped at the end, also when the test fails, if this test started it.
 set -euo pipefail
 : "${DEMSA_BINARY:?}" "${DEMSA_SOURCE_DIR:?}"
@@ -140,5 +141,22 @@ assert a == b, (a, b)
 EOF
   [ -s "$a/run.out" ] || [ -e "$a/run.out" ] || fail "case $n: no run.out"
 done
+# ---------------------------------------------------------------- --submit-only, then `demsa status` collects
+# The same study anew: demsa submits and returns at once; status (no demsa run in between) commits what has ended.
+"$DEMSA_BINARY" run "$W/slurm.toml" --dir "$SLURM_DIR" --new --submit-only > "$W/submit.out" 2>&1 \
+  || { cat "$W/submit.out" >&2; fail "demsa run --submit-only failed"; }
+grep -q "4 case(s) submitted to SLURM now" "$W/submit.out" || { cat "$W/submit.out" >&2; fail "--submit-only did not submit 4"; }
+end=$(($(date +%s) + 300))
+until "$DEMSA_BINARY" status "$SLURM_DIR" --json > "$W/status2.json" \
+  && python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); sys.exit(0 if s["done"] == 4 else 1)' "$W/status2.json"; do
+  [ "$(date +%s)" -lt "$end" ] || { cat "$W/status2.json" >&2; fail "demsa status did not collect the submitted cases"; }
+  sleep 2
+done
+for n in 000000 000001 000002 000003; do
+  cmp "$SLURM_DIR/cases/$n/pile_final.dump" "$LOCAL_DIR/cases/$n/pile_final.dump" \
+    || fail "case $n: pile_final.dump after --submit-only and status differs from the local executor's"
+done
+echo "--submit-only and demsa status: 4 cases collected without demsa run"
+
 echo "PASS: 4 cases through SLURM (one cancelled while running, one while pending, demsa killed and resumed)" \
   "equal the local executor's"
