@@ -4,9 +4,9 @@
 #include "sobol/random.hpp"
 
 #include <fmt/core.h>
-#include <gsl/gsl_qrng.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cassert>
 #include <chrono>
@@ -329,15 +329,130 @@ Eigen::MatrixXd latin_hypercube(int samples, int dimension, std::uint64_t seed, 
   return x;
 }
 
-Eigen::MatrixXd scrambled_sobol(int samples, int dimension, std::uint64_t seed) {
+namespace {
+
+/// Primitive polynomial and initial direction numbers of one Sobol' dimension: degree s, the polynomial's inner
+/// coefficients a (bits, most significant first) and m_1..m_s.
+struct SobolPolynomial {
+  int s;
+  std::uint32_t a;
+  std::array<std::uint32_t, 8> m;
+};
+
+/// Dimensions 2..40 of Joe & Kuo's table new-joe-kuo-6.21201 (S. Joe and F. Y. Kuo, "Constructing Sobol' sequences
+/// with better two-dimensional projections", SIAM J. Sci. Comput. 30, 2635-2654, 2008), the direction numbers scipy
+/// uses. Their 2-D projections have smaller t-values than those of Bratley & Fox (1988, GSL's), which matters for the
+/// pairs of coordinates a Saltelli design combines.
+constexpr std::array<SobolPolynomial, k_max_sobol_dimension - 1> k_joe_kuo{{
+    {1, 0, {1}},
+    {2, 1, {1, 3}},
+    {3, 1, {1, 3, 1}},
+    {3, 2, {1, 1, 1}},
+    {4, 1, {1, 1, 3, 3}},
+    {4, 4, {1, 3, 5, 13}},
+    {5, 2, {1, 1, 5, 5, 17}},
+    {5, 4, {1, 1, 5, 5, 5}},
+    {5, 7, {1, 1, 7, 11, 19}},
+    {5, 11, {1, 1, 5, 1, 1}},
+    {5, 13, {1, 1, 1, 3, 11}},
+    {5, 14, {1, 3, 5, 5, 31}},
+    {6, 1, {1, 3, 3, 9, 7, 49}},
+    {6, 13, {1, 1, 1, 15, 21, 21}},
+    {6, 16, {1, 3, 1, 13, 27, 49}},
+    {6, 19, {1, 1, 1, 15, 7, 5}},
+    {6, 22, {1, 3, 1, 15, 13, 25}},
+    {6, 25, {1, 1, 5, 5, 19, 61}},
+    {7, 1, {1, 3, 7, 11, 23, 15, 103}},
+    {7, 4, {1, 3, 7, 13, 13, 15, 69}},
+    {7, 7, {1, 1, 3, 13, 7, 35, 63}},
+    {7, 8, {1, 3, 5, 9, 1, 25, 53}},
+    {7, 14, {1, 3, 1, 13, 9, 35, 107}},
+    {7, 19, {1, 3, 1, 5, 27, 61, 31}},
+    {7, 21, {1, 1, 5, 11, 19, 41, 61}},
+    {7, 28, {1, 3, 5, 3, 3, 13, 69}},
+    {7, 31, {1, 1, 7, 13, 1, 19, 1}},
+    {7, 32, {1, 3, 7, 5, 13, 19, 59}},
+    {7, 37, {1, 1, 3, 9, 25, 29, 41}},
+    {7, 41, {1, 3, 5, 13, 23, 1, 55}},
+    {7, 42, {1, 3, 7, 3, 13, 59, 17}},
+    {7, 50, {1, 3, 1, 3, 5, 53, 69}},
+    {7, 55, {1, 1, 5, 5, 23, 33, 13}},
+    {7, 56, {1, 1, 7, 7, 1, 61, 123}},
+    {7, 59, {1, 1, 7, 9, 13, 61, 49}},
+    {7, 62, {1, 3, 3, 5, 3, 55, 33}},
+    {8, 14, {1, 3, 1, 15, 31, 13, 49, 245}},
+    {8, 21, {1, 3, 5, 15, 31, 59, 63, 97}},
+    {8, 22, {1, 3, 1, 11, 11, 11, 77, 249}},
+}};
+
+constexpr int k_sobol_bits = 30;  // digits per coordinate; 2^30 points at most
+
+/// Direction numbers v_1..v_30 of one dimension (0-based), as integers scaled by 2^30 (Bratley & Fox 1988, the
+/// recurrence v_k = a_1 v_{k-1} ^ ... ^ a_{s-1} v_{k-s+1} ^ v_{k-s} ^ (v_{k-s} >> s); Joe & Kuo 2003).
+std::array<std::uint32_t, k_sobol_bits> direction_numbers(int dimension) {
+  std::array<std::uint32_t, k_sobol_bits> v{};
+  if (dimension == 0) {
+    for (int k = 0; k < k_sobol_bits; ++k) v[static_cast<std::size_t>(k)] = 1u << (k_sobol_bits - 1 - k);
+    return v;
+  }
+  const SobolPolynomial& p = k_joe_kuo[static_cast<std::size_t>(dimension - 1)];
+  for (int k = 0; k < k_sobol_bits; ++k) {
+    const auto uk = static_cast<std::size_t>(k);
+    if (k < p.s) {
+      v[uk] = p.m[uk] << (k_sobol_bits - 1 - k);
+      continue;
+    }
+    const std::uint32_t back = v[static_cast<std::size_t>(k - p.s)];
+    std::uint32_t x = back ^ (back >> p.s);
+    for (int j = 1; j < p.s; ++j)
+      if ((p.a >> (p.s - 1 - j)) & 1u) x ^= v[static_cast<std::size_t>(k - j)];
+    v[uk] = x;
+  }
+  return v;
+}
+
+/// The first n points of the unscrambled sequence as 30-bit integers, in Gray-code order (Antonov & Saleev 1979):
+/// point i differs from point i-1 by the direction number of the lowest zero bit of i-1.
+std::vector<std::uint32_t> sobol_integers(int samples, int dimension) {
+  std::vector<std::uint32_t> x(static_cast<std::size_t>(samples) * static_cast<std::size_t>(dimension), 0u);
+  for (int k = 0; k < dimension; ++k) {
+    const std::array<std::uint32_t, k_sobol_bits> v = direction_numbers(k);
+    std::uint32_t value = 0;
+    for (int i = 1; i < samples; ++i) {
+      const int c = std::countr_one(static_cast<unsigned>(i - 1));
+      value ^= v[static_cast<std::size_t>(c)];
+      x[static_cast<std::size_t>(i) * static_cast<std::size_t>(dimension) + static_cast<std::size_t>(k)] = value;
+    }
+  }
+  return x;
+}
+
+void check_sobol_size(int samples, int dimension) {
   if (dimension < 1 || dimension > k_max_sobol_dimension)
     throw InputError(fmt::format("Sobol' sequence: dimension {} is outside 1..{}", dimension, k_max_sobol_dimension));
   if (samples < 1) throw InputError(fmt::format("Sobol' sequence: {} samples requested, need at least 1", samples));
-  constexpr int bits = 30;                // GSL's Sobol' numerators have 30 bits
+  if (samples > (1 << k_sobol_bits))
+    throw InputError(fmt::format("Sobol' sequence: {} samples requested, at most 2^{}", samples, k_sobol_bits));
+}
+
+}  // namespace
+
+Eigen::MatrixXd sobol_sequence(int samples, int dimension) {
+  check_sobol_size(samples, dimension);
   constexpr double scale = 1073741824.0;  // 2^30
-  std::unique_ptr<gsl_qrng, decltype(&gsl_qrng_free)> gen(
-      gsl_qrng_alloc(gsl_qrng_sobol, static_cast<unsigned>(dimension)), &gsl_qrng_free);
-  assert(gen);
+  const std::vector<std::uint32_t> a = sobol_integers(samples, dimension);
+  Eigen::MatrixXd x(samples, dimension);
+  for (int i = 0; i < samples; ++i)
+    for (int k = 0; k < dimension; ++k)
+      x(i, k) =
+          a[static_cast<std::size_t>(i) * static_cast<std::size_t>(dimension) + static_cast<std::size_t>(k)] / scale;
+  return x;
+}
+
+Eigen::MatrixXd scrambled_sobol(int samples, int dimension, std::uint64_t seed) {
+  check_sobol_size(samples, dimension);
+  constexpr int bits = k_sobol_bits;
+  constexpr double scale = 1073741824.0;  // 2^30
 
   // Matoušek's random linear scrambling: digit vector a (most significant first) -> L a + e (mod 2), L lower
   // triangular with a unit diagonal. Row r of L as a mask over the integer's bits (bit 29 = first digit).
@@ -354,15 +469,13 @@ Eigen::MatrixXd scrambled_sobol(int samples, int dimension, std::uint64_t seed) 
     shifts[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(rng.bits()) & ((1u << bits) - 1u);
   }
 
+  // The sequence starts at its first point, the origin, which completes the (t,m,d)-nets.
+  const std::vector<std::uint32_t> points = sobol_integers(samples, dimension);
   Eigen::MatrixXd x(samples, dimension);
-  std::vector<double> point(static_cast<std::size_t>(dimension), 0.0);
   for (int i = 0; i < samples; ++i) {
-    // GSL starts at the sequence's second point; the first is the origin, which completes the (t,m,d)-nets.
-    if (i > 0) gsl_qrng_get(gen.get(), point.data());
     for (int k = 0; k < dimension; ++k) {
-      const double numerator = point[static_cast<std::size_t>(k)] * scale;
-      const auto a = static_cast<std::uint32_t>(numerator);
-      assert(static_cast<double>(a) == numerator);
+      const std::uint32_t a =
+          points[static_cast<std::size_t>(i) * static_cast<std::size_t>(dimension) + static_cast<std::size_t>(k)];
       std::uint32_t y = 0;
       for (int r = 0; r < bits; ++r)
         y |= static_cast<std::uint32_t>(std::popcount(masks[static_cast<std::size_t>(k * bits + r)] & a) & 1)

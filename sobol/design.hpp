@@ -67,12 +67,17 @@ DesignResult make_design(const DesignOptions& options);
 /// Plain (centred = false) or centred LHS of n points in d dimensions.
 Eigen::MatrixXd latin_hypercube(int samples, int dimension, std::uint64_t seed, bool centred = false);
 
-/// Largest dimension of the Sobol' sequence (GSL's direction numbers).
+/// Largest dimension of the Sobol' sequence (the first rows of Joe & Kuo's direction numbers kept here).
 inline constexpr int k_max_sobol_dimension = 40;
 
-/// The first n points (starting at the origin point, so that the first 2^m points form a (t,m,d)-net) of the Sobol'
-/// sequence in d dimensions, scrambled by a random lower-triangular binary matrix per dimension and a random digital
-/// shift (Matoušek 1998, "On the L2-discrepancy for anchored boxes"; Owen 2003). Throws InputError when d > 40.
+/// The first n points of the unscrambled Sobol' sequence in d dimensions, starting at the origin, in Gray-code order,
+/// with Joe & Kuo's direction numbers new-joe-kuo-6.21201 (Joe & Kuo 2008, SIAM J. Sci. Comput. 30, 2635-2654), 30
+/// binary digits per coordinate. Throws InputError when d is outside 1..40 or n outside 1..2^30.
+Eigen::MatrixXd sobol_sequence(int samples, int dimension);
+
+/// The first n points of sobol_sequence (starting at the origin point, so that the first 2^m points form a
+/// (t,m,d)-net) scrambled by a random lower-triangular binary matrix per dimension and a random digital shift
+/// (Matoušek 1998, "On the L2-discrepancy for anchored boxes"; Owen 2003). Throws InputError when d > 40.
 Eigen::MatrixXd scrambled_sobol(int samples, int dimension, std::uint64_t seed);
 
 double min_distance(const Eigen::MatrixXd& points);

@@ -39,6 +39,9 @@ Estimates estimate(const SaltelliResponses& y, const std::vector<int>& rows, boo
   const double v = e.variance;
   e.first.assign(static_cast<std::size_t>(d), 0.0);
   e.total.assign(static_cast<std::size_t>(d), 0.0);
+  // With the BA blocks of a second-order design every index is estimated twice, once with the roles of A and B
+  // swapped (Saltelli 2002, §3: making best use of the evaluations), and the two estimates are averaged.
+  const bool both = y.second_order();
   for (int i = 0; i < d; ++i) {
     double v1 = 0.0, vt = 0.0;
     const Eigen::VectorXd& ab = y.ab[static_cast<std::size_t>(i)];
@@ -46,6 +49,16 @@ Estimates estimate(const SaltelliResponses& y, const std::vector<int>& rows, boo
       const double fa = y.a(r) - shift, fb = y.b(r) - shift, fab = ab(r) - shift;
       v1 += fb * (fab - fa);                // Saltelli et al. 2010, Table 2 (b)
       vt += 0.5 * (fa - fab) * (fa - fab);  // Jansen 1999; Saltelli et al. 2010, Table 2 (f)
+    }
+    if (both) {
+      const Eigen::VectorXd& ba = y.ba[static_cast<std::size_t>(i)];
+      for (const int r : rows) {
+        const double fa = y.a(r) - shift, fb = y.b(r) - shift, fba = ba(r) - shift;
+        v1 += fa * (fba - fb);  // the same estimators with A and B exchanged: BA_i shares x_i with A
+        vt += 0.5 * (fb - fba) * (fb - fba);
+      }
+      v1 *= 0.5;
+      vt *= 0.5;
     }
     e.first[static_cast<std::size_t>(i)] = v1 / n / v;
     e.total[static_cast<std::size_t>(i)] = vt / n / v;
@@ -248,6 +261,7 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
   check_finite(y.a, 0);
   check_finite(y.b, n);
   for (int i = 0; i < d; ++i) check_finite(y.ab[static_cast<std::size_t>(i)], (2 + i) * n);
+  for (std::size_t i = 0; i < y.ba.size(); ++i) check_finite(y.ba[i], (2 + d + static_cast<int>(i)) * n);
 
   std::vector<int> rows(static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = r;

@@ -88,6 +88,39 @@ TEST(Design, ScrambledSobolFirstPowerOfTwoIsBalancedInEveryDimension) {
   EXPECT_EQ(boxes.size(), 256u);
 }
 
+TEST(Design, SobolSequenceStartsWithThePublishedPoints) {
+  // scipy.stats.qmc.Sobol(d=2, scramble=False) documents these first 8 points (they are also GSL's after the
+  // origin); dimensions 3-5 follow from Joe & Kuo's m = (1, 3), (1, 3, 1), (1, 1, 1) by hand: point 2 is
+  // 0.5 ^ v_2 with v_2 = m_2 / 4, point 3 adds v_1 = 1/2.
+  const Eigen::MatrixXd x = sobol_sequence(8, 5);
+  Eigen::MatrixXd first_two(8, 2);
+  first_two << 0, 0, 0.5, 0.5, 0.75, 0.25, 0.25, 0.75, 0.375, 0.375, 0.875, 0.875, 0.625, 0.125, 0.125, 0.625;
+  EXPECT_EQ(x.leftCols(2), first_two);
+  EXPECT_EQ(x.row(1), Eigen::RowVectorXd::Constant(5, 0.5));
+  Eigen::RowVectorXd third(5), fourth(5);
+  third << 0.75, 0.25, 0.25, 0.25, 0.75;
+  fourth << 0.25, 0.75, 0.75, 0.75, 0.25;
+  EXPECT_EQ(x.row(2), third);
+  EXPECT_EQ(x.row(3), fourth);
+}
+
+TEST(Design, SobolSequenceIsANetInEveryDimension) {
+  // Every one of the 40 dimensions: the first 2^10 points are the 1024 multiples of 1/1024 (the generator matrix of
+  // each dimension is non-singular, which checks the direction-number recurrence).
+  const Eigen::MatrixXd x = sobol_sequence(1024, k_max_sobol_dimension);
+  for (int k = 0; k < k_max_sobol_dimension; ++k) {
+    std::set<double> cells;
+    for (Eigen::Index i = 0; i < 1024; ++i) {
+      const double cell = x(i, k) * 1024;
+      EXPECT_EQ(cell, std::floor(cell)) << "dimension " << k + 1 << ", point " << i;
+      cells.insert(cell);
+    }
+    EXPECT_EQ(cells.size(), 1024u) << "dimension " << k + 1;
+  }
+  EXPECT_THROW(sobol_sequence(8, 41), InputError);
+  EXPECT_THROW(sobol_sequence(0, 2), InputError);
+}
+
 TEST(Design, MetricsMatchHandComputations) {
   // One point at the centre of [0,1]: C2² = 13/12 - 2 + 1 = 1/12 (Hickernell 1998, eq. 5.1c).
   EXPECT_NEAR(centred_l2_discrepancy(Eigen::MatrixXd::Constant(1, 1, 0.5)), std::sqrt(1.0 / 12.0), 1e-14);

@@ -7,7 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace demsa::sobol {
 namespace {
@@ -73,19 +76,60 @@ TEST(Saltelli, IshigamiAtBase2048) {
   }
 }
 
+TEST(Saltelli, IshigamiAtBase2048OverSeeds) {
+  // The accuracy over seeds, not one lucky seed: second-order designs (the command line's) at base 2048, seeds 1-10
+  // and the default 12345. Measured: RMS 0.0024, worst seed 0.0075, 8 of 11 seeds within 0.005, seed 12345 0.0060
+  // (with GSL's direction numbers and A-B estimates only: RMS 0.0086, worst 0.0326, 6 of 11, seed 12345 0.0245).
+  const std::vector<std::uint64_t> seeds{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 12345};
+  double sum_squares = 0.0, worst = 0.0;
+  int within = 0;
+  for (const std::uint64_t seed : seeds) {
+    SaltelliOptions o;
+    o.base = 2048;
+    o.dimension = 3;
+    o.second_order = true;
+    o.seed = seed;
+    SobolOptions so;
+    so.second_order = true;
+    so.bootstrap = 0;
+    const SobolResult r = sobol_indices(ishigami, saltelli_design(o), so);
+    double seed_worst = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double e1 = r.first[k].value - test::k_ishigami_s1[k], et = r.total[k].value - test::k_ishigami_st[k];
+      sum_squares += e1 * e1 + et * et;
+      seed_worst = std::max({seed_worst, std::abs(e1), std::abs(et)});
+    }
+    worst = std::max(worst, seed_worst);
+    within += seed_worst <= 0.005;
+    ASSERT_EQ(r.second.size(), 3u);
+    EXPECT_NEAR(r.second[1].s.value, test::k_ishigami_s13, 0.01) << "seed " << seed;
+    if (seed == 12345) {
+      EXPECT_LE(seed_worst, 0.0075) << "default seed";
+    }
+  }
+  const double rms = std::sqrt(sum_squares / (6.0 * static_cast<double>(seeds.size())));
+  EXPECT_LE(rms, 0.0035);
+  EXPECT_LE(worst, 0.01);
+  EXPECT_GE(within, 7) << "seeds with max |error| <= 0.005, of " << seeds.size();
+}
+
 TEST(Saltelli, SobolGAtBase4096) {
   const std::vector<double> a{0, 1, 4.5, 9, 99, 99, 99, 99};
   std::vector<double> s1, st;
   test::sobol_g_indices(a, s1, st);
-  SaltelliOptions o;
-  o.base = 4096;
-  o.dimension = 8;
-  o.seed = 7;
-  SobolOptions so;
-  so.bootstrap = 0;
-  const SobolResult r =
-      sobol_indices([&a](const Eigen::MatrixXd& u) { return test::sobol_g(u, a); }, saltelli_design(o), so);
-  EXPECT_LE(max_error(r, s1, st), 0.003);
+  // Several seeds (with GSL's direction numbers seed 1 gave 0.0124).
+  const std::vector<std::uint64_t> seeds{1, 2, 3, 7, 12345};
+  for (const std::uint64_t seed : seeds) {
+    SaltelliOptions o;
+    o.base = 4096;
+    o.dimension = 8;
+    o.seed = seed;
+    SobolOptions so;
+    so.bootstrap = 0;
+    const SobolResult r =
+        sobol_indices([&a](const Eigen::MatrixXd& u) { return test::sobol_g(u, a); }, saltelli_design(o), so);
+    EXPECT_LE(max_error(r, s1, st), 0.003) << "seed " << seed;
+  }
 }
 
 TEST(Saltelli, BootstrapIntervalsCoverTheTruth) {
