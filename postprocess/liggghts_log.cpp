@@ -1,5 +1,7 @@
 #include "postprocess/liggghts_log.hpp"
 
+#include "postprocess/text.hpp"
+
 #include <fmt/core.h>
 
 #include <cctype>
@@ -12,22 +14,6 @@
 namespace demsa::postprocess {
 
 namespace {
-
-std::vector<std::string> split_words(const std::string& line) {
-  std::vector<std::string> out;
-  std::istringstream in(line);
-  std::string word;
-  while (in >> word) out.push_back(word);
-  return out;
-}
-
-bool to_double(const std::string& s, double& value) {
-  const char* b = s.data();
-  const char* e = b + s.size();
-  if (b != e && *b == '+') ++b;
-  const auto [ptr, ec] = std::from_chars(b, e, value);
-  return ec == std::errc() && ptr == e && b != e;
-}
 
 bool starts_with(const std::string& s, std::string_view prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
 
@@ -57,7 +43,7 @@ LiggghtsLog parse_liggghts_log(const std::string& text) {
       const std::vector<std::string> words = split_words(raw);
       bool numeric = words.size() == block->columns.size();
       std::vector<double> row(words.size());
-      for (std::size_t c = 0; numeric && c < words.size(); ++c) numeric = to_double(words[c], row[c]);
+      for (std::size_t c = 0; numeric && c < words.size(); ++c) numeric = parse_double(words[c], row[c]);
       if (numeric) {
         const int atoms = block->column_index("Atoms");
         if (atoms >= 0) {
@@ -92,11 +78,11 @@ LiggghtsLog parse_liggghts_log(const std::string& text) {
       LoopSummary loop;
       loop.line = line_no;
       const std::vector<std::string> w = split_words(raw);
-      if (w.size() >= 12 && to_double(w[3], loop.seconds)) {
+      if (w.size() >= 12 && parse_double(w[3], loop.seconds)) {
         double procs = 0, steps = 0, atoms = 0;
-        if (to_double(w[5], procs)) loop.procs = static_cast<int>(procs);
-        if (to_double(w[8], steps)) loop.steps = static_cast<long>(steps);
-        if (to_double(w[11], atoms)) loop.atoms = static_cast<long>(atoms);
+        if (parse_double(w[5], procs)) loop.procs = static_cast<int>(procs);
+        if (parse_double(w[8], steps)) loop.steps = static_cast<long>(steps);
+        if (parse_double(w[11], atoms)) loop.atoms = static_cast<long>(atoms);
         log.loops.push_back(loop);
         log.loop_seconds += loop.seconds;
         log.steps += loop.steps;

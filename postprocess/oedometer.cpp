@@ -1,6 +1,7 @@
 #include "postprocess/oedometer.hpp"
 
 #include "postprocess/measures.hpp"
+#include "postprocess/text.hpp"
 
 #include <fmt/core.h>
 
@@ -16,22 +17,6 @@
 namespace demsa::postprocess {
 
 namespace {
-
-std::vector<std::string> split_words(const std::string& line) {
-  std::vector<std::string> out;
-  std::istringstream in(line);
-  std::string word;
-  while (in >> word) out.push_back(word);
-  return out;
-}
-
-bool to_double(const std::string& s, double& value) {
-  const char* b = s.data();
-  const char* e = b + s.size();
-  if (b != e && *b == '+') ++b;
-  const auto [ptr, ec] = std::from_chars(b, e, value);
-  return ec == std::errc() && ptr == e && b != e && std::isfinite(value);
-}
 
 std::string read_text(const std::filesystem::path& path) {
   std::error_code ec;
@@ -87,7 +72,7 @@ Table read_table(const std::filesystem::path& path, const std::string& header_ke
           fmt::format("row has {} values, the header names {} columns", words.size(), table.columns.size()));
     std::vector<double> row(words.size());
     for (std::size_t c = 0; c < words.size(); ++c)
-      if (!to_double(words[c], row[c]))
+      if (!parse_double(words[c], row[c], true))
         throw ParseError(path.string(), line_no,
                          fmt::format("column '{}': '{}' is not a number", table.columns[c], words[c]));
     table.rows.push_back(std::move(row));
