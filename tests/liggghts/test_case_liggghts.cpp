@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace demsa {
 namespace {
@@ -26,12 +29,44 @@ void write_and_run(const std::string& study, const fs::path& dir) {
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err << test::read_file(dir / "screen.txt");
 }
 
+/// The radii a pile case asks for: the column's from pile_particles.data (column 3 of the Atoms section: diameter)
+/// and the appended discs' from pile_discs.liggghts (`set region new_atom diameter D`), sorted.
+std::vector<double> requested_radii(const fs::path& dir) {
+  std::vector<double> radii;
+  std::istringstream data(test::read_file(dir / "pile_particles.data"));
+  std::string line;
+  bool atoms = false;
+  while (std::getline(data, line)) {
+    if (line.rfind("Atoms", 0) == 0) {
+      atoms = true;
+      continue;
+    }
+    std::istringstream words(line);
+    long id = 0;
+    int type = 0;
+    double diameter = 0;
+    if (atoms && words >> id >> type >> diameter) radii.push_back(0.5 * diameter);
+  }
+  std::istringstream discs(test::read_file(dir / "pile_discs.liggghts"));
+  const std::string key = "set region new_atom diameter ";
+  while (std::getline(discs, line))
+    if (line.rfind(key, 0) == 0) radii.push_back(0.5 * std::stod(line.substr(key.size())));
+  std::sort(radii.begin(), radii.end());
+  return radii;
+}
+
 TEST(CaseLiggghts, TinyPileSettlesIntoAPlausibleConeAndRerunsIdentically) {
   test::TempDir tmp;
   const fs::path dir = tmp / "pile case";  // a space in the path must work
   write_and_run("tiny_pile.toml", dir);
   const postprocess::Particles all = postprocess::read_particles(dir / "pile_final.dump", 1);
   EXPECT_EQ(all.size(), 300u);  // nothing lost
+  // Every particle has the radius the assembly gave it (appended atoms are found by position, not by id).
+  std::vector<double> radii = all.radius;
+  std::sort(radii.begin(), radii.end());
+  const std::vector<double> requested = requested_radii(dir);
+  ASSERT_EQ(radii.size(), requested.size());
+  for (std::size_t i = 0; i < radii.size(); ++i) EXPECT_NEAR(radii[i], requested[i], 1e-9) << i;
   postprocess::PileAngleOptions options;
   options.levels = 5;
   const postprocess::PileAngleResult angle = postprocess::measure_pile_angle(all, options);
@@ -45,6 +80,26 @@ TEST(CaseLiggghts, TinyPileSettlesIntoAPlausibleConeAndRerunsIdentically) {
   const test::CommandResult again = test::run_command({(dir / "run.sh").string()});
   ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_EQ(test::read_file(tmp / "first.dump"), test::read_file(dir / "pile_final.dump"));
+}
+
+TEST(CaseLiggghts, PileThatReachesTheInsertionHeightStopsWithAClearError) {
+  // A fill height of 5 mm above the pedestal: the pile soon reaches the layer where new discs appear. The case must
+  // stop there with an error that says so, instead of inserting particles into the pile.
+  test::TempDir tmp;
+  const std::string text = test::read_file(test::data_path("cases/tiny_pile.toml"));
+  const std::string study = text.substr(0, text.find("fill_height")) + "fill_height = 0.005" +
+                            text.substr(text.find('\n', text.find("fill_height")));
+  test::write_file(tmp / "low.toml", study);
+  const test::CommandResult w =
+      test::run_demsa({"case", (tmp / "low.toml").string(), "--sample", "0", "-o", (tmp / "case").string()});
+  ASSERT_EQ(w.exit_code, 0) << w.out << w.err;
+  const test::CommandResult r = test::run_command({(tmp / "case" / "run.sh").string()});
+  EXPECT_NE(r.exit_code, 0);
+  const std::string log = test::read_file(tmp / "case" / "log.liggghts");
+  EXPECT_NE(log.find("the pile has reached the insertion height (raise [pile] fill_height)"), std::string::npos)
+      << log.substr(log.size() > 3000 ? log.size() - 3000 : 0);
+  EXPECT_NE(log.find("ERROR: Unknown command: demsa:_the_pile_has_reached_the_insertion_height"), std::string::npos);
+  EXPECT_FALSE(fs::exists(tmp / "case" / "pile_final.dump"));
 }
 
 /// Both loads reached within the tolerance, settlement positive.

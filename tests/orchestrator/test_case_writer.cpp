@@ -162,9 +162,13 @@ TEST(CaseWriter, PaperPresetsWriteFullCases) {
     const int column = data_atoms(read_file(tmp / preset / "pile_particles.data"));
     const int appended = count_lines_starting(read_file(tmp / preset / "pile_discs.liggghts"), "create_atoms");
     EXPECT_EQ(column + appended, expected) << preset;
-    // The last appended atom gets id = expected.
-    EXPECT_NE(read_file(tmp / preset / "pile_discs.liggghts").find("set atom " + std::to_string(expected) + " "),
-              std::string::npos);
+    // Every appended atom gets its radius through a region around its centre, never through a predicted id.
+    const std::string discs = read_file(tmp / preset / "pile_discs.liggghts");
+    EXPECT_EQ(count_lines_starting(discs, "set region new_atom diameter "), appended) << preset;
+    EXPECT_EQ(count_lines_starting(discs, "set atom"), 0) << preset;
+    EXPECT_EQ(count_lines_starting(discs, "if \"${in_insertion_zone} > 0\""),
+              count_lines_starting(discs, "run ${append_steps}"))
+        << preset << ": the insertion height is checked before every appended disc";
   }
   const StudyConfig o = study("[oedometer]\npreset = \"paper\"\n", "oedometer");
   const CaseSummary s = write_case(o, request_from_unit_point(o, 0, {1.0, 1.0}), tmp / "oed");
