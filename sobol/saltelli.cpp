@@ -26,39 +26,60 @@ Estimates estimate(const SaltelliResponses& y, const std::vector<int>& rows, boo
   const int d = y.dimension;
   const double n = static_cast<double>(rows.size());
   Estimates e;
-  // Mean and variance over A and B together (Saltelli 2010, §3; as in SALib).
-  double s = 0.0, s2 = 0.0;
-  for (const int r : rows) {
-    const double a = y.a(r) - shift, b = y.b(r) - shift;
-    s += a + b;
-    s2 += a * a + b * b;
+  // Mean and variance over A and B together (Saltelli 2010, §3; as in SALib). A second-order design has 2d + 2
+  // blocks whose rows are all distributed like the inputs, so there the mean and variance use every block: the
+  // variance in the denominators is then several times more accurate (Ishigami, base 2048: relative RMS error
+  // 0.0016 against 0.0036 over 100 seeds).
+  const bool both = y.second_order();
+  double s = 0.0, s2 = 0.0, count = 0.0;
+  const auto add_block = [&](const Eigen::VectorXd& block) {
+    for (const int r : rows) {
+      const double f = block(r) - shift;
+      s += f;
+      s2 += f * f;
+    }
+    count += n;
+  };
+  add_block(y.a);
+  add_block(y.b);
+  if (both) {
+    for (const Eigen::VectorXd& block : y.ab) add_block(block);
+    for (const Eigen::VectorXd& block : y.ba) add_block(block);
   }
-  const double mean = s / (2.0 * n);
+  const double mean = s / count;
   e.mean = mean + shift;
-  e.variance = s2 / (2.0 * n) - mean * mean;
+  e.variance = s2 / count - mean * mean;
   const double v = e.variance;
   e.first.assign(static_cast<std::size_t>(d), 0.0);
   e.total.assign(static_cast<std::size_t>(d), 0.0);
-  // With the BA blocks of a second-order design every index is estimated twice, once with the roles of A and B
-  // swapped (Saltelli 2002, §3: making best use of the evaluations), and the two estimates are averaged.
-  const bool both = y.second_order();
+  // First-order parts subtracted from the closed second-order indices: Saltelli's estimator averaged over A and B
+  // exchanged. Its errors are correlated with those of the closed index (both are products with f(A) and f(B)), so
+  // they cancel in S2_ij; the two-difference S1 below is more accurate alone but not in that difference.
+  std::vector<double> first_for_s2(static_cast<std::size_t>(d), 0.0);
   for (int i = 0; i < d; ++i) {
     double v1 = 0.0, vt = 0.0;
     const Eigen::VectorXd& ab = y.ab[static_cast<std::size_t>(i)];
-    for (const int r : rows) {
-      const double fa = y.a(r) - shift, fb = y.b(r) - shift, fab = ab(r) - shift;
-      v1 += fb * (fab - fa);                // Saltelli et al. 2010, Table 2 (b)
-      vt += 0.5 * (fa - fab) * (fa - fab);  // Jansen 1999; Saltelli et al. 2010, Table 2 (f)
-    }
-    if (both) {
+    if (!both) {
+      for (const int r : rows) {
+        const double fa = y.a(r) - shift, fb = y.b(r) - shift, fab = ab(r) - shift;
+        v1 += fb * (fab - fa);                // Saltelli et al. 2010, Table 2 (b)
+        vt += 0.5 * (fa - fab) * (fa - fab);  // Jansen 1999; Saltelli et al. 2010, Table 2 (f)
+      }
+    } else {
+      // With the BA blocks both factors of the first-order product can be differences (the idea of Owen 2013,
+      // "Better estimation of small Sobol' sensitivity indices", ACM TOMACS 23(2)): B and AB_i share x_i, A and
+      // BA_i share x_i, every other pair of the four shares nothing, so E[(f(B) - f(BA_i)) (f(AB_i) - f(A))] =
+      // 2 V_i. The differences cancel what does not change with x_i, which lowers the variance of small indices.
+      // The total effect is Jansen's, averaged over (A, AB_i) and (B, BA_i) (Saltelli 2002, §3: A and B swapped).
       const Eigen::VectorXd& ba = y.ba[static_cast<std::size_t>(i)];
       for (const int r : rows) {
-        const double fa = y.a(r) - shift, fb = y.b(r) - shift, fba = ba(r) - shift;
-        v1 += fa * (fba - fb);  // the same estimators with A and B exchanged: BA_i shares x_i with A
-        vt += 0.5 * (fb - fba) * (fb - fba);
+        const double fa = y.a(r), fb = y.b(r), fab = ab(r), fba = ba(r);
+        v1 += 0.5 * (fb - fba) * (fab - fa);
+        vt += 0.25 * ((fa - fab) * (fa - fab) + (fb - fba) * (fb - fba));
+        first_for_s2[static_cast<std::size_t>(i)] +=
+            0.5 * ((fb - shift) * (fab - fa) + (fa - shift) * (fba - fb));  // Saltelli 2010, Table 2 (b), both ways
       }
-      v1 *= 0.5;
-      vt *= 0.5;
+      first_for_s2[static_cast<std::size_t>(i)] /= n * v;
     }
     e.first[static_cast<std::size_t>(i)] = v1 / n / v;
     e.total[static_cast<std::size_t>(i)] = vt / n / v;
@@ -74,7 +95,8 @@ Estimates estimate(const SaltelliResponses& y, const std::vector<int>& rows, boo
         for (const int r : rows) vc += (ba(r) - shift) * (ab(r) - shift);
         // Saltelli 2002, eq. (12) (closed index of {i, j}), minus the first-order parts.
         const double closed = (vc - ab_sum) / n / v;
-        e.second.push_back(closed - e.first[static_cast<std::size_t>(i)] - e.first[static_cast<std::size_t>(j)]);
+        e.second.push_back(closed - first_for_s2[static_cast<std::size_t>(i)] -
+                           first_for_s2[static_cast<std::size_t>(j)]);
       }
     }
   }

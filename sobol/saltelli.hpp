@@ -4,9 +4,11 @@
 //   ST by Jansen 1999 (Saltelli 2010, Table 2 (f)): VT_i = mean((f(A) - f(AB_i))^2) / 2,
 //   S2 by Saltelli 2002 (Comput. Phys. Commun. 145): V_ij^closed = mean(f(BA_i) f(AB_j) - f(A) f(B)),
 //      S2_ij = V_ij^closed / V - S1_i - S1_j,
-//   with the BA blocks of a second-order design, S1 and ST are also estimated with A and B exchanged
-//      (V_i = mean(f(A) (f(BA_i) - f(B))), VT_i = mean((f(B) - f(BA_i))^2) / 2; Saltelli 2002, §3) and the two
-//      estimates averaged,
+//   with the BA blocks of a second-order design:
+//      S1 from differences on both sides (after Owen 2013, ACM TOMACS 23(2)): V_i = mean((f(B) - f(BA_i)) (f(AB_i)
+//      - f(A))) / 2, unbiased because only B, AB_i and A, BA_i share x_i,
+//      ST averaged over A and B exchanged: VT_i = mean((f(A) - f(AB_i))^2 + (f(B) - f(BA_i))^2) / 4 (Saltelli 2002,
+//      §3), and the mean and variance taken over all 2d + 2 blocks,
 // with percentile-bootstrap confidence intervals (resampling the N base rows, every block together).
 //
 // A and B are the two halves of ONE 2d-dimensional scrambled Sobol' sequence. Taking A and B as consecutive blocks

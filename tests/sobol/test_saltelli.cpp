@@ -77,12 +77,16 @@ TEST(Saltelli, IshigamiAtBase2048) {
 }
 
 TEST(Saltelli, IshigamiAtBase2048OverSeeds) {
-  // The accuracy over seeds, not one lucky seed: second-order designs (the command line's) at base 2048, seeds 1-10
-  // and the default 12345. Measured: RMS 0.0024, worst seed 0.0075, 8 of 11 seeds within 0.005, seed 12345 0.0060
-  // (with GSL's direction numbers and A-B estimates only: RMS 0.0086, worst 0.0326, 6 of 11, seed 12345 0.0245).
-  const std::vector<std::uint64_t> seeds{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 12345};
+  // The accuracy over seeds, not one lucky seed: second-order designs (the command line's) at base 2048, seeds
+  // 1-100 and the default 12345. Measured: RMS error of S1/ST 0.00267, worst seed 0.0167, 77 of 101 seeds with
+  // max |error| <= 0.005, S13 within 0.01 for 95 seeds and within 0.0165 for all. With Saltelli's S1 averaged over
+  // A and B exchanged and the variance of A and B only: RMS 0.00312, worst 0.0204, 69 of 101 seeds. (SciPy's
+  // scrambled Sobol' sequence with that estimator: RMS 0.0038, worst 0.021, 67 of 100 seeds.)
+  std::vector<std::uint64_t> seeds;
+  for (std::uint64_t seed = 1; seed <= 100; ++seed) seeds.push_back(seed);
+  seeds.push_back(12345);
   double sum_squares = 0.0, worst = 0.0;
-  int within = 0;
+  int within = 0, s13_within = 0;
   for (const std::uint64_t seed : seeds) {
     SaltelliOptions o;
     o.base = 2048;
@@ -102,15 +106,14 @@ TEST(Saltelli, IshigamiAtBase2048OverSeeds) {
     worst = std::max(worst, seed_worst);
     within += seed_worst <= 0.005;
     ASSERT_EQ(r.second.size(), 3u);
-    EXPECT_NEAR(r.second[1].s.value, test::k_ishigami_s13, 0.01) << "seed " << seed;
-    if (seed == 12345) {
-      EXPECT_LE(seed_worst, 0.0075) << "default seed";
-    }
+    EXPECT_NEAR(r.second[1].s.value, test::k_ishigami_s13, 0.02) << "seed " << seed;
+    s13_within += std::abs(r.second[1].s.value - test::k_ishigami_s13) <= 0.01;
   }
   const double rms = std::sqrt(sum_squares / (6.0 * static_cast<double>(seeds.size())));
-  EXPECT_LE(rms, 0.0035);
-  EXPECT_LE(worst, 0.01);
-  EXPECT_GE(within, 7) << "seeds with max |error| <= 0.005, of " << seeds.size();
+  EXPECT_LE(rms, 0.0029);
+  EXPECT_LE(worst, 0.018);
+  EXPECT_GE(within, 75) << "seeds with max |error| <= 0.005, of " << seeds.size();
+  EXPECT_GE(s13_within, 93) << "seeds with S13 within 0.01, of " << seeds.size();
 }
 
 TEST(Saltelli, SobolGAtBase4096) {
