@@ -35,14 +35,15 @@ servo_check_steps = 2000
 servo_max_steps = 200000
 trial_steps = 2000
 relax_steps = 8000
-trial_step0 = 0.02e-3
+trial_step0 = 0.05e-3
 trial_reduction = 0.7
 trial_floor = 0.02
-max_trials = 200
+max_trials = 400
 TOML
 }
 
 declare -A wall steps zs
+load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 for mode in servo trial-step; do
   write_study "$mode" "$work/$mode.toml"
   "$demsa" case "$work/$mode.toml" --set E=2e8 -o "$work/$mode" > /dev/null
@@ -56,7 +57,6 @@ for mode in servo trial-step; do
   zs[$mode]=$(awk '!/^#/ && NF {printf "%s:%s:%s:%s ", $1, $2, $3, $4}' "$work/$mode/plate_states.txt")
 done
 
-load_avg=$(cut -d' ' -f1-3 /proc/loadavg)
 echo "| mode | loading steps | wall time of the case [s] | load [N]: settlement s_i [mm] (force [N], converged) |"
 echo "|---|---|---|---|"
 for mode in servo trial-step; do
@@ -68,4 +68,4 @@ echo
 echo "Settlement difference trial-step − servo [mm]: $(paste <(echo "${zs[servo]}" | tr ' ' '\n') \
   <(echo "${zs[trial-step]}" | tr ' ' '\n') | awk -F'[:\t]' 'NF >= 8 { if (NR == 1) { zs0 = $2; zt0 = $6 }
   printf "%s N: %+.4f; ", $1, ((zt0 - $6) - (zs0 - $2)) * 1000 }')"
-echo "($particles particles, E = 2e8 Pa, 1 rank; load average before/after: $load_avg / $(cut -d' ' -f1-3 /proc/loadavg))"
+echo "($particles particles, E = 2e8 Pa, 1 rank; load average before/after: $load_before / $(cut -d' ' -f1-3 /proc/loadavg))"
