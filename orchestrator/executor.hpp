@@ -5,12 +5,16 @@
 // commits.
 //
 // Life of a case in an executor:
-//   submit({task}) -> job id (kept by the runner in the store, runs.job_id)
+//   reserve_ids({task}) -> provisional id (the runner stores it before anything starts)
+//   submit({task}) -> job id (kept by the runner in the store, runs.job_id, in place of the provisional one)
 //   poll(...)      -> the task comes back exactly once, as a FinishedCase
 //   cancel_all()   -> every task still running comes back from poll() with `cancelled` set
 // After a restart of demsa, the runner hands the job ids of submitted-but-not-collected tasks to adopt(); the
 // executor either follows them again (SLURM: the jobs kept running) or ends what is left of them and reports
 // them as `lost` (local: their parent died, their exit status is gone). Either way they come back from poll().
+// A task whose stored id is still the provisional one (demsa died inside submit(), after the job may have been
+// created) is looked up by it (SLURM: the submission's token in the job's comment); the real id found that way
+// comes back from take_learned_ids(), and the runner stores it.
 //
 // Conventions for every executor:
 //   - the case is started as `./run.sh` with the case folder as working directory;
@@ -74,13 +78,28 @@ class Executor {
   /// submits more than this.
   virtual int free_slots() const = 0;
 
+  /// Ids by which the tasks of the next submit(tasks) call (same tasks, same order) can be found again if demsa
+  /// dies while submit() runs, after the executor has started them but before their real ids are stored. The
+  /// runner records them in the store before it calls submit(). One per task; "" when the executor needs none
+  /// (local: a process that started is found by its process group, and one that did not start leaves nothing).
+  /// SLURM: "pending:TOKEN:INDEX", TOKEN marking the array job (sbatch --comment), INDEX the task in it.
+  virtual std::vector<std::string> reserve_ids(const std::vector<CaseTask>& tasks) {
+    return std::vector<std::string>(tasks.size());
+  }
+
   /// Starts the tasks (at most free_slots()). Returns one job id per task, in the same order: an id the executor
   /// can find the task again by after a restart of demsa (local: "pgid:start-ticks"; SLURM: "jobid_taskid").
   /// Throws std::runtime_error if the tasks could not be started at all (e.g. sbatch failed); then none started.
   virtual std::vector<std::string> submit(const std::vector<CaseTask>& tasks) = 0;
 
-  /// Takes over tasks submitted by an earlier demsa process. They come back from later poll() calls.
+  /// Takes over tasks submitted by an earlier demsa process. They come back from later poll() calls. A task whose
+  /// id is a provisional one (reserve_ids) is looked up by it: found, it is followed and its real id comes back
+  /// from take_learned_ids(); surely not started (or long ended), it comes back `lost`; while the lookup itself
+  /// fails, it stays in flight.
   virtual void adopt(const std::vector<SubmittedCase>& tasks) = 0;
+
+  /// The real ids found since the last call for adopted tasks that had a provisional id, each once. Default: none.
+  virtual std::vector<SubmittedCase> take_learned_ids() { return {}; }
 
   /// Waits up to `wait` for tasks to end (returns at once when something already ended) and returns every task
   /// that ended since the last call, each exactly once. Enforces timeouts.
@@ -90,7 +109,9 @@ class Executor {
   virtual int in_flight() const = 0;
 
   /// Stops every task in flight (local: SIGTERM to each process group, SIGKILL after a grace period; SLURM:
-  /// scancel) and waits for them to end. They come back from the next poll() with `cancelled` set.
+  /// scancel) and waits for them to end. They come back from the next poll() with `cancelled` set. (SLURM: an
+  /// adopted task with a provisional id that squeue cannot be asked about stays in flight: it cannot be found to
+  /// be cancelled, and it must not be submitted again.)
   virtual void cancel_all() = 0;
 };
 

@@ -7,11 +7,13 @@
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cassert>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -238,6 +240,7 @@ std::vector<std::string> sbatch_arguments(const ArraySubmission& submission) {
                                 fmt::format("--ntasks={}", submission.ranks),
                                 "--chdir=" + submission.work_dir.string(),
                                 "--output=" + escape_percent((submission.work_dir / "logs").string()) + "/%A_%a.out"};
+  if (!submission.comment.empty()) args.push_back("--comment=" + submission.comment);
   if (!settings.time_limit.empty()) args.push_back("--time=" + settings.time_limit);
   if (!settings.partition.empty()) args.push_back("--partition=" + settings.partition);
   if (!settings.account.empty()) args.push_back("--account=" + settings.account);
@@ -331,6 +334,29 @@ std::map<int, SqueueTask> parse_squeue(const std::string& text) {
   return tasks;
 }
 
+std::map<std::string, std::vector<std::string>> parse_comment_lines(const std::string& text) {
+  std::map<std::string, std::set<std::string>> found;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const std::string trimmed = trim(line);
+    const auto space = trimmed.find_first_of(" \t");
+    if (space == std::string::npos) continue;
+    const std::string job = trimmed.substr(0, space);
+    if (!parse_long(job) || job.front() == '-' || job.front() == '+') continue;
+    found[trim(trimmed.substr(space))].insert(job);
+  }
+  std::map<std::string, std::vector<std::string>> jobs;
+  for (const auto& [comment, ids] : found) {
+    std::vector<std::string> sorted(ids.begin(), ids.end());
+    std::sort(sorted.begin(), sorted.end(), [](const std::string& a, const std::string& b) {
+      return a.size() != b.size() ? a.size() < b.size() : a < b;
+    });
+    jobs[comment] = std::move(sorted);
+  }
+  return jobs;
+}
+
 std::optional<std::string> parse_sbatch_job_id(const std::string& text) {
   const std::string line = trim(text.substr(0, text.find_first_of(";\n")));
   if (line.empty()) return std::nullopt;
@@ -393,6 +419,21 @@ SqueueResult SlurmClient::query(const std::string& job) const {
   }
   result.ok = true;
   result.tasks = parse_squeue(r.out);
+  return result;
+}
+
+CommentLookup SlurmClient::jobs_by_comment() const {
+  // %F: the array job id (also for each task of it), %k: the comment. Without -r a pending range is one line,
+  // which is all that is needed here; -t all keeps the jobs that ended within MinJobAge.
+  const ProgramResult r =
+      run_program({m_commands.squeue, "-h", "-t", "all", "--me", "-o", "%F %k"}, m_commands.timeout);
+  CommentLookup result;
+  if (r.exit_code != 0) {
+    result.error = fmt::format("squeue failed (exit status {}): {}", r.exit_code, trim(r.err));
+    return result;
+  }
+  result.ok = true;
+  result.jobs = parse_comment_lines(r.out);
   return result;
 }
 

@@ -48,7 +48,8 @@ struct ArraySubmission {
   std::vector<std::filesystem::path> case_folders;  ///< absolute paths, at least one
   std::filesystem::path work_dir;                   ///< where the batch script, the sentinels and SLURM's own logs go
   std::string job_name = "demsa";                   ///< sbatch --job-name
-  int ranks = 1;                                    ///< sbatch --ntasks per array task (mpirun -np inside run.sh), >= 1
+  std::string comment;     ///< sbatch --comment (empty: none); the executor marks each submission with it
+  int ranks = 1;           ///< sbatch --ntasks per array task (mpirun -np inside run.sh), >= 1
   SlurmSettings settings;  ///< partition, account, time limit, throttle, extra options, prologue
 };
 
@@ -100,6 +101,17 @@ struct SqueueResult {
   std::string error;                ///< squeue's message when !ok
 };
 
+/// Outcome of one `squeue -h -t all --me -o "%F %k"` call: the caller's jobs that the controller knows (pending,
+/// running, or finished within MinJobAge), by their comment.
+struct CommentLookup {
+  bool ok = false;                                       ///< false: squeue failed; nothing is known
+  std::map<std::string, std::vector<std::string>> jobs;  ///< comment -> array job ids (sorted, each once)
+  std::string error;                                     ///< squeue's message when !ok
+};
+
+/// Parses the output of `squeue -o "%F %k"` ("JOB COMMENT" per line; the comment may be "(null)" or have spaces).
+std::map<std::string, std::vector<std::string>> parse_comment_lines(const std::string& text);
+
 /// Array job id from `sbatch --parsable` output ("123" or "123;cluster"); nullopt when there is none.
 std::optional<std::string> parse_sbatch_job_id(const std::string& text);
 
@@ -114,6 +126,10 @@ class SlurmClient {
 
   /// The tasks of array job `job` that the controller still knows (pending, running, or finished recently).
   SqueueResult query(const std::string& job) const;
+
+  /// The caller's jobs by comment (one squeue call for all of them): how a restarted demsa finds an array it
+  /// submitted but whose job id it never learned.
+  CommentLookup jobs_by_comment() const;
 
   /// Cancels the whole array job, or one task of it. Returns false (and scancel's message in `error`) on failure.
   bool cancel(const std::string& job, std::optional<int> task = std::nullopt, std::string* error = nullptr) const;

@@ -10,7 +10,9 @@
 #include <cctype>
 #include <csignal>
 #include <istream>
+#include <limits>
 #include <ostream>
+#include <random>
 #include <set>
 #include <stdexcept>
 #include <thread>
@@ -38,6 +40,10 @@ void SlurmExecutorOptions::validate() const {
   if (ranks < 1) fail("ranks", std::to_string(ranks), "must be >= 1");
   if (job_name.empty()) fail("job_name", "\"\"", "must not be empty");
   if (settings.throttle < 0) fail("settings.throttle", std::to_string(settings.throttle), "must be >= 0 (0 = none)");
+  for (const auto& option : settings.sbatch_options)
+    if (option.rfind("--comment", 0) == 0)
+      fail("settings.sbatch_options", "\"" + option + "\"",
+           "must not set --comment (demsa marks each submission with it, to find it again after a restart)");
 }
 
 SlurmExecutorOptions slurm_executor_options(const RunSettings& run, const fs::path& study_dir) {
@@ -67,6 +73,50 @@ std::optional<std::pair<std::string, int>> parse_slurm_task_id(const std::string
   return std::make_pair(job, std::stoi(task));
 }
 
+std::optional<PendingSlurmId> parse_pending_slurm_id(const std::string& id) {
+  const std::string prefix = "pending:";
+  if (id.rfind(prefix, 0) != 0) return std::nullopt;
+  const auto colon = id.rfind(':');
+  if (colon <= prefix.size()) return std::nullopt;
+  const std::string token = id.substr(prefix.size(), colon - prefix.size());
+  const std::string index = id.substr(colon + 1);
+  if (index.empty() || index.size() > 9 ||
+      !std::all_of(index.begin(), index.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  if (token.find_first_of(" \t\n:") != std::string::npos) return std::nullopt;
+  return PendingSlurmId{token, std::stoi(index)};
+}
+
+std::string make_submission_token(double now) {
+  std::random_device random;
+  const auto seconds = static_cast<unsigned long long>(std::max(0.0, now));
+  return fmt::format("{:x}-{:08x}", seconds, static_cast<unsigned>(random()));
+}
+
+std::optional<double> submission_token_time(const std::string& token) {
+  const auto dash = token.find('-');
+  if (dash == 0 || dash == std::string::npos || dash > 15) return std::nullopt;
+  unsigned long long seconds = 0;
+  for (size_t i = 0; i < dash; ++i) {
+    const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(token[i])));
+    if (c >= '0' && c <= '9')
+      seconds = seconds * 16 + static_cast<unsigned>(c - '0');
+    else if (c >= 'a' && c <= 'f')
+      seconds = seconds * 16 + static_cast<unsigned>(c - 'a' + 10);
+    else
+      return std::nullopt;
+  }
+  return static_cast<double>(seconds);
+}
+
+std::string submission_comment(const std::string& token) { return "demsa:" + token; }
+
+namespace {
+double unix_seconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
 SlurmExecutor::SlurmExecutor(SlurmExecutorOptions options, const fs::path& study_dir)
     : m_options(std::move(options)),
       m_client(m_options.commands),
@@ -78,7 +128,32 @@ int SlurmExecutor::free_slots() const { return m_options.max_array_size; }
 
 int SlurmExecutor::in_flight() const { return static_cast<int>(m_tasks.size() + m_ready.size()); }
 
+std::vector<std::string> SlurmExecutor::reserve_ids(const std::vector<CaseTask>& tasks) {
+  Reservation reservation;
+  std::vector<std::string> ids;
+  const size_t chunk = static_cast<size_t>(m_options.max_array_size);
+  for (size_t begin = 0; begin < tasks.size(); begin += chunk) {
+    const size_t end = std::min(tasks.size(), begin + chunk);
+    std::string token = make_submission_token(unix_seconds());
+    while (std::find(reservation.tokens.begin(), reservation.tokens.end(), token) != reservation.tokens.end())
+      token = make_submission_token(unix_seconds());
+    for (size_t i = begin; i < end; ++i) ids.push_back(fmt::format("pending:{}:{}", token, i - begin));
+    reservation.tokens.push_back(std::move(token));
+  }
+  for (const auto& t : tasks) reservation.folders.push_back(fs::absolute(t.folder));
+  m_reserved = std::move(reservation);
+  return ids;
+}
+
 std::vector<std::string> SlurmExecutor::submit(const std::vector<CaseTask>& tasks) {
+  // the tokens reserve_ids() gave out for exactly these tasks (the runner has stored them), or new ones
+  std::vector<std::string> tokens;
+  if (m_reserved) {
+    std::vector<fs::path> folders;
+    for (const auto& t : tasks) folders.push_back(fs::absolute(t.folder));
+    if (folders == m_reserved->folders) tokens = m_reserved->tokens;
+    m_reserved.reset();
+  }
   std::vector<std::string> ids;
   std::vector<std::string> jobs;
   std::vector<Tracked> added;
@@ -90,6 +165,9 @@ std::vector<std::string> SlurmExecutor::submit(const std::vector<CaseTask>& task
     submission.job_name = m_options.job_name;
     submission.ranks = m_options.ranks;
     submission.settings = m_options.settings;
+    const size_t array = begin / chunk;
+    submission.comment =
+        submission_comment(array < tokens.size() ? tokens[array] : make_submission_token(unix_seconds()));
     for (size_t i = begin; i < end; ++i) submission.case_folders.push_back(fs::absolute(tasks[i].folder));
     const auto submitted_at = fs::file_time_type::clock::now();
     std::string job;
@@ -124,6 +202,15 @@ std::vector<std::string> SlurmExecutor::submit(const std::vector<CaseTask>& task
 
 void SlurmExecutor::adopt(const std::vector<SubmittedCase>& tasks) {
   for (const auto& submitted : tasks) {
+    if (const auto pending = parse_pending_slurm_id(submitted.job_id)) {
+      // demsa died inside submit(): the array may exist; squeue finds it by its comment (resolve_tokens)
+      Tracked t;
+      t.task = submitted.task;
+      t.token = pending->token;
+      t.index = pending->index;
+      m_tasks.push_back(t);
+      continue;
+    }
     const auto id = parse_slurm_task_id(submitted.job_id);
     if (!id) {
       CaseExit exit;
@@ -140,10 +227,45 @@ void SlurmExecutor::adopt(const std::vector<SubmittedCase>& tasks) {
   }
 }
 
+std::vector<SubmittedCase> SlurmExecutor::take_learned_ids() {
+  std::vector<SubmittedCase> learned = std::move(m_learned);
+  m_learned.clear();
+  return learned;
+}
+
+bool SlurmExecutor::resolve_tokens() {
+  if (std::none_of(m_tasks.begin(), m_tasks.end(), [](const Tracked& t) { return t.job.empty(); })) return true;
+  const CommentLookup lookup = m_client.jobs_by_comment();
+  if (!lookup.ok) {
+    m_last_query_error = lookup.error;
+    return false;
+  }
+  for (auto& t : m_tasks) {
+    if (!t.job.empty()) continue;
+    const auto it = lookup.jobs.find(submission_comment(t.token));
+    if (it == lookup.jobs.end() || it->second.empty()) {
+      ++t.absent;
+      continue;
+    }
+    if (it->second.size() > 1) {
+      std::string all;
+      for (const auto& job : it->second) all += (all.empty() ? "" : ", ") + job;
+      spdlog::warn("slurm: submission {} is in squeue as {} array jobs ({}); following the first", t.token,
+                   it->second.size(), all);
+    }
+    t.job = it->second.front();
+    t.absent = 0;
+    // no log line: `demsa status --json` collects through here, and the runner records it in the event log
+    m_learned.push_back({t.task, fmt::format("{}_{}", t.job, t.index)});
+  }
+  return true;
+}
+
 void SlurmExecutor::query_jobs() {
+  bool failed = !resolve_tokens();
   std::set<std::string> jobs;
-  for (const auto& t : m_tasks) jobs.insert(t.job);
-  bool failed = false;
+  for (const auto& t : m_tasks)
+    if (!t.job.empty()) jobs.insert(t.job);
   for (const auto& job : jobs) {
     const SqueueResult result = m_client.query(job);
     if (!result.ok) {
@@ -185,8 +307,23 @@ void SlurmExecutor::query_jobs() {
 
 std::optional<CaseExit> SlurmExecutor::decide(Tracked& t, Clock::time_point now,
                                               const std::set<std::string>& sentinels) const {
-  const std::string where = fmt::format("SLURM task {}_{}", t.job, t.index);
   CaseExit exit;
+  if (t.job.empty()) {
+    // Only the token is known. Not found: sbatch never created the job, or it ended longer ago than the
+    // controller keeps jobs. Not before an sbatch started by the killed demsa must have ended, though: it runs in
+    // a process group of its own and may still submit the array.
+    const auto made = submission_token_time(t.token);
+    const double age = made ? unix_seconds() - *made : std::numeric_limits<double>::infinity();
+    const double sbatch_limit = std::chrono::duration<double>(m_options.commands.timeout).count();
+    if (t.absent < m_options.absent_confirmations || age < sbatch_limit) return std::nullopt;
+    exit.lost = true;
+    exit.detail = fmt::format(
+        "SLURM submission {} (task {}): no job with comment '{}' in squeue: sbatch never submitted it, or it ended "
+        "before the controller's MinJobAge; it runs again",
+        t.token, t.index, submission_comment(t.token));
+    return exit;
+  }
+  const std::string where = fmt::format("SLURM task {}_{}", t.job, t.index);
   const fs::path file = sentinel_path(m_work_dir, t.job, t.index);
   std::optional<Sentinel> sentinel;
   if (sentinels.count(file.filename().string())) sentinel = read_sentinel(file);
@@ -308,6 +445,25 @@ std::vector<FinishedCase> SlurmExecutor::poll(milliseconds wait) {
 }
 
 void SlurmExecutor::cancel_all() {
+  // adopted tasks known only by their token: find their job first
+  std::vector<Tracked> unfound;
+  if (resolve_tokens()) {
+    for (const auto& t : m_tasks) {
+      if (!t.job.empty()) continue;
+      CaseExit exit;
+      exit.cancelled = true;
+      exit.detail = fmt::format("SLURM submission {} (task {}): not in squeue, nothing to cancel", t.token, t.index);
+      m_ready.push_back({t.task, exit});
+    }
+  } else {
+    spdlog::warn("slurm: {}; {} adopted task(s) without a job id cannot be cancelled and stay submitted",
+                 m_last_query_error,
+                 std::count_if(m_tasks.begin(), m_tasks.end(), [](const Tracked& t) { return t.job.empty(); }));
+    for (const auto& t : m_tasks)
+      if (t.job.empty()) unfound.push_back(t);
+  }
+  m_tasks.erase(std::remove_if(m_tasks.begin(), m_tasks.end(), [](const Tracked& t) { return t.job.empty(); }),
+                m_tasks.end());
   std::set<std::string> jobs;
   for (auto& t : m_tasks) {
     t.cancel_requested = true;
@@ -331,7 +487,7 @@ void SlurmExecutor::cancel_all() {
                               m_options.cancel_wait.count() / 1000.0);
     m_ready.push_back({t.task, exit});
   }
-  m_tasks.clear();
+  m_tasks = std::move(unfound);
 }
 
 std::unique_ptr<Executor> make_slurm_executor(const RunSettings& run, const fs::path& study_dir) {
@@ -341,6 +497,12 @@ std::unique_ptr<Executor> make_slurm_executor(const RunSettings& run, const fs::
         "[run] executor = \"slurm\", but `sbatch` is not on PATH: run demsa on a SLURM login node (or use "
         "executor = \"local\")");
   if (run.ranks < 1) throw UserError(fmt::format("[run] ranks = {}: must be >= 1", run.ranks));
+  for (const auto& option : run.slurm.sbatch_options)
+    if (option.rfind("--comment", 0) == 0)
+      throw UserError(fmt::format(
+          "[run.slurm] sbatch_options: \"{}\": demsa sets --comment itself (it marks each submission with it, so "
+          "that a restarted demsa finds the array job again); remove it",
+          option));
   if (run.slurm.throttle < 0)
     throw UserError(fmt::format("[run.slurm] throttle = {}: must be >= 0 (0 = no throttle)", run.slurm.throttle));
   if (!(run.slurm.poll_interval > 0))

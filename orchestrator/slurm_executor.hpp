@@ -17,6 +17,16 @@
 //                                                 period for shared filesystems that show new files late
 //   gone from squeue, no sentinel              -> lost (cancelled while pending, or purged by the controller)
 // Job ids are "JOB_TASK" (array job id, task index), which is all adopt() needs to follow a task again.
+//
+// Before sbatch runs, reserve_ids() gives every array a unique token (Unix time in hex, '-', 32 random bits in hex)
+// and the runner stores "pending:TOKEN:INDEX" for each of its tasks; submit() passes `--comment=demsa:TOKEN`. If
+// demsa dies after sbatch has created the job but before the real ids were stored, adopt() finds the array again
+// with one `squeue -h -t all --me -o "%F %k"` (array job id and comment of every job of the user):
+//   token found                     -> followed as JOB_INDEX (the id comes back from take_learned_ids())
+//   token not found (absent_confirmations answers in a row, and the token older than the sbatch time limit, so that
+//   an sbatch still running from the killed demsa cannot submit it afterwards)
+//                                   -> lost: sbatch never submitted it, or it ended longer than MinJobAge ago
+//   squeue fails                    -> stays in flight, handled as any squeue outage (never submitted again)
 #include "orchestrator/executor.hpp"
 #include "orchestrator/slurm_client.hpp"
 
@@ -65,8 +75,10 @@ class SlurmExecutor : public Executor {
 
   std::string name() const override { return "slurm"; }
   int free_slots() const override;
+  std::vector<std::string> reserve_ids(const std::vector<CaseTask>& tasks) override;
   std::vector<std::string> submit(const std::vector<CaseTask>& tasks) override;
   void adopt(const std::vector<SubmittedCase>& tasks) override;
+  std::vector<SubmittedCase> take_learned_ids() override;
   std::vector<FinishedCase> poll(std::chrono::milliseconds wait) override;
   int in_flight() const override;
   void cancel_all() override;
@@ -77,7 +89,8 @@ class SlurmExecutor : public Executor {
  private:
   struct Tracked {
     CaseTask task;
-    std::string job;
+    std::string job;    ///< array job id; "" while only the submission token is known
+    std::string token;  ///< submission token of an adopted provisional id ("" otherwise)
     int index = 0;
     int absent = 0;     ///< consecutive squeue answers without this task
     std::string state;  ///< last state squeue showed ("" = never seen)
@@ -87,8 +100,16 @@ class SlurmExecutor : public Executor {
     bool cancel_requested = false;
   };
 
+  /// Tokens of the next submit(): the arrays of `folders`, one token per array of at most max_array_size.
+  struct Reservation {
+    std::vector<std::filesystem::path> folders;
+    std::vector<std::string> tokens;
+  };
+
   std::vector<FinishedCase> sweep(bool force_query);
   void query_jobs();
+  /// Looks the tasks that have only a token up in squeue; false when squeue failed (`m_last_query_error`).
+  bool resolve_tokens();
   std::optional<CaseExit> decide(Tracked& t, std::chrono::steady_clock::time_point now,
                                  const std::set<std::string>& sentinels) const;
 
@@ -96,7 +117,9 @@ class SlurmExecutor : public Executor {
   SlurmClient m_client;
   std::filesystem::path m_work_dir;
   std::vector<Tracked> m_tasks;
-  std::vector<FinishedCase> m_ready;  ///< ended during cancel_all(), handed out by the next poll()
+  std::vector<FinishedCase> m_ready;      ///< ended during cancel_all(), handed out by the next poll()
+  std::vector<SubmittedCase> m_learned;   ///< real ids found for tokens, handed out by take_learned_ids()
+  std::optional<Reservation> m_reserved;  ///< from reserve_ids(), used by the next submit()
   std::optional<std::chrono::steady_clock::time_point> m_last_query;
   std::optional<std::chrono::steady_clock::time_point> m_outage_since;
   std::string m_last_query_error;
@@ -108,6 +131,20 @@ std::unique_ptr<Executor> make_slurm_executor(const RunSettings& run, const std:
 
 /// Splits a job id "JOB_TASK" into its array job id and task index; nullopt when it is not one.
 std::optional<std::pair<std::string, int>> parse_slurm_task_id(const std::string& id);
+
+/// A provisional id "pending:TOKEN:INDEX" (see SlurmExecutor::reserve_ids).
+struct PendingSlurmId {
+  std::string token;
+  int index = 0;
+};
+/// Splits a provisional id; nullopt when it is not one.
+std::optional<PendingSlurmId> parse_pending_slurm_id(const std::string& id);
+/// A new submission token: the Unix time `now` [s] in hex, '-', 32 random bits in hex (e.g. "6562f0a1-9c3b07de").
+std::string make_submission_token(double now);
+/// The Unix time [s] a token was made at; nullopt when the token does not start with one.
+std::optional<double> submission_token_time(const std::string& token);
+/// The sbatch --comment that marks the array job of a submission token: "demsa:TOKEN".
+std::string submission_comment(const std::string& token);
 
 /// After SIGINT with SLURM tasks in flight: asks on `prompt` whether to scancel them and reads the answer from
 /// `answer` ("y"/"yes", any case, means yes; anything else, or end of input, means leave them running: a later

@@ -207,6 +207,37 @@ long Store::add_run(int sample, int attempt) {
   return static_cast<long>(m_db->getLastInsertRowid());
 }
 
+std::vector<long> Store::add_runs(const std::vector<NewRun>& runs) {
+  std::vector<long> ids;
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  SQLite::Statement q(
+      *m_db, "INSERT INTO runs(sample, attempt, state, job_id, submitted_at) VALUES (?, ?, 'submitted', ?, ?)");
+  const double now = unix_now();
+  for (const NewRun& r : runs) {
+    q.bind(1, r.sample);
+    q.bind(2, r.attempt);
+    q.bind(3, r.job_id);
+    q.bind(4, now);
+    q.exec();
+    q.reset();
+    ids.push_back(static_cast<long>(m_db->getLastInsertRowid()));
+  }
+  tx.commit();
+  return ids;
+}
+
+void Store::set_job_ids(const std::vector<std::pair<long, std::string>>& ids) {
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  SQLite::Statement q(*m_db, "UPDATE runs SET job_id = ? WHERE id = ?");
+  for (const auto& [run, job_id] : ids) {
+    q.bind(1, job_id);
+    q.bind(2, static_cast<std::int64_t>(run));
+    q.exec();
+    q.reset();
+  }
+  tx.commit();
+}
+
 void Store::set_job_id(long run, const std::string& job_id) {
   SQLite::Statement q(*m_db, "UPDATE runs SET job_id = ? WHERE id = ?");
   q.bind(1, job_id);

@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace SQLite {
@@ -54,6 +55,13 @@ struct RunRow {
   std::string log_tail;
   double submitted_at = 0.0;  ///< Unix time [s]
   double finished_at = 0.0;   ///< Unix time [s], 0 while submitted
+};
+
+/// A run about to be submitted (Store::add_runs).
+struct NewRun {
+  int sample = 0;
+  int attempt = 1;
+  std::string job_id;  ///< provisional id from Executor::reserve_ids ("" when the executor needs none)
 };
 
 /// How a run ended, as the runner records it.
@@ -106,7 +114,12 @@ class Store {
 
   /// A new run row in state submitted (job id filled later by set_job_id). Returns its id.
   long add_run(int sample, int attempt);
+  /// New run rows in state submitted, each with its (provisional) job id, in one transaction: either all of them
+  /// are in the store or none. Returns their ids, in the same order.
+  std::vector<long> add_runs(const std::vector<NewRun>& runs);
   void set_job_id(long run, const std::string& job_id);
+  /// Sets the job ids of several runs (run id, job id) in one transaction.
+  void set_job_ids(const std::vector<std::pair<long, std::string>>& ids);
   /// Marks a run done and stores its observables, in one transaction. Throws if the sample already has a done run.
   void record_done(long run, const RunOutcome& outcome, const std::map<std::string, double>& observables);
   void record_failed(long run, const RunOutcome& outcome);

@@ -449,6 +449,9 @@ RunSummary run_study(const RunOptions& options) {
     FailureReport report = classify_case(finished.exit, folder, failure_options(config, flight.particles));
     if (report.requeue) {
       store.record_requeued(flight.run, report.message);
+      if (!finished.exit.detail.empty())
+        store.add_event("requeued", fmt::format("run {}: {}: {}", flight.run, report.message, finished.exit.detail),
+                        flight.sample);
       if (!should_stop() && !options.collect_only) queue.push_front(flight.sample);
       return;
     }
@@ -493,9 +496,26 @@ RunSummary run_study(const RunOptions& options) {
       failed_final.insert(flight.sample);
   };
 
+  // Polls the executor; first stores the real job ids it found for adopted runs that had only a provisional one.
+  auto collect = [&](std::chrono::milliseconds wait) {
+    const std::vector<FinishedCase> finished = executor->poll(wait);
+    std::vector<std::pair<long, std::string>> learned;
+    for (const SubmittedCase& found : executor->take_learned_ids()) {
+      const auto it = in_flight.find(found.task.folder.string());
+      if (it == in_flight.end()) continue;
+      learned.emplace_back(it->second.run, found.job_id);
+      store.add_event("adopted",
+                      fmt::format("run {}: its array job was found by its submission token: SLURM task {}",
+                                  it->second.run, found.job_id),
+                      it->second.sample);
+    }
+    if (!learned.empty()) store.set_job_ids(learned);
+    for (const FinishedCase& f : finished) handle(f);
+  };
+
   if (options.collect_only) {
     // One look without waiting (squeue once, the sentinels once); what has not ended stays submitted.
-    for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(0))) handle(finished);
+    collect(std::chrono::milliseconds(0));
   }
 
   while (!options.collect_only && (!queue.empty() || (!options.submit_only && executor->in_flight() > 0)) &&
@@ -512,24 +532,32 @@ RunSummary run_study(const RunOptions& options) {
       flight.sample = sample;
       flight.attempt = attempts[sample] + 1;
       flight.particles = prepare_case(config, samples.at(static_cast<std::size_t>(sample)), folder);
-      // The run row exists before the process does: a crash in between leaves a run to adopt, never a process
-      // the store does not know.
-      flight.run = store.add_run(sample, flight.attempt);
       attempts[sample] = flight.attempt;
       ++tries_now[sample];
       batch.push_back(CaseTask{sample, flight.attempt, folder});
       flights.push_back(flight);
     }
     if (!batch.empty()) {
+      // The run rows, with the ids the executor can find the tasks by (SLURM: the submission's token), are
+      // committed in one transaction before anything starts: a crash at any point after it leaves runs to adopt,
+      // never a process or an array job the store does not know how to find (that would run a case twice).
+      const std::vector<std::string> reserved = executor->reserve_ids(batch);
+      std::vector<NewRun> rows;
+      for (std::size_t i = 0; i < batch.size(); ++i)
+        rows.push_back(NewRun{flights[i].sample, flights[i].attempt, reserved.at(i)});
+      const std::vector<long> runs = store.add_runs(rows);
+      for (std::size_t i = 0; i < batch.size(); ++i) flights[i].run = runs.at(i);
       const std::vector<std::string> ids = executor->submit(batch);
+      std::vector<std::pair<long, std::string>> job_ids;
       for (std::size_t i = 0; i < batch.size(); ++i) {
-        store.set_job_id(flights[i].run, ids.at(i));
+        job_ids.emplace_back(flights[i].run, ids.at(i));
         in_flight[batch[i].folder.string()] = flights[i];
       }
+      store.set_job_ids(job_ids);
       summary.submitted += static_cast<int>(batch.size());
     }
     if (options.submit_only) continue;  // no polling: the cluster runs them, a later run or status collects
-    for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(200))) handle(finished);
+    collect(std::chrono::milliseconds(200));
     progress.update(counts(), eta());
   }
 
@@ -544,7 +572,7 @@ RunSummary run_study(const RunOptions& options) {
       cancel = options.cancel_on_interrupt || (options.ask_cancel && options.ask_cancel(executor->in_flight()));
     if (cancel) {
       executor->cancel_all();
-      for (const FinishedCase& finished : executor->poll(std::chrono::milliseconds(0))) handle(finished);
+      collect(std::chrono::milliseconds(0));
       store.add_event("interrupted", why);
     } else {
       store.add_event("interrupted", fmt::format("{}; {} SLURM task(s) left running", why, in_flight.size()));

@@ -10,7 +10,11 @@
 //   - runs the store left `submitted` whose folder holds a complete result.json of that very run are committed
 //     from it (the case is not run again);
 //   - the other `submitted` runs are handed to the executor's adopt() (local: leftover process groups are ended)
-//     and run again;
+//     and run again; SLURM: their array tasks are followed again;
+//   - a batch's run rows are committed, with the ids the executor reserved for them (Executor::reserve_ids; SLURM:
+//     "pending:TOKEN:INDEX", the token in the array job's comment), in one transaction before the executor
+//     starts anything, and the real ids replace them once submit() returns. A crash in between leaves runs whose
+//     array job adopt() finds by its token (its real id is then stored), so a case is never submitted twice;
 //   - done samples are never submitted again: the store allows one done run per sample.
 // SIGINT/SIGTERM (through the StopFlag) end the loop. The local executor's cases are cancelled and recorded
 // `requeued`. SLURM tasks are cancelled (scancel) only when RunOptions::cancel_on_interrupt is set or

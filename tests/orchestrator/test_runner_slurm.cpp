@@ -246,6 +246,110 @@ TEST_F(RunnerSlurm, StatusCollectsAFailedTaskAndRunRetriesIt) {
   EXPECT_EQ(job_ids(store(), RunState::submitted), (std::vector<std::string>{"101_0"}));
 }
 
+/// The job ids of all runs, in run order.
+std::vector<std::string> all_job_ids(const Store& store) {
+  std::vector<std::string> ids;
+  for (const RunRow& r : store.runs()) ids.push_back(r.job_id);
+  return ids;
+}
+
+bool has_event(const Store& store, const std::string& kind, const std::string& text) {
+  for (const EventRow& e : store.events())
+    if (e.kind == kind && e.message.find(text) != std::string::npos) return true;
+  return false;
+}
+
+TEST_F(RunnerSlurm, KilledAfterSbatchTheRestartAdoptsTheArrayInsteadOfSubmittingAgain) {
+  study("slurm", 2);
+  // demsa dies (SIGKILL) after the cluster has the array job 100, before it has read its id
+  write_file(fake() / "sbatch_kill_parent", "after");
+  const test::CommandResult killed = test::run_demsa(run_args({"--submit-only"}));
+  ASSERT_EQ(killed.exit_code, 128 + SIGKILL) << killed.out << killed.err;
+  fs::remove(fake() / "sbatch_kill_parent");
+  ASSERT_EQ(next_job_id(), "101\n");
+
+  // The runs were committed, each with the token of the array and its index, before sbatch ran.
+  const std::vector<RunRow> runs = store().runs();
+  ASSERT_EQ(runs.size(), 2u);
+  const std::string& first = runs[0].job_id;
+  ASSERT_EQ(first.rfind("pending:", 0), 0u) << first;
+  const std::string token = first.substr(8, first.rfind(':') - 8);
+  EXPECT_EQ(all_job_ids(store()), (std::vector<std::string>{"pending:" + token + ":0", "pending:" + token + ":1"}));
+  EXPECT_NE(read_file(fake() / "jobs/100/args").find("--comment=demsa:" + token + "\n"), std::string::npos);
+
+  // squeue fails: status and run keep the runs as they are and submit nothing
+  write_file(fake() / "squeue_fail", "");
+  const test::CommandResult blind = test::run_demsa({"status", m_dir.string()});
+  ASSERT_EQ(blind.exit_code, 0) << blind.err;
+  EXPECT_NE(blind.out.find("samples 2: done 0, running 2, failed 0, pending 0"), std::string::npos) << blind.out;
+  {
+    RunOptions options;
+    options.study_file = m_tmp / "study.toml";
+    options.dir = m_dir;
+    options.quiet = true;
+    const int calls = squeue_calls();
+    options.should_stop = [&] { return squeue_calls() >= calls + 3; };
+    options.cancel_on_interrupt = true;  // even asked to cancel: a job it cannot find stays submitted
+    const RunSummary summary = run_study(options);
+    EXPECT_TRUE(summary.interrupted);
+    EXPECT_EQ(summary.submitted, 0);
+    EXPECT_EQ(summary.left_running, 2);
+  }
+  EXPECT_EQ(next_job_id(), "101\n");
+  EXPECT_FALSE(fs::exists(fake() / "scancel_args"));
+  EXPECT_EQ(all_job_ids(store()), (std::vector<std::string>{"pending:" + token + ":0", "pending:" + token + ":1"}));
+
+  // squeue answers: status finds the array by its token and stores the real ids
+  fs::remove(fake() / "squeue_fail");
+  set_squeue("100", "0 RUNNING 0\n1 PENDING 0\n");
+  const test::CommandResult status = test::run_demsa({"status", m_dir.string(), "--json"});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  EXPECT_EQ(nlohmann::json::parse(status.out).at("running").get<int>(), 2) << status.out;
+  EXPECT_EQ(all_job_ids(store()), (std::vector<std::string>{"100_0", "100_1"}));
+  EXPECT_TRUE(has_event(store(), "adopted", "SLURM task 100_1"));
+
+  // the tasks end; `demsa run` collects them without a second submission
+  run_task("100", 0);
+  run_task("100", 1);
+  set_squeue("100", "0 COMPLETED 0\n1 COMPLETED 0\n");
+  const test::CommandResult run = test::run_demsa(run_args());
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("2 of 2 samples done (2 now, 0 recovered)"), std::string::npos) << run.out;
+  EXPECT_EQ(next_job_id(), "101\n");
+  EXPECT_EQ(store().counts().attempts, 2);
+}
+
+TEST_F(RunnerSlurm, KilledBeforeSbatchSubmittedTheRunsAreRequeued) {
+  study("slurm", 2);
+  write_file(fake() / "sbatch_kill_parent", "before");
+  const test::CommandResult killed = test::run_demsa(run_args({"--submit-only"}));
+  ASSERT_EQ(killed.exit_code, 128 + SIGKILL) << killed.out << killed.err;
+  fs::remove(fake() / "sbatch_kill_parent");
+  EXPECT_FALSE(fs::exists(fake() / "next_id")) << "the controller never got the array";
+  {
+    // The crash was long ago (older than the sbatch time limit): back-date the tokens, as the runs' ids say.
+    Store writable((m_dir / "study.db").string());
+    for (const RunRow& r : writable.runs()) {
+      ASSERT_EQ(r.job_id.rfind("pending:", 0), 0u) << r.job_id;
+      writable.set_job_id(r.id, "pending:1" + r.job_id.substr(r.job_id.find('-')));
+    }
+  }
+  write_file(fake() / "sbatch_pending", "");
+  RunOptions options;
+  options.study_file = m_tmp / "study.toml";
+  options.dir = m_dir;
+  options.quiet = true;
+  options.should_stop = [&] { return fs::exists(fake() / "jobs/100/args"); };
+  const RunSummary summary = run_study(options);
+  EXPECT_TRUE(summary.interrupted);
+  EXPECT_EQ(summary.submitted, 2);
+  const Store s = store();
+  EXPECT_EQ(s.runs_in_state(RunState::requeued).size(), 2u);
+  EXPECT_EQ(job_ids(s, RunState::submitted), (std::vector<std::string>{"100_0", "100_1"}));
+  EXPECT_TRUE(has_event(s, "requeued", "sbatch never submitted it"));
+  EXPECT_EQ(next_job_id(), "101\n");
+}
+
 TEST_F(RunnerSlurm, SubmitOnlyIsRefusedForTheLocalExecutor) {
   study("local", 2);
   const test::CommandResult r = test::run_demsa(run_args({"--submit-only"}));

@@ -81,6 +81,36 @@ TEST(SlurmClient, SbatchArguments) {
   const auto plain = sbatch_arguments(s);
   EXPECT_EQ(plain.size(), 6u);
   EXPECT_EQ(plain[1], "--array=0-0");
+
+  // the submission's mark goes after demsa's own options and before the user's
+  s.comment = "demsa:6553f100-0000abcd";
+  s.settings.partition = "short";
+  const auto marked = sbatch_arguments(s);
+  ASSERT_EQ(marked.size(), 8u);
+  EXPECT_EQ(marked[6], "--comment=demsa:6553f100-0000abcd");
+  EXPECT_EQ(marked[7], "--partition=short");
+}
+
+TEST(SlurmClient, ParseCommentLines) {
+  // as `squeue -h -t all --me -o "%F %k"` prints it: one line per job, or per task once it has started
+  const std::string text =
+      "12 demsa:6553f100-0000abcd\n"
+      "12 demsa:6553f100-0000abcd\n"
+      "9 (null)\n"
+      "13 a comment with spaces \n"
+      "101 demsa:x\n"
+      "99 demsa:x\n"
+      "junk demsa:y\n"
+      "-5 demsa:y\n"
+      "\n"
+      "77\n";
+  const auto jobs = parse_comment_lines(text);
+  ASSERT_EQ(jobs.size(), 4u);
+  EXPECT_EQ(jobs.at("demsa:6553f100-0000abcd"), (std::vector<std::string>{"12"}));
+  EXPECT_EQ(jobs.at("(null)"), (std::vector<std::string>{"9"}));
+  EXPECT_EQ(jobs.at("a comment with spaces"), (std::vector<std::string>{"13"}));
+  EXPECT_EQ(jobs.at("demsa:x"), (std::vector<std::string>{"99", "101"}));  // numeric order
+  EXPECT_FALSE(jobs.count("demsa:y"));
 }
 
 TEST(SlurmClient, ParseSqueue) {

@@ -2,6 +2,7 @@
 // rarely shows on demand. The test plays the cluster: it writes each job's squeue answer and the sentinels.
 #include "orchestrator/slurm_executor.hpp"
 
+#include "orchestrator/errors.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <sstream>
 #include <thread>
@@ -342,6 +344,181 @@ TEST_F(FakeSlurm, StaleSentinelOfAnEarlierClusterIsIgnored) {
   set_squeue("100", "0 RUNNING 0\n");
   EXPECT_TRUE(executor.poll(milliseconds(100)).empty());
   EXPECT_FALSE(fs::exists(old));
+}
+
+// The token of a provisional id "pending:TOKEN:INDEX".
+std::string token_of(const std::string& id) {
+  const auto pending = parse_pending_slurm_id(id);
+  EXPECT_TRUE(pending.has_value()) << id;
+  return pending ? pending->token : std::string{};
+}
+
+TEST_F(FakeSlurm, ReservedIdsMarkTheArraysSubmittedNext) {
+  auto o = options();
+  o.max_array_size = 2;
+  SlurmExecutor executor(o, m_study);
+  const auto tasks = make_tasks(3);
+  const auto reserved = executor.reserve_ids(tasks);
+  ASSERT_EQ(reserved.size(), 3u);
+  const std::string first = token_of(reserved[0]);
+  const std::string second = token_of(reserved[2]);
+  EXPECT_EQ(reserved[0], "pending:" + first + ":0");
+  EXPECT_EQ(reserved[1], "pending:" + first + ":1");
+  EXPECT_EQ(reserved[2], "pending:" + second + ":0");
+  EXPECT_NE(first, second);
+  EXPECT_FALSE(fs::exists(fake() / "next_id")) << "reserving ids submits nothing";
+
+  EXPECT_EQ(executor.submit(tasks), (std::vector<std::string>{"100_0", "100_1", "101_0"}));
+  EXPECT_NE(read_file(fake() / "jobs/100/args").find("--comment=demsa:" + first + "\n"), std::string::npos);
+  EXPECT_NE(read_file(fake() / "jobs/101/args").find("--comment=demsa:" + second + "\n"), std::string::npos);
+
+  // A submit() of other tasks than those reserved gets a token of its own.
+  executor.submit(make_tasks(1));
+  const std::string args = read_file(fake() / "jobs/102/args");
+  EXPECT_NE(args.find("--comment=demsa:"), std::string::npos) << args;
+  EXPECT_EQ(args.find(first), std::string::npos) << args;
+}
+
+TEST_F(FakeSlurm, AdoptedProvisionalIdsFindTheArrayByItsToken) {
+  const auto tasks = make_tasks(2);
+  std::vector<std::string> reserved;
+  {
+    SlurmExecutor first(options(), m_study);
+    reserved = first.reserve_ids(tasks);
+    first.submit(tasks);
+  }  // demsa dies before it stores 100_0 and 100_1
+  SlurmExecutor executor(options(), m_study);
+  executor.adopt({{tasks[0], reserved[0]}, {tasks[1], reserved[1]}});
+  EXPECT_EQ(executor.in_flight(), 2);
+  set_squeue("100", "0 RUNNING 0\n1 PENDING 0\n");
+  EXPECT_TRUE(executor.poll(milliseconds(100)).empty());
+  const auto learned = executor.take_learned_ids();
+  ASSERT_EQ(learned.size(), 2u);
+  EXPECT_EQ(learned[0].task.sample, 0);
+  EXPECT_EQ(learned[0].job_id, "100_0");
+  EXPECT_EQ(learned[1].task.sample, 1);
+  EXPECT_EQ(learned[1].job_id, "100_1");
+  EXPECT_TRUE(executor.take_learned_ids().empty()) << "each id is handed out once";
+
+  write_sentinel("100", 1, "exit 3 host=n2 start=1 end=2\n");
+  write_sentinel("100", 0, "exit 0 host=n1 start=1 end=2\n");
+  const auto done = collect(executor, 2);
+  ASSERT_EQ(done.size(), 2u);
+  EXPECT_EQ(find_sample(done, 0)->exit.exit_code, 0);
+  EXPECT_EQ(find_sample(done, 1)->exit.exit_code, 3);
+  EXPECT_EQ(read_file(fake() / "next_id"), "101\n") << "nothing was submitted again";
+}
+
+TEST_F(FakeSlurm, ProvisionalIdNotInSqueueIsLostOnlyOnceAnSbatchCannotStillSubmitIt) {
+  auto o = options();
+  o.commands.timeout = milliseconds(1500);
+  SlurmExecutor executor(o, m_study);
+  const auto tasks = make_tasks(2);
+  // an old token (made at Unix time 1) and one made now, neither in squeue
+  const std::string fresh = make_submission_token(static_cast<double>(std::time(nullptr)));
+  executor.adopt({{tasks[0], "pending:1-0badc0de:4"}, {tasks[1], "pending:" + fresh + ":0"}});
+  const auto start = std::chrono::steady_clock::now();
+  auto done = collect(executor, 1, milliseconds(400));
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].task.sample, 0);
+  EXPECT_TRUE(done[0].exit.lost);
+  EXPECT_NE(done[0].exit.detail.find("no job with comment 'demsa:1-0badc0de'"), std::string::npos)
+      << done[0].exit.detail;
+  // the fresh one: an sbatch of the killed demsa may still be running for up to the command timeout
+  done = collect(executor, 1, milliseconds(5000));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].task.sample, 1);
+  EXPECT_TRUE(done[0].exit.lost);
+  EXPECT_GE(seconds, 0.5);
+  EXPECT_LT(seconds, 4.0);
+  EXPECT_TRUE(executor.take_learned_ids().empty());
+  EXPECT_FALSE(fs::exists(fake() / "next_id"));
+}
+
+TEST_F(FakeSlurm, ProvisionalIdWhileSqueueFailsStaysInFlight) {
+  const auto tasks = make_tasks(1);
+  std::vector<std::string> reserved;
+  {
+    SlurmExecutor first(options(), m_study);
+    reserved = first.reserve_ids(tasks);
+    first.submit(tasks);
+  }
+  write_file(fake() / "squeue_fail", "");
+  SlurmExecutor executor(options(), m_study);
+  executor.adopt({{tasks[0], reserved[0]}});
+  EXPECT_TRUE(executor.poll(milliseconds(300)).empty());
+  EXPECT_EQ(executor.in_flight(), 1);
+  // cancel_all() cannot find its job: the task stays in flight (never reported cancelled, so never resubmitted)
+  executor.cancel_all();
+  EXPECT_FALSE(fs::exists(fake() / "scancel_args"));
+  EXPECT_EQ(executor.in_flight(), 1);
+  try {
+    collect(executor, 1, milliseconds(3000));
+    FAIL() << "poll() did not throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("Unable to contact slurm controller"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(executor.in_flight(), 1);
+  EXPECT_TRUE(executor.take_learned_ids().empty());
+
+  // the controller answers again: found, and cancel_all() now cancels it
+  fs::remove(fake() / "squeue_fail");
+  set_squeue("100", "0 RUNNING 0\n");
+  executor.cancel_all();
+  EXPECT_EQ(read_file(fake() / "scancel_args"), "100\n");
+  const auto learned = executor.take_learned_ids();
+  ASSERT_EQ(learned.size(), 1u);
+  EXPECT_EQ(learned[0].job_id, "100_0");
+  const auto done = executor.poll(milliseconds(0));
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_TRUE(done[0].exit.cancelled);
+  EXPECT_EQ(read_file(fake() / "next_id"), "101\n");
+}
+
+TEST(SlurmExecutor, ProvisionalIdsAndTokens) {
+  const auto id = parse_pending_slurm_id("pending:6562f0a1-9c3b07de:12");
+  ASSERT_TRUE(id.has_value());
+  EXPECT_EQ(id->token, "6562f0a1-9c3b07de");
+  EXPECT_EQ(id->index, 12);
+  for (const char* bad : {"", "100_1", "pending:", "pending::3", "pending:abc:", "pending:abc:x", "pgid:1:2"})
+    EXPECT_FALSE(parse_pending_slurm_id(bad).has_value()) << bad;
+
+  const std::string token = make_submission_token(1700000000.7);
+  EXPECT_EQ(token.substr(0, 9), "6553f100-");  // 1700000000 = 0x6553f100
+  EXPECT_EQ(token.size(), 17u);
+  EXPECT_EQ(submission_token_time(token), 1700000000.0);
+  EXPECT_NE(make_submission_token(1700000000.0), make_submission_token(1700000000.0));
+  EXPECT_FALSE(submission_token_time("nodash").has_value());
+  EXPECT_FALSE(submission_token_time("xyz-1").has_value());
+  EXPECT_EQ(submission_comment(token), "demsa:" + token);
+  EXPECT_EQ(parse_pending_slurm_id("pending:" + token + ":0")->token, token);
+}
+
+TEST(SlurmExecutor, CommentInSbatchOptionsIsRefused) {
+  SlurmExecutorOptions o;
+  o.settings.sbatch_options = {"--mem=1G", "--comment=mine"};
+  try {
+    o.validate();
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("SlurmExecutorOptions.settings.sbatch_options = \"--comment=mine\""),
+              std::string::npos)
+        << e.what();
+  }
+  const char* old = std::getenv("PATH");
+  const std::string saved = old != nullptr ? old : "";
+  ::setenv("PATH", (test::data_path("slurm").string() + ":" + saved).c_str(), 1);
+  RunSettings run;
+  run.executor = ExecutorKind::slurm;
+  run.slurm.sbatch_options = {"--comment", "mine"};
+  try {
+    make_slurm_executor(run, "/tmp");
+    FAIL();
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("[run.slurm] sbatch_options: \"--comment\""), std::string::npos) << e.what();
+  }
+  ::setenv("PATH", saved.c_str(), 1);
 }
 
 TEST_F(FakeSlurm, OptionsFromStudySettings) {

@@ -153,5 +153,36 @@ TEST_F(RealSlurm, CancelAllAndAdoptAfterRestart) {
   EXPECT_EQ(third.in_flight(), 0);
 }
 
+TEST_F(RealSlurm, ProvisionalIdsFindTheArrayAfterACrashInsideSubmit) {
+  const fs::path study = m_dir / "study dir";
+  const std::vector<CaseTask> tasks{make_case(0, "sleep 1; exit 0\n"), make_case(1, "sleep 1; exit 4\n")};
+  std::vector<std::string> reserved;
+  std::vector<std::string> ids;
+  {
+    SlurmExecutor first(options(), study);
+    reserved = first.reserve_ids(tasks);
+    ids = first.submit(tasks);
+  }  // demsa dies before it stores `ids`: only the provisional ids are in the store
+  const std::string token = parse_pending_slurm_id(reserved[0]).value().token;
+  const auto shown = test::run_command({"squeue", "-h", "-t", "all", "--me", "-o", "%F %k"});
+  ASSERT_EQ(shown.exit_code, 0) << shown.err;
+  EXPECT_NE(shown.out.find(ids[0].substr(0, ids[0].find('_')) + " demsa:" + token + "\n"), std::string::npos)
+      << shown.out;
+
+  SlurmExecutor second(options(), study);
+  // a third run whose submission never reached the controller (an old token that no job carries)
+  CaseTask never = make_case(2, "exit 0\n");
+  second.adopt({{tasks[0], reserved[0]}, {tasks[1], reserved[1]}, {never, "pending:1-0badc0de:0"}});
+  const auto done = collect(second, 3, milliseconds(25000));
+  ASSERT_EQ(done.size(), 3u);
+  EXPECT_EQ(find(done, 0)->exit.exit_code, 0) << find(done, 0)->exit.detail;
+  EXPECT_EQ(find(done, 1)->exit.exit_code, 4) << find(done, 1)->exit.detail;
+  EXPECT_TRUE(find(done, 2)->exit.lost) << find(done, 2)->exit.detail;
+  const auto learned = second.take_learned_ids();
+  ASSERT_EQ(learned.size(), 2u);
+  EXPECT_EQ(learned[0].job_id, ids[0]);
+  EXPECT_EQ(learned[1].job_id, ids[1]);
+}
+
 }  // namespace
 }  // namespace demsa
