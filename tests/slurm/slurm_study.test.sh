@@ -23,9 +23,12 @@ cleanup() {
 fail() { echo "FAIL: $*" >&2; exit 1; }
 trap cleanup EXIT
 
-SLURM_DIR="$W/slurm study's dir"
+# The job name is demsa-<study folder name>: unique per test run, so that this test only ever touches its own jobs
+# when another run of it shares the SLURM.
+RUN_ID=${W##*-}
+SLURM_DIR="$W/slurm study's dir $RUN_ID"
 LOCAL_DIR="$W/local study"
-JOB_NAME="demsa-slurm_study's_dir"
+JOB_NAME="demsa-slurm_study's_dir_$RUN_ID"
 
 # ---------------------------------------------------------------- a local SLURM
 if sinfo -h -o %T >/dev/null 2>&1 && [ -n "$(sinfo -h -o %T 2>/dev/null)" ]; then
