@@ -1,6 +1,7 @@
 #include "orchestrator/analysis.hpp"
 
 #include "orchestrator/errors.hpp"
+#include "orchestrator/sobol_json.hpp"
 #include "orchestrator/store.hpp"
 #include "orchestrator/study_config.hpp"
 #include "orchestrator/study_runner.hpp"
@@ -19,51 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-json to_json(const sobol::IndexEstimate& e) { return json{{"value", e.value}, {"lower", e.lower}, {"upper", e.upper}}; }
-
-json to_json(const sobol::MetamodelSummary& s) {
-  json j{{"name", s.name},
-         {"samples", s.samples},
-         {"dimension", s.dimension},
-         {"terms", s.terms},
-         {"r2", s.r2},
-         {"adjusted_r2", s.adjusted_r2},
-         {"q2", s.q2},
-         {"rmse_loo", s.rmse_loo},
-         {"mean", s.mean},
-         {"sd", s.sd}};
-  json parameters = json::object();
-  for (const sobol::NamedValue& v : s.parameters) parameters[v.name] = v.value;
-  j["parameters"] = parameters;
-  return j;
-}
-
-json to_json(const sobol::SobolResult& r, const std::vector<std::string>& names) {
-  json j{{"method", r.method},
-         {"base", r.base},
-         {"evaluations", r.evaluations},
-         {"mean", r.mean},
-         {"variance", r.variance},
-         {"residual", to_json(r.residual)},
-         {"bootstrap", r.bootstrap},
-         {"confidence", r.confidence},
-         {"seed", r.seed}};
-  json first = json::object(), total = json::object();
-  for (std::size_t i = 0; i < names.size() && i < r.first.size(); ++i) {
-    first[names[i]] = to_json(r.first[i]);
-    total[names[i]] = to_json(r.total[i]);
-  }
-  j["S1"] = first;
-  j["ST"] = total;
-  json second = json::array();
-  for (const sobol::SecondOrderIndex& s : r.second)
-    second.push_back(json{{"i", names.at(static_cast<std::size_t>(s.i))},
-                          {"j", names.at(static_cast<std::size_t>(s.j))},
-                          {"S2", to_json(s.s)}});
-  j["S2"] = second;
-  return j;
-}
 
 std::string csv_number(double value) { return fmt::format("{:.10g}", value); }
 
@@ -216,12 +172,12 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     for (const ModelAnalysis& m : o.models) {
       json entry{{"model", m.model}, {"ok", m.ok}};
       if (m.ok) {
-        entry["quality"] = to_json(m.quality);
-        entry["sobol"] = to_json(m.indices, summary.parameters);
+        entry["quality"] = metamodel_summary_json(m.quality);
+        entry["sobol"] = sobol_result_json(m.indices, summary.parameters);
       } else {
         entry["error"] = m.error;
       }
-      per_model[m.model] = m.ok ? to_json(m.quality) : json{{"error", m.error}};
+      per_model[m.model] = m.ok ? metamodel_summary_json(m.quality) : json{{"error", m.error}};
       model_list.push_back(entry);
     }
     metamodels_json[o.name] = per_model;
@@ -250,7 +206,7 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     for (const ObservableAnalysis& o : summary.observables)
       for (const ModelAnalysis& m : o.models) {
         if (m.model != model_name || !m.ok) continue;
-        per_obs[o.name] = to_json(m.indices, summary.parameters);
+        per_obs[o.name] = sobol_result_json(m.indices, summary.parameters);
         for (std::size_t i = 0; i < d; ++i) {
           const sobol::IndexEstimate& s1 = m.indices.first.at(i);
           const sobol::IndexEstimate& st = m.indices.total.at(i);
@@ -283,6 +239,8 @@ std::string s1_table_text(const AnalysisSummary& summary, const ObservableAnalys
     for (const sobol::IndexEstimate& e : m.indices.first) text += fmt::format(" {:>8.3f}", e.value);
     text += fmt::format(" {:>8.3f} {:>7.3f} {:>7.3f}\n", m.indices.residual.value, m.quality.r2, m.quality.q2);
   }
+  for (const ModelAnalysis& m : observable.models)
+    if (m.ok && !m.indices.note.empty()) text += fmt::format("{}: {}\n", m.model, m.indices.note);
   return text;
 }
 

@@ -6,6 +6,7 @@
 #include "orchestrator/commands.hpp"
 #include "orchestrator/csv.hpp"
 #include "orchestrator/errors.hpp"
+#include "orchestrator/sobol_json.hpp"
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
 #include "sobol/metamodel_sobol.hpp"
@@ -43,55 +44,6 @@ struct SensitivityArgs {
   std::string json;  ///< file, or "-" for standard output
 };
 
-nlohmann::json estimate_json(const sobol::IndexEstimate& e) {
-  return {{"value", e.value}, {"lower", e.lower}, {"upper", e.upper}};
-}
-
-nlohmann::json sobol_json(const sobol::SobolResult& r, const std::vector<std::string>& names) {
-  nlohmann::json first = nlohmann::json::array(), total = nlohmann::json::array(), second = nlohmann::json::array();
-  for (std::size_t k = 0; k < r.first.size(); ++k) {
-    nlohmann::json f = estimate_json(r.first[k]), t = estimate_json(r.total[k]);
-    f["input"] = names[k];
-    t["input"] = names[k];
-    first.push_back(f);
-    total.push_back(t);
-  }
-  for (const sobol::SecondOrderIndex& s : r.second) {
-    nlohmann::json e = estimate_json(s.s);
-    e["inputs"] = {names[static_cast<std::size_t>(s.i)], names[static_cast<std::size_t>(s.j)]};
-    second.push_back(e);
-  }
-  return {{"method", r.method},
-          {"dimension", r.dimension},
-          {"base", r.base},
-          {"evaluations", r.evaluations},
-          {"mean", r.mean},
-          {"variance", r.variance},
-          {"first_order", first},
-          {"total_order", total},
-          {"second_order", second},
-          {"residual", estimate_json(r.residual)},
-          {"bootstrap", r.bootstrap},
-          {"confidence", r.confidence},
-          {"seed", r.seed}};
-}
-
-nlohmann::json summary_json(const sobol::MetamodelSummary& s) {
-  nlohmann::json parameters = nlohmann::json::object();
-  for (const sobol::NamedValue& v : s.parameters) parameters[v.name] = v.value;
-  return {{"name", s.name},
-          {"samples", s.samples},
-          {"dimension", s.dimension},
-          {"terms", s.terms},
-          {"r2", s.r2},
-          {"adjusted_r2", s.adjusted_r2},
-          {"q2_loo", s.q2},
-          {"rmse_loo", s.rmse_loo},
-          {"mean", s.mean},
-          {"sd", s.sd},
-          {"parameters", parameters}};
-}
-
 std::string interval_text(const sobol::IndexEstimate& e) {
   if (e.lower == e.value && e.upper == e.value) return fmt::format("{:8.4f}", e.value);
   return fmt::format("{:8.4f} [{:7.4f}, {:7.4f}]", e.value, e.lower, e.upper);
@@ -108,6 +60,7 @@ void print_indices(const sobol::SobolResult& r, const std::vector<std::string>& 
     fmt::print("  S2 {},{}: {}\n", names[static_cast<std::size_t>(s.i)], names[static_cast<std::size_t>(s.j)],
                interval_text(s.s));
   if (r.bootstrap > 0) fmt::print("  ({:g}% intervals from {} bootstrap resamples)\n", 100 * r.confidence, r.bootstrap);
+  if (!r.note.empty()) fmt::print("  ({})\n", r.note);
 }
 
 void write_json(const std::string& target, const nlohmann::json& j) {
@@ -186,7 +139,7 @@ void run_saltelli(const SensitivityArgs& args) {
       fmt::print("{}: Sobol' indices from a Saltelli design, N = {}, {} evaluations\n", name, r.base, r.evaluations);
       print_indices(r, names);
     }
-    nlohmann::json j = sobol_json(r, names);
+    nlohmann::json j = sobol_result_json(r, names);
     j["output"] = name;
     results.push_back(j);
   }
@@ -327,8 +280,9 @@ void run_data(const SensitivityArgs& args) {
                    summary.r2, summary.adjusted_r2, summary.q2, summary.samples);
         print_indices(indices, inputs);
       }
-      models.push_back(
-          {{"metamodel", model_name}, {"quality", summary_json(summary)}, {"sobol", sobol_json(indices, inputs)}});
+      models.push_back({{"metamodel", model_name},
+                        {"quality", metamodel_summary_json(summary)},
+                        {"sobol", sobol_result_json(indices, inputs)}});
     }
     results.push_back({{"output", output}, {"metamodels", models}});
   }

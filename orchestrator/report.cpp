@@ -469,6 +469,8 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
     }
     row1.push_back(interval_text(interval(m.sobol.at("residual"))));
     first.rows.push_back(row1);
+    if (m.sobol.contains("note"))
+      section.paragraphs.push_back(fmt::format("{}: {}.", model_title(m.name), m.sobol.at("note").get<std::string>()));
     total.rows.push_back(rowt);
     if (!m.sobol.at("S2").empty()) {
       ReportTable s2;

@@ -149,11 +149,18 @@ SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions
     residual.push_back(rep.residual.value);
     for (std::size_t k = 0; k < second.size(); ++k) second[k].push_back(rep.second[k].s.value);
   }
-  if (options.bootstrap > 0 && 2 * succeeded < options.bootstrap)
-    throw NumericalError(
-        fmt::format("{}: only {} of {} bootstrap refits succeeded: too few or too clustered "
-                    "training points for a design bootstrap",
-                    fitted.name(), succeeded, options.bootstrap));
+  result.confidence = options.confidence;
+  result.seed = options.seed;
+  if (!exact) result.method = "metamodel-qmc";
+  if (options.bootstrap > 0 && 2 * succeeded < options.bootstrap) {
+    // Percentiles of a handful of refits would be an interval in name only: the estimates stand without one.
+    result.bootstrap = 0;
+    result.note = fmt::format(
+        "no interval: only {} of {} design-bootstrap refits of {} succeeded (too few or too clustered training "
+        "points)",
+        succeeded, options.bootstrap, fitted.name());
+    return result;
+  }
   const double lo = 0.5 * (1.0 - options.confidence), hi = 0.5 * (1.0 + options.confidence);
   // The refits see fewer distinct points than the full fit, which shifts their indices; only the spread of the
   // replicates is used: the percentile interval is moved so that its median sits on the full-data estimate.
@@ -170,9 +177,6 @@ SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions
   widen(result.residual, residual);
   for (std::size_t k = 0; k < second.size(); ++k) widen(result.second[k].s, second[k]);
   result.bootstrap = succeeded;
-  result.confidence = options.confidence;
-  result.seed = options.seed;
-  if (!exact) result.method = "metamodel-qmc";
   return result;
 }
 

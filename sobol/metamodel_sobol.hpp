@@ -31,7 +31,8 @@ struct MetamodelSobolOptions {
 };
 
 /// Indices of a fitted metamodel (method "rsm-exact" or "metamodel-qmc"), intervals from the design bootstrap.
-/// Throws NumericalError when too few bootstrap refits succeed (fewer than half).
+/// When fewer than half of the refits succeed (too few or too clustered training points), the estimates stand
+/// without intervals: `bootstrap` is 0 and `note` says how many refits succeeded.
 SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions& options);
 
 }  // namespace demsa::sobol

@@ -114,6 +114,7 @@ struct SobolResult {
   int bootstrap = 0;                     ///< resamples behind the intervals (0: none)
   double confidence = 0.0;               ///< interval level
   std::uint64_t seed = 0;                ///< seed of the bootstrap (and of the design, where one was drawn)
+  std::string note;  ///< why intervals asked for are missing ("" when they are present or were not asked for)
 };
 
 /// Indices from outputs on a Saltelli design.

@@ -215,6 +215,15 @@ TEST(RunFake, EveryFailureClassRetriesTimeoutAndAnalysis) {
   const std::string table = test::read_file(tmp / "study" / "analysis" / "table_angle.csv");
   EXPECT_EQ(table.rfind("model,S1_mu_pp,S1_e_r,S1_mu_r_pp,residual,r2,q2\n", 0), 0u) << table;
 
+  // Five samples are too few for a design bootstrap of the RBF (a resample keeps all five distinct points in 4% of
+  // the draws): the indices are still reported, without intervals, and the analysis says why.
+  const test::CommandResult boot = test::run_demsa({"analyze", (tmp / "study").string(), "--bootstrap", "30"});
+  ASSERT_EQ(boot.exit_code, 0) << boot.out << boot.err;
+  EXPECT_NE(boot.out.find("rbf-cubic: no interval: only "), std::string::npos) << boot.out;
+  EXPECT_EQ(boot.out.find("rbf-cubic  not fitted"), std::string::npos) << boot.out;
+  const nlohmann::json booted = nlohmann::json::parse(test::read_file(tmp / "study" / "analysis" / "analysis.json"));
+  EXPECT_NE(booted.dump().find("design-bootstrap refits of rbf-cubic succeeded"), std::string::npos);
+
   // A second run retries the failed samples (same plan: they fail again) and repeats no done sample.
   const test::CommandResult again = test::run_demsa(
       {"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"});

@@ -91,6 +91,33 @@ TEST(MetamodelSobol, DesignBootstrapGivesIntervalsAroundTheEstimate) {
   }
 }
 
+TEST(MetamodelSobol, TooFewRefitsLeaveTheEstimateWithoutAnInterval) {
+  // Five points in 3-D: an RBF with a linear tail needs five distinct points here, and a resample of five keeps
+  // all five in only 5!/5^5 = 4% of the draws. The estimate of the full fit stands, without an interval, and says
+  // why.
+  const Eigen::MatrixXd x = latin_hypercube(5, 3, 11);
+  Eigen::VectorXd y(5);
+  for (int i = 0; i < 5; ++i) y(i) = 2.0 * x(i, 0) + x(i, 1);
+  auto m = make_metamodel("rbf-cubic");
+  m->fit(x, y);
+  MetamodelSobolOptions o;
+  o.base = 512;
+  o.bootstrap = 40;
+  const SobolResult r = metamodel_sobol(*m, o);
+  MetamodelSobolOptions plain = o;
+  plain.bootstrap = 0;
+  const SobolResult without = metamodel_sobol(*m, plain);
+  EXPECT_EQ(r.bootstrap, 0);
+  EXPECT_NE(r.note.find("no interval: only "), std::string::npos) << r.note;
+  EXPECT_NE(r.note.find(" of 40 design-bootstrap refits of rbf-cubic succeeded"), std::string::npos) << r.note;
+  EXPECT_TRUE(without.note.empty());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_DOUBLE_EQ(r.first[k].value, without.first[k].value);
+    EXPECT_DOUBLE_EQ(r.first[k].lower, r.first[k].value);
+    EXPECT_DOUBLE_EQ(r.first[k].upper, r.first[k].value);
+  }
+}
+
 TEST(MetamodelSobol, OptionsAreValidated) {
   MetamodelSobolOptions o;
   o.base = 1;
