@@ -6,6 +6,8 @@
 #include "orchestrator/version.hpp"
 
 #include <fmt/core.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include <exception>
 
@@ -30,6 +32,9 @@ void print_version() {
 }  // namespace
 
 int run_cli(int argc, char** argv) {
+  // Log lines (SLURM warnings, submissions) go to standard error: standard output carries results, e.g. the JSON
+  // of `demsa status --json`.
+  if (!spdlog::get("demsa")) spdlog::set_default_logger(spdlog::stderr_color_mt("demsa"));
   CLI::App app{
       "demsa: sensitivity analysis and calibration of DEM models in LIGGGHTS\n"
       "(design of experiments, LIGGGHTS cases, observables, metamodels, Sobol' indices, calibration)",

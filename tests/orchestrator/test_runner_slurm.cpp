@@ -282,6 +282,11 @@ TEST_F(RunnerSlurm, KilledAfterSbatchTheRestartAdoptsTheArrayInsteadOfSubmitting
   const test::CommandResult blind = test::run_demsa({"status", m_dir.string()});
   ASSERT_EQ(blind.exit_code, 0) << blind.err;
   EXPECT_NE(blind.out.find("samples 2: done 0, running 2, failed 0, pending 0"), std::string::npos) << blind.out;
+  // Standard output stays pure JSON with --json: log lines go to standard error.
+  const test::CommandResult blind_json = test::run_demsa({"status", m_dir.string(), "--json"});
+  ASSERT_EQ(blind_json.exit_code, 0) << blind_json.err;
+  EXPECT_TRUE(nlohmann::json::accept(blind_json.out)) << blind_json.out;
+  EXPECT_NE(blind_json.err.find("squeue"), std::string::npos) << blind_json.err;
   {
     RunOptions options;
     options.study_file = m_tmp / "study.toml";
