@@ -2,6 +2,7 @@
 
 #include "orchestrator/errors.hpp"
 #include "sobol/error.hpp"
+#include "sobol/metamodel.hpp"
 
 #include <fmt/core.h>
 
@@ -560,7 +561,8 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
       r.each([&](const std::string& k, const toml::node& n) {
         if (k == "metamodels") {
           a.metamodels = r.strings(k, n);
-          static const std::vector<std::string> models{"rsm2", "rsm3", "rbf-cubic", "rbf-tps", "gp"};
+          // The metamodels sobol/ builds: one list, so the study file accepts exactly what the analysis can fit.
+          const std::vector<std::string> models = sobol::metamodel_names();
           for (const std::string& m : a.metamodels)
             if (std::find(models.begin(), models.end(), m) == models.end())
               r.fail(n, k, fmt::format("unknown metamodel '{}' (valid: {})", m, join(models)));
