@@ -2,12 +2,10 @@
 // failure class, retries, the timeout, SIGINT, and resume after SIGKILL at random moments.
 #include "orchestrator/store.hpp"
 
+#include "support/process.hpp"
 #include "support/test_support.hpp"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -27,6 +25,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using test::spawn_demsa;
+using test::wait_exit;
+using test::wait_until;
 
 const fs::path k_fake_dir = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
 
@@ -90,30 +91,6 @@ struct FakeEnvironment {
     ::unsetenv("FAKE_LIGGGHTS_SECONDS");
   }
 };
-
-/// Starts demsa in the background (output to `log`); returns its pid.
-pid_t spawn_demsa(const std::vector<std::string>& args, const fs::path& log) {
-  std::vector<std::string> argv{DEMSA_BINARY};
-  argv.insert(argv.end(), args.begin(), args.end());
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    std::vector<char*> raw;
-    for (std::string& a : argv) raw.push_back(a.data());
-    raw.push_back(nullptr);
-    ::execv(raw[0], raw.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-int wait_exit(pid_t pid) {
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
 
 /// The file's text, or "" when it does not exist (yet, or any more).
 std::string read_if_exists(const fs::path& path) {
@@ -269,7 +246,7 @@ TEST(RunFake, SigintStopsTheCasesAndTheStudyResumes) {
   {
     FakeEnvironment env("", tmp.path(), 30.0);
     const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
-    for (int i = 0; i < 200 && starts_per_sample(tmp.path()).size() < 2; ++i) std::this_thread::sleep_for(20ms);
+    wait_until([&] { return starts_per_sample(tmp.path()).size() >= 2; }, 4s);
     ASSERT_EQ(starts_per_sample(tmp.path()).size(), 2u);  // two cases at once
     // While it runs, status reads the store and sees the running cases.
     const test::CommandResult status = test::run_demsa({"status", (tmp / "study").string(), "--json"});

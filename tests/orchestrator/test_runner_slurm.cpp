@@ -5,12 +5,11 @@
 #include "orchestrator/store.hpp"
 #include "orchestrator/study_runner.hpp"
 
+#include "support/process.hpp"
 #include "support/test_support.hpp"
 
-#include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <fmt/core.h>
@@ -20,9 +19,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <functional>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace demsa {
@@ -31,6 +28,9 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using test::read_file;
+using test::spawn_demsa;
+using test::wait_exit;
+using test::wait_until;
 using test::write_file;
 
 const fs::path k_fake_liggghts = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
@@ -125,41 +125,6 @@ class RunnerSlurm : public ::testing::Test {
   fs::path m_dir;
   std::string m_saved_path;
 };
-
-/// Starts demsa in the background, stdin from /dev/null (not a terminal: it never asks), output to `log`.
-pid_t spawn_demsa(const std::vector<std::string>& args, const fs::path& log) {
-  std::vector<std::string> argv{DEMSA_BINARY};
-  argv.insert(argv.end(), args.begin(), args.end());
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int in = ::open("/dev/null", O_RDONLY);
-    const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    ::dup2(in, 0);
-    ::dup2(out, 1);
-    ::dup2(out, 2);
-    std::vector<char*> raw;
-    for (std::string& a : argv) raw.push_back(a.data());
-    raw.push_back(nullptr);
-    ::execv(raw[0], raw.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-int wait_exit(pid_t pid) {
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-bool wait_until(const std::function<bool()>& condition, std::chrono::milliseconds limit = 20s) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() > end) return false;
-    std::this_thread::sleep_for(20ms);
-  }
-  return true;
-}
 
 std::vector<std::string> job_ids(const Store& store, RunState state) {
   std::vector<std::string> ids;
