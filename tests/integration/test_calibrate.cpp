@@ -19,25 +19,14 @@ double height_of(double u1, double u2) { return 0.025 + 0.008 * u1 + 0.003 * u2;
 
 void write_study(const fs::path& dir) {
   fs::create_directories(dir);
-  write_file(dir / "study.toml", R"(
-[study]
-name = "cli-synthetic"
-experiment = "pile"
-seed = 3
+  write_file(dir / "study.toml",
+             StudyToml{.name = "cli-synthetic",
+                       .seed = 3,
+                       .samples = 25,
+                       .parameters = "mu_pw = { low = 0.4, high = 1.9 }\nmu_r_pw = { low = 0.1, high = 0.5 }\n",
+                       .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 5\nbase_samples = 256\n"}
+                 .text());
 
-[design]
-method = "lhs"
-samples = 25
-
-[parameters]
-mu_pw = { low = 0.4, high = 1.9 }
-mu_r_pw = { low = 0.1, high = 0.5 }
-
-[analysis]
-metamodels = ["rsm2"]
-bootstrap = 5
-base_samples = 256
-)");
   const StudyConfig config = load_study(dir / "study.toml");
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(0, 1);

@@ -29,8 +29,6 @@ using test::spawn_demsa;
 using test::wait_exit;
 using test::wait_until;
 
-const fs::path k_fake_dir = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
-
 struct StudyText {
   std::string experiment = "pile";
   int samples = 12;
@@ -41,41 +39,21 @@ struct StudyText {
 };
 
 std::string study_toml(const StudyText& s) {
-  std::string text = fmt::format(R"(
-[study]
-name = "fake-{experiment}"
-experiment = "{experiment}"
-seed = 7
-
-[design]
-method = "lhs"
-samples = {samples}
-
-[parameters]
-mu_pp = {{ low = 0.2, high = 0.8 }}
-mu_r_pp = {{ low = 0.05, high = 0.3 }}
-e_r = {{ low = 0.3, high = 0.7 }}
-
-[run]
-liggghts = "{liggghts}"
-mpirun = "{mpirun}"
-parallel = {parallel}
-oversubscribe = true
-timeout = {timeout}
-retries = {retries}
-
-[analysis]
-metamodels = ["rsm2", "rbf-cubic"]
-bootstrap = 0
-base_samples = 512
-second_order = false
-)",
-                                 fmt::arg("experiment", s.experiment), fmt::arg("samples", s.samples),
-                                 fmt::arg("liggghts", (k_fake_dir / "liggghts").string()),
-                                 fmt::arg("mpirun", (k_fake_dir / "mpirun").string()), fmt::arg("parallel", s.parallel),
-                                 fmt::arg("timeout", s.timeout), fmt::arg("retries", s.retries));
-  if (s.experiment == "pile") text += "\n[pile]\nparticles = 300\n";
-  return text + s.extra;
+  return test::StudyToml{
+      .name = "fake-" + s.experiment,
+      .experiment = s.experiment,
+      .seed = 7,
+      .samples = s.samples,
+      .parameters =
+          "mu_pp = { low = 0.2, high = 0.8 }\nmu_r_pp = { low = 0.05, high = 0.3 }\n"
+          "e_r = { low = 0.3, high = 0.7 }\n",
+      .tables = s.experiment == "pile" ? "[pile]\nparticles = 300\n" : "",
+      .run = test::fake_liggghts_run_lines() +
+             fmt::format("parallel = {}\noversubscribe = true\ntimeout = {}\nretries = {}\n", s.parallel, s.timeout,
+                         s.retries),
+      .analysis = "metamodels = [\"rsm2\", \"rbf-cubic\"]\nbootstrap = 0\nbase_samples = 512\nsecond_order = false\n",
+      .extra = s.extra}
+      .text();
 }
 
 /// Environment of the fake for one test; removed again at the end.

@@ -12,35 +12,16 @@ namespace demsa::test {
 namespace {
 namespace fs = std::filesystem;
 
-constexpr const char* k_study = R"(
-[study]
-name = "report-real"
-experiment = "pile"
-seed = 31
-
-[design]
-method = "lhs"
-samples = 6
-
-[parameters]
-mu_pp = { low = 0.4, high = 0.9 }
-mu_r_pp = { low = 0.05, high = 0.4 }
-
-[pile]
-particles = 200
-fill_height = 0.03
-settle_time = 0.15
-directions = 36
-levels = 4
-
-[run]
-ranks = 1
-
-[analysis]
-metamodels = ["rsm2", "rbf-cubic"]
-bootstrap = 10
-base_samples = 512
-)";
+const std::string k_study =
+    StudyToml{
+        .name = "report-real",
+        .seed = 31,
+        .samples = 6,
+        .parameters = "mu_pp = { low = 0.4, high = 0.9 }\nmu_r_pp = { low = 0.05, high = 0.4 }\n",
+        .tables = "[pile]\nparticles = 200\nfill_height = 0.03\nsettle_time = 0.15\ndirections = 36\nlevels = 4\n",
+        .run = "ranks = 1\n",
+        .analysis = "metamodels = [\"rsm2\", \"rbf-cubic\"]\nbootstrap = 10\nbase_samples = 512\n"}
+        .text();
 
 TEST(ReportReal, TinyPileStudyReportAndVerifiedCalibration) {
   TempDir dir;

@@ -16,38 +16,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* k_tiny_study = R"(
-[study]
-name = "tiny-real-pile"
-experiment = "pile"
-seed = 3
-
-[design]
-method = "lhs-maximin"
-samples = 6
-
-[parameters]
-mu_pp = { low = 0.2, high = 0.9 }
-mu_r_pp = { low = 0.02, high = 0.3 }
-
-[material]
-E = 1e8
-
-[pile]
-particles = 120
-settle_time = 0.1
-
-[run]
-ranks = 1
-timeout = 600
-retries = 0
-
-[analysis]
-metamodels = ["rsm2", "rbf-cubic"]
-bootstrap = 0
-base_samples = 1024
-second_order = false
-)";
+const std::string k_tiny_study =
+    test::StudyToml{.name = "tiny-real-pile",
+                    .seed = 3,
+                    .method = "lhs-maximin",
+                    .samples = 6,
+                    .parameters = "mu_pp = { low = 0.2, high = 0.9 }\nmu_r_pp = { low = 0.02, high = 0.3 }\n",
+                    .tables = "[material]\nE = 1e8\n\n[pile]\nparticles = 120\nsettle_time = 0.1\n",
+                    .run = "ranks = 1\ntimeout = 600\nretries = 0\n",
+                    .analysis =
+                        "metamodels = [\"rsm2\", \"rbf-cubic\"]\nbootstrap = 0\nbase_samples = 1024\n"
+                        "second_order = false\n"}
+        .text();
 
 TEST(StudyReal, TinyPileStudyRunsEndToEndWithAnalysis) {
   test::TempDir tmp;

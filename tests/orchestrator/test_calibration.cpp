@@ -21,28 +21,13 @@ namespace fs = std::filesystem;
 double angle_of(double u1, double u2) { return 22.0 + 14.0 * u2 + 5.0 * u1 * u1; }
 double height_of(double u1, double u2) { return 0.02 + 0.01 * u1 + 0.004 * u2; }
 
-constexpr const char* k_study = R"(
-[study]
-name = "synthetic"
-experiment = "pile"
-seed = 7
-
-[design]
-method = "lhs"
-samples = 30
-
-[parameters]
-mu_pp = { low = 0.7, high = 1.9 }
-mu_r_pp = { low = 0.05, high = 0.5 }
-
-[analysis]
-metamodels = ["rsm2", "rbf-cubic"]
-)";
+// Two friction parameters, mu_pp in [0.7, 1.9] and mu_r_pp in [0.05, 0.5] (StudyToml's defaults).
+const StudyToml k_study{.name = "synthetic", .seed = 7, .samples = 30};
 
 /// DIR/study.toml and DIR/study.db with 30 done samples (random points, fixed seed) measuring angle and height.
 void write_synthetic_study(const fs::path& dir) {
   fs::create_directories(dir);
-  write_file(dir / "study.toml", k_study);
+  write_file(dir / "study.toml", k_study.text());
   const StudyConfig config = load_study(dir / "study.toml");
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
@@ -68,13 +53,19 @@ void write_synthetic_study(const fs::path& dir) {
   }
 }
 
-TEST(Calibration, RecoversKnownOptimumWithinTwoPercentOfRange) {
-  TempDir dir;
+/// Options of a calibration of the synthetic study, written to `dir`.
+CalibrateOptions synthetic_study_options(const TempDir& dir) {
   write_synthetic_study(dir.path());
-  const double u1 = 0.35;
-  const double u2 = 0.62;
   CalibrateOptions options;
   options.dir = dir.path();
+  return options;
+}
+
+TEST(Calibration, RecoversKnownOptimumWithinTwoPercentOfRange) {
+  TempDir dir;
+  CalibrateOptions options = synthetic_study_options(dir);
+  const double u1 = 0.35;
+  const double u2 = 0.62;
   options.targets = {fmt::format("angle={:.12g}", angle_of(u1, u2)),
                      fmt::format("pile_height={:.12g}", height_of(u1, u2))};
   const CalibrationOutcome o = calibrate_study(options);
@@ -96,9 +87,7 @@ TEST(Calibration, RecoversKnownOptimumWithinTwoPercentOfRange) {
 
 TEST(Calibration, WritesCalibrationJsonThatReadsBack) {
   TempDir dir;
-  write_synthetic_study(dir.path());
-  CalibrateOptions options;
-  options.dir = dir.path();
+  CalibrateOptions options = synthetic_study_options(dir);
   options.targets = {"angle=30"};
   options.weights = {"angle=2"};
   const CalibrationOutcome o = calibrate_study(options);
@@ -115,9 +104,7 @@ TEST(Calibration, WritesCalibrationJsonThatReadsBack) {
 
 TEST(Calibration, DefaultTargetIsTheStudysTargetAngle) {
   TempDir dir;
-  write_synthetic_study(dir.path());
-  CalibrateOptions options;
-  options.dir = dir.path();
+  CalibrateOptions options = synthetic_study_options(dir);
   const CalibrationOutcome o = calibrate_study(options);
   ASSERT_EQ(o.targets.size(), 1u);
   EXPECT_EQ(o.targets[0].name, "angle");
@@ -129,9 +116,7 @@ TEST(Calibration, DefaultTargetIsTheStudysTargetAngle) {
 
 TEST(Calibration, ForcedModelIsUsed) {
   TempDir dir;
-  write_synthetic_study(dir.path());
-  CalibrateOptions options;
-  options.dir = dir.path();
+  CalibrateOptions options = synthetic_study_options(dir);
   options.model = "rbf-cubic";
   options.targets = {"angle=28"};
   const CalibrationOutcome o = calibrate_study(options);
@@ -151,9 +136,7 @@ std::string error_of(const CalibrateOptions& options) {
 
 TEST(Calibration, UnknownObservableListsTheValidOnes) {
   TempDir dir;
-  write_synthetic_study(dir.path());
-  CalibrateOptions options;
-  options.dir = dir.path();
+  CalibrateOptions options = synthetic_study_options(dir);
   options.targets = {"angel=33"};
   const std::string e = error_of(options);
   EXPECT_NE(e.find("unknown observable 'angel'"), std::string::npos) << e;
@@ -162,9 +145,7 @@ TEST(Calibration, UnknownObservableListsTheValidOnes) {
 
 TEST(Calibration, MalformedTargetsAndWeightsAreUserErrors) {
   TempDir dir;
-  write_synthetic_study(dir.path());
-  CalibrateOptions options;
-  options.dir = dir.path();
+  CalibrateOptions options = synthetic_study_options(dir);
   options.targets = {"angle"};
   EXPECT_NE(error_of(options).find("expected NAME=VALUE"), std::string::npos) << error_of(options);
   options.targets = {"angle=abc"};

@@ -115,49 +115,25 @@ TEST(Report, NotAStudyFolder) {
 
 // ------------------------------------------------------------------------------- synthetic studies
 
-constexpr const char* k_pile_study = R"(
-[study]
-name = "pile-synthetic"
-experiment = "pile"
-seed = 7
+const std::string k_pile_study =
+    StudyToml{.name = "pile-synthetic",
+              .seed = 7,
+              .samples = 24,
+              .parameters =
+                  "mu_pp = { low = 0.7, high = 1.9 }\nmu_r_pp = { low = 0.05, high = 0.5 }\n"
+                  "e_r = { low = 0.2, high = 0.6 }\n",
+              .analysis = "metamodels = [\"rsm2\", \"rbf-cubic\"]\nbootstrap = 10\nbase_samples = 512\n"}
+        .text();
 
-[design]
-method = "lhs"
-samples = 24
-
-[parameters]
-mu_pp = { low = 0.7, high = 1.9 }
-mu_r_pp = { low = 0.05, high = 0.5 }
-e_r = { low = 0.2, high = 0.6 }
-
-[analysis]
-metamodels = ["rsm2", "rbf-cubic"]
-bootstrap = 10
-base_samples = 512
-)";
-
-constexpr const char* k_oedometer_study = R"(
-[study]
-name = "oedometer-synthetic"
-experiment = "oedometer"
-seed = 9
-
-[design]
-method = "lhs"
-samples = 16
-
-[parameters]
-E = { low = 1e8, high = 1e9, scale = "log" }
-nu = { low = 0.2, high = 0.4 }
-
-[oedometer]
-measured_settlements = [0.4e-3, 1.0e-3, 1.8e-3]
-
-[analysis]
-metamodels = ["rsm2"]
-bootstrap = 10
-base_samples = 512
-)";
+const std::string k_oedometer_study =
+    StudyToml{.name = "oedometer-synthetic",
+              .experiment = "oedometer",
+              .seed = 9,
+              .samples = 16,
+              .parameters = "E = { low = 1e8, high = 1e9, scale = \"log\" }\nnu = { low = 0.2, high = 0.4 }\n",
+              .tables = "[oedometer]\nmeasured_settlements = [0.4e-3, 1.0e-3, 1.8e-3]\n",
+              .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 10\nbase_samples = 512\n"}
+        .text();
 
 /// A study folder with `n` done samples at random points whose observables come from `measure(unit)`; two failed
 /// attempts (one sample failed for good, of class "timeout"; one retried and done).

@@ -33,41 +33,17 @@ using test::wait_exit;
 using test::wait_until;
 using test::write_file;
 
-const fs::path k_fake_liggghts = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
-
 std::string study_toml(const std::string& executor, int samples) {
-  return fmt::format(R"(
-[study]
-name = "fake-slurm"
-experiment = "pile"
-seed = 5
-
-[design]
-method = "lhs"
-samples = {samples}
-
-[parameters]
-mu_pp = {{ low = 0.2, high = 0.8 }}
-e_r = {{ low = 0.3, high = 0.7 }}
-
-[pile]
-particles = 300
-
-[run]
-executor = "{executor}"
-liggghts = "{liggghts}"
-mpirun = "{mpirun}"
-parallel = 2
-oversubscribe = true
-retries = 0
-
-[run.slurm]
-time_limit = "00:10:00"
-poll_interval = 0.05
-)",
-                     fmt::arg("samples", samples), fmt::arg("executor", executor),
-                     fmt::arg("liggghts", (k_fake_liggghts / "liggghts").string()),
-                     fmt::arg("mpirun", (k_fake_liggghts / "mpirun").string()));
+  return test::StudyToml{.name = "fake-slurm",
+                         .seed = 5,
+                         .samples = samples,
+                         .parameters = "mu_pp = { low = 0.2, high = 0.8 }\ne_r = { low = 0.3, high = 0.7 }\n",
+                         .tables = "[pile]\nparticles = 300\n",
+                         .run = fmt::format("executor = \"{}\"\n", executor) + test::fake_liggghts_run_lines() +
+                                "parallel = 2\noversubscribe = true\nretries = 0\n",
+                         .analysis = "",
+                         .extra = "\n[run.slurm]\ntime_limit = \"00:10:00\"\npoll_interval = 0.05\n"}
+      .text();
 }
 
 /// Fake SLURM first on PATH, its state folder, and the fake LIGGGHTS' environment; all restored at the end.

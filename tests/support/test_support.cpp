@@ -110,4 +110,19 @@ void write_file(const fs::path& path, const std::string& text) {
 
 fs::path data_path(const std::string& relative) { return fs::path(DEMSA_TEST_DATA_DIR) / relative; }
 
+std::string fake_liggghts_run_lines() {
+  const fs::path dir = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
+  return fmt::format("liggghts = \"{}\"\nmpirun = \"{}\"\n", (dir / "liggghts").string(), (dir / "mpirun").string());
+}
+
+std::string StudyToml::text() const {
+  std::string text = fmt::format("\n[study]\nname = \"{}\"\nexperiment = \"{}\"\nseed = {}\n", name, experiment, seed);
+  text += fmt::format("\n[design]\nmethod = \"{}\"\nsamples = {}\n", method, samples);
+  text += "\n[parameters]\n" + parameters;
+  if (!tables.empty()) text += "\n" + tables;
+  if (!run.empty()) text += "\n[run]\n" + run;
+  if (!analysis.empty()) text += "\n[analysis]\n" + analysis;
+  return text + extra;
+}
+
 }  // namespace demsa::test

@@ -39,4 +39,25 @@ void write_file(const std::filesystem::path& path, const std::string& text);
 /// Path of a file under tests/data.
 std::filesystem::path data_path(const std::string& relative);
 
+/// [run] lines that run the cases with the fake LIGGGHTS and mpirun of tests/integration/fake_liggghts
+/// (`liggghts = ...` and `mpirun = ...`).
+std::string fake_liggghts_run_lines();
+
+/// The text of a study file, table by table: [study], [design], [parameters], the experiment's own tables, [run],
+/// [analysis], then `extra` as is. A table body is TOML lines; an empty [run] or [analysis] body leaves the table out.
+struct StudyToml {
+  std::string name = "synthetic";   ///< [study] name
+  std::string experiment = "pile";  ///< [study] experiment
+  int seed = 7;                     ///< [study] seed
+  std::string method = "lhs";       ///< [design] method
+  int samples = 10;                 ///< [design] samples
+  std::string parameters = "mu_pp = { low = 0.7, high = 1.9 }\nmu_r_pp = { low = 0.05, high = 0.5 }\n";  ///< body
+  std::string tables = "";  ///< the experiment's tables with their headers ([pile], [oedometer], [material]); may be ""
+  std::string run = "";     ///< body of [run]
+  std::string analysis = "metamodels = [\"rsm2\", \"rbf-cubic\"]\n";  ///< body of [analysis]
+  std::string extra = "";                                             ///< appended after everything else
+
+  std::string text() const;
+};
+
 }  // namespace demsa::test
