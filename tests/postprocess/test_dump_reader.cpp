@@ -64,6 +64,37 @@ std::string error_of(const std::string& text, const std::string& name = "bad.dum
   return "";
 }
 
+/// The message particles_from_frame raises on the first frame of `text` (read from memory as `name`); "" when it
+/// raises none, "no frame" when the text holds no frame.
+std::string particles_error_of(const std::string& text, const std::string& name) {
+  DumpReader reader(text, name);
+  DumpFrame f;
+  if (!reader.next(f)) return "no frame";
+  try {
+    particles_from_frame(f);
+  } catch (const ParseError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// What read_last_frame raises on `text` (in a file): the line it names (-1 when nothing is raised) and the message.
+struct LastFrameError {
+  long line = -1;
+  std::string what;
+};
+
+LastFrameError last_frame_error_of(const std::string& text) {
+  TempDir dir;
+  write_file(dir / "t.dump", text);
+  try {
+    read_last_frame(dir / "t.dump");
+  } catch (const ParseError& e) {
+    return {e.line(), e.what()};
+  }
+  return {};
+}
+
 TEST(DumpReader, ReadsFramesAndColumnsInAnyOrder) {
   TempDir dir;
   write_file(dir / "a.dump", k_two_frames);
@@ -171,17 +202,11 @@ TEST(DumpReader, LastFrameAcrossSearchBlocks) {
 }
 
 TEST(DumpReader, LastFrameErrorsNameTheAbsoluteLine) {
-  TempDir dir;
-  const std::string text = frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1\n") +
-                           frame_with_rows("2", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0 zz 0 0.1\n");
-  write_file(dir / "t.dump", text);
-  try {
-    read_last_frame(dir / "t.dump");
-    FAIL() << "no error";
-  } catch (const ParseError& e) {
-    EXPECT_EQ(e.line(), 21);
-    EXPECT_NE(std::string(e.what()).find("'zz' is not a finite number"), std::string::npos) << e.what();
-  }
+  const LastFrameError e =
+      last_frame_error_of(frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1\n") +
+                          frame_with_rows("2", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0 zz 0 0.1\n"));
+  EXPECT_EQ(e.line, 21);
+  EXPECT_NE(e.what.find("'zz' is not a finite number"), std::string::npos) << e.what;
 }
 
 TEST(DumpReader, ReadParticlesFiltersType) {
@@ -260,15 +285,8 @@ TEST(DumpReaderErrors, MissingColumn) {
   EXPECT_EQ(error_of(text, "bad.dump", {"id", "radius"}),
             "bad.dump:9: ITEM: ATOMS has no column 'radius' (columns: id type x y z)");
   // The same when the particles are asked for without required columns.
-  DumpReader reader(text, "mem.dump");
-  DumpFrame f;
-  ASSERT_TRUE(reader.next(f));
-  try {
-    particles_from_frame(f);
-    FAIL() << "no error";
-  } catch (const ParseError& e) {
-    EXPECT_STREQ(e.what(), "mem.dump:9: ITEM: ATOMS has no column 'radius' (columns: id type x y z)");
-  }
+  EXPECT_EQ(particles_error_of(text, "mem.dump"),
+            "mem.dump:9: ITEM: ATOMS has no column 'radius' (columns: id type x y z)");
 }
 
 TEST(DumpReaderErrors, DuplicateColumn) {
@@ -303,15 +321,7 @@ TEST(DumpReaderErrors, BadBoxBounds) {
 
 TEST(DumpReaderErrors, NonIntegerId) {
   const std::string text = frame_with_rows("2", "id type x y z radius", "1 1 0 0 0 0.1\n2.5 1 0 0 0 0.1\n");
-  DumpReader reader(text, "ids.dump");
-  DumpFrame f;
-  ASSERT_TRUE(reader.next(f));
-  try {
-    particles_from_frame(f);
-    FAIL() << "no error";
-  } catch (const ParseError& e) {
-    EXPECT_STREQ(e.what(), "ids.dump:11: id 2.5 is not an integer");
-  }
+  EXPECT_EQ(particles_error_of(text, "ids.dump"), "ids.dump:11: id 2.5 is not an integer");
 }
 
 TEST(DumpReaderErrors, BinaryGarbage) {
@@ -351,16 +361,10 @@ TEST(DumpReaderErrors, MissingFileAndDirectory) {
 }
 
 TEST(DumpReaderErrors, LastFrameTruncated) {
-  TempDir dir;
-  write_file(dir / "t.dump", frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1\n") +
-                                 frame_with_rows("3", "id type x y z radius", "1 1 0 0 0 0.1\n"));
-  try {
-    read_last_frame(dir / "t.dump");
-    FAIL() << "no error";
-  } catch (const ParseError& e) {
-    EXPECT_EQ(e.line(), 21);
-    EXPECT_NE(std::string(e.what()).find("file ends after 1 of the 3 atom rows"), std::string::npos) << e.what();
-  }
+  const LastFrameError e = last_frame_error_of(frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1\n") +
+                                               frame_with_rows("3", "id type x y z radius", "1 1 0 0 0 0.1\n"));
+  EXPECT_EQ(e.line, 21);
+  EXPECT_NE(e.what.find("file ends after 1 of the 3 atom rows"), std::string::npos) << e.what;
 }
 
 TEST(DumpReaderOptionsTest, ValidateNamesFieldAndValue) {
