@@ -2,6 +2,7 @@
 // directly, no LIGGGHTS): exit statuses, JSON output, error messages, files.
 #include "orchestrator/store.hpp"
 #include "orchestrator/study_config.hpp"
+#include "support/synthetic_study.hpp"
 #include "support/test_support.hpp"
 
 #include <fmt/core.h>
@@ -18,31 +19,20 @@ double angle_of(double u1, double u2) { return 21.0 + 12.0 * u2 + 6.0 * u1 * u1;
 double height_of(double u1, double u2) { return 0.025 + 0.008 * u1 + 0.003 * u2; }
 
 void write_study(const fs::path& dir) {
-  fs::create_directories(dir);
-  write_file(dir / "study.toml",
-             StudyToml{.name = "cli-synthetic",
-                       .seed = 3,
-                       .samples = 25,
-                       .parameters = "mu_pw = { low = 0.4, high = 1.9 }\nmu_r_pw = { low = 0.1, high = 0.5 }\n",
-                       .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 5\nbase_samples = 256\n"}
-                 .text());
-
-  const StudyConfig config = load_study(dir / "study.toml");
-  std::mt19937 rng(2);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<SampleRow> samples;
-  for (int i = 0; i < config.samples; ++i) {
-    SampleRow row{i, {u(rng), u(rng)}, {}};
-    for (size_t j = 0; j < 2; ++j) row.physical.push_back(sobol::to_physical(row.unit[j], config.parameters[j].bounds));
-    samples.push_back(row);
-  }
-  Store store((dir / "study.db").string());
-  store.initialize(design_hash(config), config.name, samples);
-  for (const SampleRow& row : samples) {
+  SyntheticStudy study = start_synthetic_study(
+      dir,
+      StudyToml{.name = "cli-synthetic",
+                .seed = 3,
+                .samples = 25,
+                .parameters = "mu_pw = { low = 0.4, high = 1.9 }\nmu_r_pw = { low = 0.1, high = 0.5 }\n",
+                .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 5\nbase_samples = 256\n"}
+          .text(),
+      2);
+  for (const SampleRow& row : study.samples) {
     RunOutcome done;
     done.exit_code = 0;
-    store.record_done(
-        store.add_run(row.sample, 1), done,
+    study.store.record_done(
+        study.store.add_run(row.sample, 1), done,
         {{"angle", angle_of(row.unit[0], row.unit[1])}, {"pile_height", height_of(row.unit[0], row.unit[1])}});
   }
 }

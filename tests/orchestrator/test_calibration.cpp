@@ -4,6 +4,7 @@
 #include "orchestrator/errors.hpp"
 #include "orchestrator/store.hpp"
 #include "orchestrator/study_config.hpp"
+#include "support/synthetic_study.hpp"
 #include "support/test_support.hpp"
 
 #include <fmt/core.h>
@@ -26,28 +27,14 @@ const StudyToml k_study{.name = "synthetic", .seed = 7, .samples = 30};
 
 /// DIR/study.toml and DIR/study.db with 30 done samples (random points, fixed seed) measuring angle and height.
 void write_synthetic_study(const fs::path& dir) {
-  fs::create_directories(dir);
-  write_file(dir / "study.toml", k_study.text());
-  const StudyConfig config = load_study(dir / "study.toml");
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<SampleRow> samples;
-  for (int i = 0; i < config.samples; ++i) {
-    SampleRow row;
-    row.sample = i;
-    row.unit = {u(rng), u(rng)};
-    for (size_t j = 0; j < 2; ++j) row.physical.push_back(sobol::to_physical(row.unit[j], config.parameters[j].bounds));
-    samples.push_back(row);
-  }
-  Store store((dir / "study.db").string());
-  store.initialize(design_hash(config), config.name, samples);
-  for (const SampleRow& row : samples) {
-    const long run = store.add_run(row.sample, 1);
+  SyntheticStudy study = start_synthetic_study(dir, k_study.text(), 11);
+  for (const SampleRow& row : study.samples) {
+    const long run = study.store.add_run(row.sample, 1);
     RunOutcome outcome;
     outcome.exit_code = 0;
     outcome.cpu_seconds = 2.0;
     outcome.wall_seconds = 2.5;
-    store.record_done(
+    study.store.record_done(
         run, outcome,
         {{"angle", angle_of(row.unit[0], row.unit[1])}, {"pile_height", height_of(row.unit[0], row.unit[1])}});
   }

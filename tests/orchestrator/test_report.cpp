@@ -5,6 +5,7 @@
 #include "orchestrator/report.hpp"
 #include "orchestrator/store.hpp"
 #include "orchestrator/study_config.hpp"
+#include "support/synthetic_study.hpp"
 #include "support/test_support.hpp"
 
 #include <fmt/core.h>
@@ -139,30 +140,15 @@ const std::string k_oedometer_study =
 /// attempts (one sample failed for good, of class "timeout"; one retried and done).
 void write_study(const fs::path& dir, const std::string& toml,
                  const std::function<std::map<std::string, double>(const std::vector<double>&)>& measure) {
-  fs::create_directories(dir);
-  write_file(dir / "study.toml", toml);
-  const StudyConfig config = load_study(dir / "study.toml");
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<SampleRow> samples;
-  for (int i = 0; i < config.samples; ++i) {
-    SampleRow row;
-    row.sample = i;
-    for (size_t j = 0; j < config.parameters.size(); ++j) {
-      row.unit.push_back(u(rng));
-      row.physical.push_back(sobol::to_physical(row.unit.back(), config.parameters[j].bounds));
-    }
-    samples.push_back(row);
-  }
-  Store store((dir / "study.db").string());
-  store.initialize(design_hash(config), config.name, samples);
+  SyntheticStudy study = start_synthetic_study(dir, toml, 5);
+  Store& store = study.store;
   RunOutcome failed;
   failed.failure = "timeout";
   failed.cpu_seconds = 100;
   failed.wall_seconds = 100;
   store.record_failed(store.add_run(0, 1), failed);
   store.record_failed(store.add_run(1, 1), failed);
-  for (const SampleRow& row : samples) {
+  for (const SampleRow& row : study.samples) {
     if (row.sample == 0) continue;  // failed for good
     const long run = store.add_run(row.sample, row.sample == 1 ? 2 : 1);
     RunOutcome done;

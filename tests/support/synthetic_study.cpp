@@ -1,0 +1,30 @@
+#include "support/synthetic_study.hpp"
+
+#include "support/test_support.hpp"
+
+#include <random>
+
+namespace demsa::test {
+
+SyntheticStudy start_synthetic_study(const std::filesystem::path& dir, const std::string& toml, unsigned seed) {
+  std::filesystem::create_directories(dir);
+  write_file(dir / "study.toml", toml);
+  StudyConfig config = load_study(dir / "study.toml");
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<SampleRow> samples;
+  for (int i = 0; i < config.samples; ++i) {
+    SampleRow row;
+    row.sample = i;
+    for (const ParameterRange& p : config.parameters) {
+      row.unit.push_back(u(rng));
+      row.physical.push_back(sobol::to_physical(row.unit.back(), p.bounds));
+    }
+    samples.push_back(row);
+  }
+  Store store((dir / "study.db").string());
+  store.initialize(design_hash(config), config.name, samples);
+  return {std::move(config), std::move(samples), std::move(store)};
+}
+
+}  // namespace demsa::test
