@@ -56,6 +56,16 @@ std::string study_toml(const StudyText& s) {
       .text();
 }
 
+/// TMP/study.toml, the study of `s`.
+void write_study(const test::TempDir& tmp, const StudyText& s) { test::write_file(tmp / "study.toml", study_toml(s)); }
+
+/// `demsa run TMP/study.toml --dir TMP/study` followed by `more`.
+std::vector<std::string> run_args(const test::TempDir& tmp, const std::vector<std::string>& more) {
+  std::vector<std::string> args{"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string()};
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
 /// Environment of the fake for one test; removed again at the end.
 struct FakeEnvironment {
   FakeEnvironment(const std::string& plan, const fs::path& state, double seconds) {
@@ -132,11 +142,10 @@ TEST(RunFake, EveryFailureClassRetriesTimeoutAndAnalysis) {
   s.samples = 14;
   s.timeout = 4.0;
   s.retries = 1;
-  test::write_file(tmp / "study.toml", study_toml(s));
+  write_study(tmp, s);
   FakeEnvironment env("1:error,2:nan,3:exit,4:signal,5:hang,6:nodump,7:truncated,8:lost,9:flaky,10:offpedestal",
                       tmp.path(), 0.0);
-  const test::CommandResult run = test::run_demsa(
-      {"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--progress-interval", "1"});
+  const test::CommandResult run = test::run_demsa(run_args(tmp, {"--progress-interval", "1"}));
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;  // failures left
   EXPECT_NE(run.out.find("5 of 14 samples done"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("Sobol' S1 of angle"), std::string::npos) << run.out;
@@ -180,8 +189,7 @@ TEST(RunFake, EveryFailureClassRetriesTimeoutAndAnalysis) {
   EXPECT_NE(booted.dump().find("design-bootstrap refits of rbf-cubic succeeded"), std::string::npos);
 
   // A second run retries the failed samples (same plan: they fail again) and repeats no done sample.
-  const test::CommandResult again = test::run_demsa(
-      {"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"});
+  const test::CommandResult again = test::run_demsa(run_args(tmp, {"--no-analyze", "--quiet"}));
   EXPECT_EQ(again.exit_code, 1);
   const std::map<int, int> after = starts_per_sample(tmp.path());
   EXPECT_EQ(after.at(0), 1);
@@ -193,10 +201,9 @@ TEST(RunFake, ResumeAfterSigkillAtRandomMomentsDoesEachSampleExactlyOnce) {
   test::TempDir tmp;
   StudyText s;
   s.samples = 10;
-  test::write_file(tmp / "study.toml", study_toml(s));
+  write_study(tmp, s);
   FakeEnvironment env("", tmp.path(), 0.4);
-  const std::vector<std::string> args{
-      "run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"};
+  const std::vector<std::string> args = run_args(tmp, {"--no-analyze", "--quiet"});
   std::mt19937 rng(2024);
   std::uniform_int_distribution<int> delay_ms(150, 1200);
   for (int round = 0; round < 6; ++round) {
@@ -218,9 +225,8 @@ TEST(RunFake, SigintStopsTheCasesAndTheStudyResumes) {
   test::TempDir tmp;
   StudyText s;
   s.samples = 4;
-  test::write_file(tmp / "study.toml", study_toml(s));
-  const std::vector<std::string> args{
-      "run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"};
+  write_study(tmp, s);
+  const std::vector<std::string> args = run_args(tmp, {"--no-analyze", "--quiet"});
   {
     FakeEnvironment env("", tmp.path(), 30.0);
     const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
@@ -256,10 +262,9 @@ TEST(RunFake, OedometerPlateNotConvergedIsAFailureClass) {
   s.experiment = "oedometer";
   s.samples = 6;
   s.extra = "\n[oedometer]\nparticles = 200\n";
-  test::write_file(tmp / "study.toml", study_toml(s));
+  write_study(tmp, s);
   FakeEnvironment env("2:plate", tmp.path(), 0.0);
-  const test::CommandResult run = test::run_demsa(
-      {"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--no-analyze", "--quiet"});
+  const test::CommandResult run = test::run_demsa(run_args(tmp, {"--no-analyze", "--quiet"}));
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   const test::CommandResult status = test::run_demsa({"status", (tmp / "study").string(), "--json"});
   const nlohmann::json j = nlohmann::json::parse(status.out);
@@ -279,10 +284,9 @@ TEST(RunFake, DryRunWritesEveryCaseAndRunsNothing) {
   test::TempDir tmp;
   StudyText s;
   s.samples = 5;
-  test::write_file(tmp / "study.toml", study_toml(s));
+  write_study(tmp, s);
   FakeEnvironment env("", tmp.path(), 0.0);
-  const test::CommandResult run =
-      test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--dry-run"});
+  const test::CommandResult run = test::run_demsa(run_args(tmp, {"--dry-run"}));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   for (int k = 0; k < 5; ++k) EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / fmt::format("{:06d}", k) / "run.sh"));
   EXPECT_TRUE(fs::exists(tmp / "study" / "design.csv"));
@@ -293,23 +297,21 @@ TEST(RunFake, ChangedDesignIsRefusedUnlessNew) {
   test::TempDir tmp;
   StudyText s;
   s.samples = 4;
-  test::write_file(tmp / "study.toml", study_toml(s));
-  const std::string dir = (tmp / "study").string();
-  ASSERT_EQ(test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", dir, "--dry-run"}).exit_code, 0);
+  write_study(tmp, s);
+  ASSERT_EQ(test::run_demsa(run_args(tmp, {"--dry-run"})).exit_code, 0);
   s.samples = 6;
-  test::write_file(tmp / "study.toml", study_toml(s));
-  const test::CommandResult refused = test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", dir});
+  write_study(tmp, s);
+  const test::CommandResult refused = test::run_demsa(run_args(tmp, {}));
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("design-relevant settings differ"), std::string::npos) << refused.err;
   // [run] settings may change freely.
   s.samples = 4;
   s.retries = 3;
-  test::write_file(tmp / "study.toml", study_toml(s));
-  EXPECT_EQ(test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", dir, "--dry-run"}).exit_code, 0);
+  write_study(tmp, s);
+  EXPECT_EQ(test::run_demsa(run_args(tmp, {"--dry-run"})).exit_code, 0);
   s.samples = 6;
-  test::write_file(tmp / "study.toml", study_toml(s));
-  const test::CommandResult renewed =
-      test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", dir, "--dry-run", "--new"});
+  write_study(tmp, s);
+  const test::CommandResult renewed = test::run_demsa(run_args(tmp, {"--dry-run", "--new"}));
   EXPECT_EQ(renewed.exit_code, 0) << renewed.err;
   EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / "000005" / "run.sh"));
 }
