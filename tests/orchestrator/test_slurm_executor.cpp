@@ -60,6 +60,15 @@ class FakeSlurm : public ::testing::Test {
     return tasks;
   }
 
+  /// A demsa that reserves the ids of `tasks`, submits them and dies before it stores the real ids: the
+  /// provisional ids it reserved.
+  std::vector<std::string> submit_then_die(const std::vector<CaseTask>& tasks) const {
+    SlurmExecutor first(options(), m_study);
+    std::vector<std::string> reserved = first.reserve_ids(tasks);
+    first.submit(tasks);
+    return reserved;
+  }
+
   fs::path fake() const { return m_dir / "fake"; }
   void set_squeue(const std::string& job, const std::string& lines) const {
     write_file(fake() / "jobs" / job / "squeue", lines);
@@ -381,12 +390,7 @@ TEST_F(FakeSlurm, ReservedIdsMarkTheArraysSubmittedNext) {
 
 TEST_F(FakeSlurm, AdoptedProvisionalIdsFindTheArrayByItsToken) {
   const auto tasks = make_tasks(2);
-  std::vector<std::string> reserved;
-  {
-    SlurmExecutor first(options(), m_study);
-    reserved = first.reserve_ids(tasks);
-    first.submit(tasks);
-  }  // demsa dies before it stores 100_0 and 100_1
+  const std::vector<std::string> reserved = submit_then_die(tasks);  // before it stores 100_0 and 100_1
   SlurmExecutor executor(options(), m_study);
   executor.adopt({{tasks[0], reserved[0]}, {tasks[1], reserved[1]}});
   EXPECT_EQ(executor.in_flight(), 2);
@@ -438,12 +442,7 @@ TEST_F(FakeSlurm, ProvisionalIdNotInSqueueIsLostOnlyOnceAnSbatchCannotStillSubmi
 
 TEST_F(FakeSlurm, ProvisionalIdWhileSqueueFailsStaysInFlight) {
   const auto tasks = make_tasks(1);
-  std::vector<std::string> reserved;
-  {
-    SlurmExecutor first(options(), m_study);
-    reserved = first.reserve_ids(tasks);
-    first.submit(tasks);
-  }
+  const std::vector<std::string> reserved = submit_then_die(tasks);
   write_file(fake() / "squeue_fail", "");
   SlurmExecutor executor(options(), m_study);
   executor.adopt({{tasks[0], reserved[0]}});
