@@ -536,12 +536,8 @@ TEST_F(FakeSlurm, OptionsFromStudySettings) {
 TEST(SlurmExecutorOptions, ValidateNamesTheField) {
   SlurmExecutorOptions o;
   o.ranks = 0;
-  try {
-    o.validate();
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "SlurmExecutorOptions.ranks = 0: must be >= 1");
-  }
+  EXPECT_EQ(test::message_of<std::invalid_argument>([&] { o.validate(); }),
+            "SlurmExecutorOptions.ranks = 0: must be >= 1");
   o = SlurmExecutorOptions{};
   o.settings.throttle = -1;
   EXPECT_THROW(o.validate(), std::invalid_argument);

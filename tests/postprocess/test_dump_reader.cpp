@@ -345,12 +345,8 @@ TEST(DumpReaderErrors, LineLongerThanTheLimit) {
   options.max_line_bytes = 256;
   DumpReader reader(std::string(1000, 'a'), "long.dump", options);
   DumpFrame f;
-  try {
-    reader.next(f);
-    FAIL() << "no error";
-  } catch (const ParseError& e) {
-    EXPECT_STREQ(e.what(), "long.dump:1: line longer than 256 bytes: not a LIGGGHTS text dump (binary data?)");
-  }
+  EXPECT_EQ(test::message_of<ParseError>([&] { reader.next(f); }),
+            "long.dump:1: line longer than 256 bytes: not a LIGGGHTS text dump (binary data?)");
 }
 
 TEST(DumpReaderErrors, MissingFileAndDirectory) {
@@ -370,12 +366,8 @@ TEST(DumpReaderErrors, LastFrameTruncated) {
 TEST(DumpReaderOptionsTest, ValidateNamesFieldAndValue) {
   DumpReaderOptions o;
   o.buffer_bytes = 10;
-  try {
-    o.validate();
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "DumpReaderOptions.buffer_bytes = 10: must be at least 4096");
-  }
+  EXPECT_EQ(test::message_of<std::invalid_argument>([&] { o.validate(); }),
+            "DumpReaderOptions.buffer_bytes = 10: must be at least 4096");
 }
 
 }  // namespace

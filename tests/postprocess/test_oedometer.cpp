@@ -149,19 +149,11 @@ TEST(OedometerErrors, HistoryRowBeforeHeader) {
 TEST(OedometerErrors, NonNumericAndShortRows) {
   TempDir dir;
   write_file(dir / "s.txt", "100 0.06 100 1\n400 0.0x 400 1\n");
-  try {
-    read_plate_states(dir / "s.txt");
-    FAIL();
-  } catch (const ParseError& e) {
-    EXPECT_EQ(std::string(e.what()), (dir / "s.txt").string() + ":2: column 'plate_z_m': '0.0x' is not a number");
-  }
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_plate_states(dir / "s.txt"); }),
+            (dir / "s.txt").string() + ":2: column 'plate_z_m': '0.0x' is not a number");
   write_file(dir / "s.txt", "100 0.06 100\n");
-  try {
-    read_plate_states(dir / "s.txt");
-    FAIL();
-  } catch (const ParseError& e) {
-    EXPECT_EQ(std::string(e.what()), (dir / "s.txt").string() + ":1: row has 3 values, the header names 4 columns");
-  }
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_plate_states(dir / "s.txt"); }),
+            (dir / "s.txt").string() + ":1: row has 3 values, the header names 4 columns");
   write_file(dir / "s.txt", "100 0.06 100 2\n");
   EXPECT_THROW(read_plate_states(dir / "s.txt"), ParseError);
   EXPECT_THROW(read_plate_states(dir / "missing.txt"), ParseError);
@@ -170,12 +162,8 @@ TEST(OedometerErrors, NonNumericAndShortRows) {
 TEST(OedometerErrors, OptionsValidate) {
   OedometerOptions o;
   o.box_side = -1;
-  try {
-    o.validate();
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "OedometerOptions.box_side = -1: must be a positive length [m]");
-  }
+  EXPECT_EQ(test::message_of<std::invalid_argument>([&] { o.validate(); }),
+            "OedometerOptions.box_side = -1: must be a positive length [m]");
 }
 
 }  // namespace

@@ -161,12 +161,8 @@ TEST(PileAngleErrors, FlatLayerHasNoLines) {
 TEST(PileAngleErrors, OptionsValidateNamesField) {
   PileAngleOptions o;
   o.levels = 1;
-  try {
-    o.validate();
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "PileAngleOptions.levels = 1: must be at least 2");
-  }
+  EXPECT_EQ(test::message_of<std::invalid_argument>([&] { o.validate(); }),
+            "PileAngleOptions.levels = 1: must be at least 2");
   o = {};
   o.level_high = 0.1;
   EXPECT_THROW(o.validate(), std::invalid_argument);

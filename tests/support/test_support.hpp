@@ -36,6 +36,17 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::files
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& text);
 
+/// The message of the `E` that `f()` throws; "" when it throws nothing (any other exception passes through).
+template <class E, class F>
+std::string message_of(F&& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "";
+}
+
 /// Path of a file under tests/data.
 std::filesystem::path data_path(const std::string& relative);
 
