@@ -4,6 +4,7 @@
 #include "sobol/error.hpp"
 #include "sobol/saltelli.hpp"
 #include "tests/sobol/analytic.hpp"
+#include "tests/sobol/ishigami_seeds.hpp"
 
 #include <gtest/gtest.h>
 
@@ -85,35 +86,12 @@ TEST(Saltelli, IshigamiAtBase2048OverSeeds) {
   std::vector<std::uint64_t> seeds;
   for (std::uint64_t seed = 1; seed <= 100; ++seed) seeds.push_back(seed);
   seeds.push_back(12345);
-  double sum_squares = 0.0, worst = 0.0;
-  int within = 0, s13_within = 0;
-  for (const std::uint64_t seed : seeds) {
-    SaltelliOptions o;
-    o.base = 2048;
-    o.dimension = 3;
-    o.second_order = true;
-    o.seed = seed;
-    SobolOptions so;
-    so.second_order = true;
-    so.bootstrap = 0;
-    const SobolResult r = sobol_indices(ishigami, saltelli_design(o), so);
-    double seed_worst = 0.0;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const double e1 = r.first[k].value - test::k_ishigami_s1[k], et = r.total[k].value - test::k_ishigami_st[k];
-      sum_squares += e1 * e1 + et * et;
-      seed_worst = std::max({seed_worst, std::abs(e1), std::abs(et)});
-    }
-    worst = std::max(worst, seed_worst);
-    within += seed_worst <= 0.005;
-    ASSERT_EQ(r.second.size(), 3u);
-    EXPECT_NEAR(r.second[1].s.value, test::k_ishigami_s13, 0.02) << "seed " << seed;
-    s13_within += std::abs(r.second[1].s.value - test::k_ishigami_s13) <= 0.01;
-  }
-  const double rms = std::sqrt(sum_squares / (6.0 * static_cast<double>(seeds.size())));
-  EXPECT_LE(rms, 0.0029);
-  EXPECT_LE(worst, 0.018);
-  EXPECT_GE(within, 75) << "seeds with max |error| <= 0.005, of " << seeds.size();
-  EXPECT_GE(s13_within, 93) << "seeds with S13 within 0.01, of " << seeds.size();
+  const test::IshigamiSeedAccuracy a = test::ishigami_over_seeds(2048, seeds);
+  EXPECT_LE(a.rms, 0.0029);
+  EXPECT_LE(a.worst, 0.018);
+  EXPECT_GE(a.within, 75) << "seeds with max |error| <= 0.005, of " << seeds.size();
+  EXPECT_LE(a.worst_s13, 0.02);
+  EXPECT_GE(a.s13_within, 93) << "seeds with S13 within 0.01, of " << seeds.size();
 }
 
 TEST(Saltelli, SobolGAtBase4096) {
