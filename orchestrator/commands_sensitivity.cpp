@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,6 +28,8 @@
 namespace demsa {
 
 namespace {
+
+constexpr int k_mode_default = std::numeric_limits<int>::min();
 
 struct SensitivityArgs {
   std::string saltelli;
@@ -37,12 +40,26 @@ struct SensitivityArgs {
   std::string bounds;
   std::string metamodels = "rsm2,rsm3,rbf-cubic,rbf-tps,gp";
   bool second_order = false;
-  int bootstrap = -1;  ///< -1: the mode's default
+  int bootstrap = k_mode_default;  ///< k_mode_default: 200 resamples for --saltelli, 100 refits for --data
   double confidence = 0.95;
   int base = 16384;
   std::uint64_t seed = 12345;
   std::string json;  ///< file, or "-" for standard output
+  std::string gp_kernel = "squared-exponential";
+  std::string gp_trend = "constant";
+  bool gp_nugget = false;
 };
+
+/// The numeric options, checked here so that a message names the option as the user typed it.
+void check_numeric_options(const SensitivityArgs& args) {
+  if (args.bootstrap != k_mode_default && args.bootstrap < 0)
+    throw UserError(fmt::format("--bootstrap {}: must be >= 0 (0: no intervals)", args.bootstrap));
+  if (!(args.confidence > 0.0 && args.confidence < 1.0))
+    throw UserError(fmt::format("--confidence {}: must be strictly between 0 and 1 (e.g. 0.95)", args.confidence));
+  if (args.base < 16)
+    throw UserError(
+        fmt::format("--base {}: must be at least 16 (a power of two, e.g. 16384, balances best)", args.base));
+}
 
 std::string interval_text(const sobol::IndexEstimate& e) {
   if (e.lower == e.value && e.upper == e.value) return fmt::format("{:8.4f}", e.value);
@@ -95,6 +112,21 @@ void run_saltelli(const SensitivityArgs& args) {
           fmt::format("'{}' is not a block code 0..{} (0 = A, 1 = B, 1+i = AB_i, 1+{}+i = BA_i)", c, 2 * d + 1, d));
     codes[static_cast<std::size_t>(r)] = static_cast<int>(c);
   }
+  // The parameter values must form a Saltelli design (AB_i from A and B, A and B independent): indices computed
+  // from anything else are wrong without any sign in the numbers.
+  std::vector<int> parameter_columns;
+  for (int k = 0; k < static_cast<int>(design.columns.size()); ++k)
+    if (k != block_column) parameter_columns.push_back(k);
+  Eigen::MatrixXd x(design.rows(), d);
+  for (int k = 0; k < d; ++k) x.col(k) = design.values.col(parameter_columns[static_cast<std::size_t>(k)]);
+  try {
+    sobol::check_saltelli_inputs(x, codes, d);
+  } catch (const sobol::DataError& e) {
+    design.fail(e.row(), e.column() >= 0 ? parameter_columns[static_cast<std::size_t>(e.column())] : block_column,
+                e.detail());
+  } catch (const sobol::InputError& e) {
+    throw UserError(args.saltelli, 0, e.what());
+  }
 
   const CsvTable y = read_csv(args.responses);
   if (y.rows() != design.rows())
@@ -105,7 +137,7 @@ void run_saltelli(const SensitivityArgs& args) {
 
   sobol::SobolOptions options;
   options.second_order = args.second_order;
-  options.bootstrap = args.bootstrap < 0 ? 200 : args.bootstrap;
+  options.bootstrap = args.bootstrap == k_mode_default ? 200 : args.bootstrap;
   options.confidence = args.confidence;
   options.seed = args.seed;
   try {
@@ -185,6 +217,7 @@ std::vector<sobol::Bounds> parse_bounds(const std::string& text, const std::vect
         throw UserError(fmt::format("--bounds '{}': {}", item, e.what()));
       }
     }
+    if (given[k]) throw UserError(fmt::format("--bounds: '{}' is given twice", name));
     given[k] = true;
   }
   for (std::size_t k = 0; k < inputs.size(); ++k) {
@@ -206,15 +239,48 @@ std::vector<sobol::Bounds> parse_bounds(const std::string& text, const std::vect
   return bounds;
 }
 
+/// Two inputs in an exact linear relation (a copy, a unit conversion) make every metamodel singular; say which.
+void check_collinear_inputs(const CsvTable& data, const std::vector<std::string>& inputs,
+                            const std::vector<int>& columns) {
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    for (std::size_t j = i + 1; j < inputs.size(); ++j) {
+      const Eigen::VectorXd a = data.values.col(columns[i]).array() - data.values.col(columns[i]).mean();
+      const Eigen::VectorXd b = data.values.col(columns[j]).array() - data.values.col(columns[j]).mean();
+      const double denominator = std::sqrt(a.squaredNorm() * b.squaredNorm());
+      if (!(denominator > 0.0)) continue;  // a constant column is reported with its bounds
+      const double r = a.dot(b) / denominator;
+      if (std::abs(r) < 1.0 - 1e-12) continue;
+      const double slope = a.dot(b) / a.squaredNorm();
+      double intercept = data.values.col(columns[j]).mean() - slope * data.values.col(columns[i]).mean();
+      if (std::abs(intercept) <= 1e-9 * data.values.col(columns[j]).cwiseAbs().maxCoeff()) intercept = 0.0;
+      throw UserError(data.file, 0,
+                      fmt::format("columns '{}' and '{}' are collinear ({} = {:.6g} * {} + {:.6g} in every sample): "
+                                  "no metamodel can tell their effects apart; keep one of them in --inputs",
+                                  inputs[i], inputs[j], inputs[j], slope, inputs[i], intercept));
+    }
+}
+
 void run_data(const SensitivityArgs& args) {
-  const CsvTable data = read_csv(args.data);
   const std::vector<std::string> inputs = split_list(args.inputs);
   const std::vector<std::string> outputs = split_list(args.outputs);
   if (inputs.empty()) throw UserError("--data needs --inputs NAME,... (the input columns)");
   if (outputs.empty()) throw UserError("--data needs --output NAME[,...] (the output columns)");
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    for (std::size_t j = i + 1; j < inputs.size(); ++j)
+      if (inputs[i] == inputs[j]) throw UserError(fmt::format("--inputs: '{}' is listed twice", inputs[i]));
+  for (const std::string& output : outputs)
+    for (const std::string& input : inputs)
+      if (output == input)
+        throw UserError(fmt::format("'{}' is both an input (--inputs) and an output (--output)", output));
+  CsvReadOptions read_options;
+  read_options.numeric_columns = inputs;
+  read_options.numeric_columns.insert(read_options.numeric_columns.end(), outputs.begin(), outputs.end());
+  const CsvTable data = read_csv(args.data, read_options);
   std::vector<int> columns;
   for (const std::string& n : inputs) columns.push_back(data.column_index(n));
+  for (const std::string& n : outputs) data.column_index(n);
   const std::vector<sobol::Bounds> bounds = parse_bounds(args.bounds, inputs, data, columns);
+  check_collinear_inputs(data, inputs, columns);
 
   // Inputs to the unit cube; a value outside its bounds is the user's to fix.
   Eigen::MatrixXd x(data.rows(), static_cast<Eigen::Index>(inputs.size()));
@@ -240,7 +306,7 @@ void run_data(const SensitivityArgs& args) {
   sobol::MetamodelSobolOptions options;
   options.base = args.base;
   options.second_order = args.second_order;
-  options.bootstrap = args.bootstrap < 0 ? 100 : args.bootstrap;
+  options.bootstrap = args.bootstrap == k_mode_default ? 100 : args.bootstrap;
   options.confidence = args.confidence;
   options.seed = args.seed;
   try {
@@ -250,6 +316,17 @@ void run_data(const SensitivityArgs& args) {
   }
   sobol::MetamodelOptions model_options;
   model_options.gp.seed = args.seed;
+  model_options.gp.nugget = args.gp_nugget;
+  try {
+    model_options.gp.kernel = sobol::gp_kernel_from_string(args.gp_kernel);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--gp-kernel: {}", e.what()));
+  }
+  try {
+    model_options.gp.trend = sobol::gp_trend_from_string(args.gp_trend);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--gp-trend: {}", e.what()));
+  }
 
   nlohmann::json results = nlohmann::json::array();
   for (const std::string& output : outputs) {
@@ -266,8 +343,15 @@ void run_data(const SensitivityArgs& args) {
         indices = sobol::metamodel_sobol(*model, options);
       } catch (const sobol::DataError& e) {
         const int column = e.column() >= 0 ? columns[static_cast<std::size_t>(e.column())] : -1;
-        const std::string other =
-            e.other_row() >= 0 ? fmt::format(" (line {})", data.lines[static_cast<std::size_t>(e.other_row())]) : "";
+        std::string other;
+        if (e.other_row() >= 0) {
+          const std::size_t first = static_cast<std::size_t>(e.other_row());
+          std::string point;
+          for (std::size_t k = 0; k < inputs.size(); ++k)
+            point += fmt::format("{}{} = {}", k ? ", " : "", inputs[k],
+                                 data.values(static_cast<Eigen::Index>(first), columns[k]));
+          other = fmt::format(" (sample {} is line {}: {})", first + 1, data.lines[first], point);
+        }
         data.fail(e.row(), column,
                   fmt::format("{}{} (metamodel {}, output '{}')", e.detail(), other, model_name, output));
       } catch (const sobol::InputError& e) {
@@ -320,9 +404,16 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
   sub->add_option("--base", args->base, "QMC base sample size N for metamodel indices")->capture_default_str();
   sub->add_option("--seed", args->seed, "Seed of the QMC design and of the bootstrap")->capture_default_str();
   sub->add_option("--json", args->json, "Write the results as JSON to this file ('-': standard output only)");
+  sub->add_option("--gp-kernel", args->gp_kernel, "Correlation of the gp metamodel: squared-exponential, matern52")
+      ->capture_default_str();
+  sub->add_option("--gp-trend", args->gp_trend, "Trend of the gp metamodel: constant, linear")->capture_default_str();
+  sub->add_flag("--gp-nugget", args->gp_nugget,
+                "Estimate a nugget in the gp metamodel (noisy simulators such as DEM: it then smooths, not "
+                "interpolates)");
   sub->callback([args, &state] {
     if (!args->saltelli.empty() == !args->data.empty())
       throw UserError("give exactly one of --saltelli DESIGN.csv (with --responses) or --data DATA.csv");
+    check_numeric_options(*args);
     if (!args->saltelli.empty())
       run_saltelli(*args);
     else

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -88,6 +89,7 @@ CsvTable parse_csv(const std::string& text, const std::string& file, const CsvRe
   int line_number = 0;
   bool have_header = false;
   std::vector<std::vector<double>> rows;
+  std::vector<bool> numeric;  // per column: parse its cells
   while (std::getline(in, line)) {
     ++line_number;
     if (blank_or_comment(line)) continue;
@@ -103,14 +105,19 @@ CsvTable parse_csv(const std::string& text, const std::string& file, const CsvRe
       }
       table.header_line = line_number;
       have_header = true;
+      numeric.assign(table.columns.size(), options.numeric_columns.empty());
+      for (const std::string& name : options.numeric_columns)
+        for (std::size_t k = 0; k < table.columns.size(); ++k)
+          if (table.columns[k] == name) numeric[k] = true;
       continue;
     }
     if (fields.size() != table.columns.size())
       throw UserError(file, line_number,
                       fmt::format("{} values for {} columns ({})", fields.size(), table.columns.size(),
                                   fields.size() < table.columns.size() ? "missing values" : "too many values"));
-    std::vector<double> row(fields.size());
+    std::vector<double> row(fields.size(), std::numeric_limits<double>::quiet_NaN());
     for (std::size_t k = 0; k < fields.size(); ++k) {
+      if (!numeric[k]) continue;
       const std::string& cell = fields[k];
       const std::string where = fmt::format("column '{}'", table.columns[k]);
       if (cell.empty()) throw UserError(file, line_number, where + ": empty cell");

@@ -24,6 +24,9 @@ namespace demsa {
 struct CsvReadOptions {
   bool allow_non_finite = false;  ///< accept "nan", "inf" cells (otherwise an error naming the cell)
   bool allow_empty = false;       ///< accept a table with a header and no rows
+  /// When not empty: only these columns are read as numbers; cells of the others (labels, notes) are not parsed and
+  /// read as NaN. Names missing from the header are left for column_index() to report.
+  std::vector<std::string> numeric_columns;
 };
 
 /// A numeric table read from a file. `values` is rows x columns; `lines[r]` is the 1-based line number of row r in

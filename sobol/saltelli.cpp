@@ -223,53 +223,128 @@ SaltelliResponses split_responses(const Eigen::VectorXd& stacked, int dimension,
   return y;
 }
 
-SaltelliResponses group_responses(const Eigen::VectorXd& values, const std::vector<int>& codes, int dimension) {
+std::vector<std::vector<int>> block_rows(const std::vector<int>& codes, int dimension) {
   assert(dimension >= 1);
-  assert(static_cast<std::size_t>(values.size()) == codes.size());
   const int max_code = 2 * dimension + 1;
-  std::vector<std::vector<double>> blocks(static_cast<std::size_t>(max_code + 1));
-  std::vector<int> first_row(static_cast<std::size_t>(max_code + 1), -1);
+  std::vector<std::vector<int>> blocks(static_cast<std::size_t>(max_code + 1));
   for (std::size_t r = 0; r < codes.size(); ++r) {
     const int c = codes[r];
     if (c < 0 || c > max_code)
       throw DataError(static_cast<int>(r), -1,
                       fmt::format("block code {} is not one of 0..{} (A, B, AB1..AB{}, BA1..BA{})", c, max_code,
                                   dimension, dimension));
-    if (!std::isfinite(values(static_cast<Eigen::Index>(r))))
-      throw DataError(static_cast<int>(r), -1,
-                      fmt::format("response {} is not a finite number", values(static_cast<Eigen::Index>(r))));
-    if (first_row[static_cast<std::size_t>(c)] < 0) first_row[static_cast<std::size_t>(c)] = static_cast<int>(r);
-    blocks[static_cast<std::size_t>(c)].push_back(values(static_cast<Eigen::Index>(r)));
+    blocks[static_cast<std::size_t>(c)].push_back(static_cast<int>(r));
   }
   const std::size_t n = blocks[0].size();
   if (n == 0) throw InputError("the Saltelli design has no rows of block A (code 0)");
   bool has_ba = false;
-  for (int c = 0; c <= max_code; ++c) {
-    const std::size_t size = blocks[static_cast<std::size_t>(c)].size();
-    if (c > dimension + 1 && size > 0) has_ba = true;
-  }
+  for (int c = dimension + 2; c <= max_code; ++c) has_ba = has_ba || !blocks[static_cast<std::size_t>(c)].empty();
   const int last = has_ba ? max_code : dimension + 1;
   for (int c = 1; c <= last; ++c) {
-    const std::size_t size = blocks[static_cast<std::size_t>(c)].size();
-    if (size != n) {
-      const int row = size == 0 ? -1 : first_row[static_cast<std::size_t>(c)];
-      throw DataError(row, -1,
+    const std::vector<int>& rows = blocks[static_cast<std::size_t>(c)];
+    if (rows.size() != n)
+      throw DataError(rows.empty() ? -1 : rows.front(), -1,
                       fmt::format("block {} has {} rows but block A has {}: every block of a Saltelli design has N "
                                   "rows",
-                                  block_name(c, dimension), size, n));
-    }
+                                  block_name(c, dimension), rows.size(), n));
   }
-  auto to_vector = [](const std::vector<double>& v) {
-    return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+  blocks.resize(static_cast<std::size_t>(last + 1));
+  return blocks;
+}
+
+SaltelliResponses group_responses(const Eigen::VectorXd& values, const std::vector<int>& codes, int dimension) {
+  assert(static_cast<std::size_t>(values.size()) == codes.size());
+  const std::vector<std::vector<int>> blocks = block_rows(codes, dimension);
+  for (Eigen::Index r = 0; r < values.size(); ++r)
+    if (!std::isfinite(values(r)))
+      throw DataError(static_cast<int>(r), -1, fmt::format("response {} is not a finite number", values(r)));
+  auto gather = [&](std::size_t c) {
+    Eigen::VectorXd v(static_cast<Eigen::Index>(blocks[c].size()));
+    for (std::size_t t = 0; t < blocks[c].size(); ++t) v(static_cast<Eigen::Index>(t)) = values(blocks[c][t]);
+    return v;
   };
   SaltelliResponses y;
   y.dimension = dimension;
-  y.a = to_vector(blocks[0]);
-  y.b = to_vector(blocks[1]);
-  for (int i = 0; i < dimension; ++i) y.ab.push_back(to_vector(blocks[static_cast<std::size_t>(2 + i)]));
-  if (has_ba)
-    for (int i = 0; i < dimension; ++i) y.ba.push_back(to_vector(blocks[static_cast<std::size_t>(2 + dimension + i)]));
+  y.a = gather(0);
+  y.b = gather(1);
+  for (int i = 0; i < dimension; ++i) y.ab.push_back(gather(static_cast<std::size_t>(2 + i)));
+  if (blocks.size() > static_cast<std::size_t>(dimension + 2))
+    for (int i = 0; i < dimension; ++i) y.ba.push_back(gather(static_cast<std::size_t>(2 + dimension + i)));
   return y;
+}
+
+namespace {
+
+/// Ranks 0..n-1 of v (ties get the mean of their ranks), for Spearman's correlation.
+Eigen::VectorXd ranks(const Eigen::VectorXd& v) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(v.size()));
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<Eigen::Index>(k);
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return v(a) < v(b); });
+  Eigen::VectorXd r(v.size());
+  for (std::size_t k = 0; k < order.size();) {
+    std::size_t end = k + 1;
+    while (end < order.size() && v(order[end]) == v(order[k])) ++end;
+    const double mean_rank = 0.5 * static_cast<double>(k + end - 1);
+    for (std::size_t t = k; t < end; ++t) r(order[t]) = mean_rank;
+    k = end;
+  }
+  return r;
+}
+
+double correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  const Eigen::VectorXd ca = a.array() - a.mean(), cb = b.array() - b.mean();
+  const double denominator = std::sqrt(ca.squaredNorm() * cb.squaredNorm());
+  return denominator > 0.0 ? ca.dot(cb) / denominator : 0.0;
+}
+
+}  // namespace
+
+void check_saltelli_inputs(const Eigen::MatrixXd& x, const std::vector<int>& codes, int dimension) {
+  assert(static_cast<std::size_t>(x.rows()) == codes.size() && x.cols() == dimension);
+  const std::vector<std::vector<int>> blocks = block_rows(codes, dimension);
+  const std::vector<int>& a = blocks[0];
+  const std::vector<int>& b = blocks[1];
+  const std::size_t n = a.size();
+  // AB_i is A with column i taken from B, BA_i is B with column i taken from A (Saltelli 2002, §2). Values are
+  // compared to 1e-9 of the column's range, which survives any reformatting that keeps ten digits.
+  for (int k = 0; k < dimension; ++k) {
+    const double tolerance = 1e-9 * std::max(x.col(k).maxCoeff() - x.col(k).minCoeff(), x.col(k).cwiseAbs().maxCoeff());
+    for (std::size_t c = 2; c < blocks.size(); ++c) {
+      const int i = static_cast<int>(c) - 2 < dimension ? static_cast<int>(c) - 2 : static_cast<int>(c) - 2 - dimension;
+      const bool ab = static_cast<int>(c) - 2 < dimension;
+      const std::vector<int>& base = (k == i) == ab ? b : a;
+      for (std::size_t t = 0; t < n; ++t) {
+        const int row = blocks[c][t], source = base[t];
+        if (std::abs(x(row, k) - x(source, k)) > tolerance)
+          throw DataError(
+              row, k,
+              fmt::format("{} differs from {} in row {} of block {}: block {} is {} with column {} taken "
+                          "from {}, row by row",
+                          x(row, k), x(source, k), t + 1, &base == &a ? "A" : "B",
+                          block_name(static_cast<int>(c), dimension), ab ? "A" : "B", i + 1, ab ? "B" : "A"));
+      }
+    }
+  }
+  // A and B must be independent samples. Consecutive blocks of one d-dimensional Sobol' sequence are not: their
+  // columns are rank-correlated (|ρ| near 1 in the first column), which biases every index. Under independence
+  // Spearman's ρ has standard deviation 1/sqrt(N - 1); five of them is a false alarm once in millions of columns.
+  if (n < 32) return;
+  Eigen::VectorXd ca(static_cast<Eigen::Index>(n)), cb(static_cast<Eigen::Index>(n));
+  for (int k = 0; k < dimension; ++k) {
+    for (std::size_t t = 0; t < n; ++t) {
+      ca(static_cast<Eigen::Index>(t)) = x(a[t], k);
+      cb(static_cast<Eigen::Index>(t)) = x(b[t], k);
+    }
+    const double rho = correlation(ranks(ca), ranks(cb));
+    const double limit = 5.0 / std::sqrt(static_cast<double>(n) - 1.0);
+    if (std::abs(rho) > limit)
+      throw DataError(-1, k,
+                      fmt::format("the A and B rows are rank-correlated (Spearman rho = {:.3f} over N = {} rows, "
+                                  "independent samples stay within {:.3f}): A and B must be independent, e.g. the "
+                                  "two halves of one 2d-dimensional scrambled sequence as `demsa design saltelli` "
+                                  "writes them, not consecutive blocks of a d-dimensional one",
+                                  rho, n, limit));
+  }
 }
 
 SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& options) {

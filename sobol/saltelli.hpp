@@ -78,6 +78,16 @@ SaltelliResponses split_responses(const Eigen::VectorXd& stacked, int dimension,
 /// offending row (0-based index + 1) for an unknown code or an uneven block.
 SaltelliResponses group_responses(const Eigen::VectorXd& values, const std::vector<int>& codes, int dimension);
 
+/// Rows of each block, grouped by block code as group_responses does: blocks[c] lists the rows with code c in file
+/// order (A, B, AB_1..AB_d, then BA_1..BA_d when present). Throws DataError for an unknown code or an uneven block.
+std::vector<std::vector<int>> block_rows(const std::vector<int>& codes, int dimension);
+
+/// Checks the inputs of a Saltelli design read back from a file (x: rows x d, any scaling; codes as above): every
+/// AB_i row is its A row with column i taken from its B row (BA_i likewise), and A and B are independent samples
+/// (Spearman's rank correlation of each column within 5/sqrt(N - 1), checked from N = 32). Throws DataError(row,
+/// column, detail) naming the first offending cell, or (-1, column) for correlated A and B.
+void check_saltelli_inputs(const Eigen::MatrixXd& x, const std::vector<int>& codes, int dimension);
+
 struct SobolOptions {
   bool second_order = false;   ///< compute S2 (needs BA blocks)
   int bootstrap = 200;         ///< percentile-bootstrap resamples, >= 0 (0: no interval, bounds = estimate)

@@ -3,10 +3,13 @@
 #include "orchestrator/csv.hpp"
 #include "support/test_support.hpp"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace demsa::test {
@@ -65,6 +68,20 @@ std::string data_csv(int n) {
   return out.str();
 }
 
+/// data_csv with a fourth input that is the first in other units: every metamodel's system is singular.
+std::string collinear_csv(int n) {
+  std::istringstream in(data_csv(n));
+  std::string out, line;
+  for (int row = 0; std::getline(in, line); ++row) {
+    const std::size_t first = line.find(','), fourth = line.find(',', line.find(',', first + 1) + 1);
+    const std::size_t fifth = line.find(',', fourth + 1);
+    const std::string a = line.substr(0, first);
+    out += line.substr(0, fourth + 1) + (row == 0 ? "a_per_cent" : fmt::format("{}", 100 * std::stod(a))) +
+           line.substr(fifth) + "\n";
+  }
+  return out;
+}
+
 TEST(CliSensitivity, MetamodelsOnUserData) {
   TempDir dir;
   write_file(dir / "data.csv", data_csv(60));
@@ -117,22 +134,33 @@ TEST(CliSensitivityErrors, EachBadInputNamesFileRowColumnAndValue) {
        replace_line(good, 12, "0,0.10000000000000001,0.29999999999999999,4,0.01"),
        {"--metamodels", "rbf-tps"},
        "data.csv:12: duplicates the point of sample 1"},
+      {"duplicate's point",
+       replace_line(good, 12, "0,0.10000000000000001,0.29999999999999999,4,0.01"),
+       {"--metamodels", "gp"},
+       "(sample 1 is line 2: a = 0, b = 0.1, c = 0.3)"},
+      {"collinear",
+       collinear_csv(60),
+       {"--inputs", "a,b,c,a_per_cent"},
+       "data.csv: columns 'a' and 'a_per_cent' are collinear (a_per_cent = 100 * a + 0 in every sample)"},
+      {"input twice", good, {"--inputs", "a,b,a"}, "--inputs: 'a' is listed twice"},
+      {"output as input", good, {"--inputs", "a,b,y"}, "'y' is both an input (--inputs) and an output (--output)"},
+      {"bounds twice", good, {"--bounds", "a=0:10,a=0:20"}, "--bounds: 'a' is given twice"},
+      {"bootstrap", good, {"--bootstrap", "-5"}, "--bootstrap -5: must be >= 0"},
+      {"confidence", good, {"--confidence", "1.5"}, "--confidence 1.5: must be strictly between 0 and 1"},
+      {"base", good, {"--base", "1"}, "--base 1: must be at least 16"},
+      {"kernel", good, {"--gp-kernel", "rbf"}, "--gp-kernel: unknown GP kernel 'rbf' (valid: squared-exponential"},
+      {"trend", good, {"--gp-trend", "cubic"}, "--gp-trend: unknown GP trend 'cubic' (valid: constant, linear)"},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.name);
     TempDir dir;
     write_file(dir / "data.csv", c.data);
-    std::vector<std::string> args{"sensitivity", "--data", (dir / "data.csv").string(), "--bootstrap", "0",
-                                  "--base",      "256"};
-    bool has_inputs = false, has_output = false, has_models = false;
-    for (const std::string& a : c.extra) {
-      has_inputs |= a == "--inputs";
-      has_output |= a == "--output";
-      has_models |= a == "--metamodels";
-    }
-    if (!has_inputs) args.insert(args.end(), {"--inputs", "a,b,c"});
-    if (!has_output) args.insert(args.end(), {"--output", "y"});
-    if (!has_models) args.insert(args.end(), {"--metamodels", "rsm2"});
+    std::vector<std::string> args{"sensitivity", "--data", (dir / "data.csv").string()};
+    // the common options, unless the case gives its own
+    const std::vector<std::pair<std::string, std::string>> defaults{
+        {"--bootstrap", "0"}, {"--base", "256"}, {"--inputs", "a,b,c"}, {"--output", "y"}, {"--metamodels", "rsm2"}};
+    for (const auto& [option, value] : defaults)
+      if (std::find(c.extra.begin(), c.extra.end(), option) == c.extra.end()) args.insert(args.end(), {option, value});
     args.insert(args.end(), c.extra.begin(), c.extra.end());
     const CommandResult r = run_demsa(args, dir.path());
     EXPECT_EQ(r.exit_code, 2) << r.out;
@@ -157,6 +185,94 @@ TEST(CliSensitivityErrors, SaltelliFilesThatDoNotMatch) {
   EXPECT_NE(r.err.find("y.csv:65: column 'y': 'nan' is not a finite number"), std::string::npos) << r.err;
   r = run_demsa({"sensitivity", "--data", "a.csv", "--saltelli", "b.csv"});
   EXPECT_EQ(r.exit_code, 2);
+}
+
+/// One output per row of a design CSV (columns after 'block'): y = x1 + 2 x2 x3 + x3².
+std::string responses_of(const std::filesystem::path& design) {
+  const CsvTable d = read_csv(design);
+  std::string y = "y\n";
+  for (int i = 0; i < d.rows(); ++i)
+    y += fmt::format("{}\n", d.values(i, 1) + 2 * d.values(i, 2) * d.values(i, 3) + d.values(i, 3) * d.values(i, 3));
+  return y;
+}
+
+TEST(CliSensitivityErrors, DesignsThatAreNotSaltelliDesigns) {
+  TempDir dir;
+  ASSERT_EQ(run_demsa({"design", "saltelli", "-N", "64", "--dim", "3", "-o", (dir / "d.csv").string()}).exit_code, 0);
+  write_file(dir / "y.csv", responses_of(dir / "d.csv"));
+  CommandResult r = run_demsa({"sensitivity", "--saltelli", (dir / "d.csv").string(), "--responses",
+                               (dir / "y.csv").string(), "--bootstrap", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+
+  // An AB_2 row whose third column is not A's: file, line, column and both values.
+  std::istringstream in(read_file(dir / "d.csv"));
+  std::string edited, line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (n == 1 + 3 * 64 + 5) line = line.substr(0, line.rfind(',')) + ",0.123456";  // row 5 of block AB2
+    edited += line + "\n";
+  }
+  write_file(dir / "edited.csv", edited);
+  r = run_demsa({"sensitivity", "--saltelli", (dir / "edited.csv").string(), "--responses", (dir / "y.csv").string(),
+                 "--bootstrap", "0"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("edited.csv:198: column 'x3': 0.123456 differs from"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("in row 5 of block A: block AB2 is A with column 2 taken from B"), std::string::npos) << r.err;
+
+  // A and B as consecutive halves of one 3-dimensional sequence, AB_i built from them correctly: refused.
+  ASSERT_EQ(run_demsa({"design", "sobol", "-n", "128", "--dim", "3", "-o", (dir / "s.csv").string()}).exit_code, 0);
+  const CsvTable seq = read_csv(dir / "s.csv");
+  std::string design = "block,x1,x2,x3\n";
+  for (int block = 0; block < 5; ++block)
+    for (int t = 0; t < 64; ++t) {
+      design += std::to_string(block);
+      for (int k = 0; k < 3; ++k) {
+        const bool from_b = block == 1 || (block >= 2 && k == block - 2);
+        design += fmt::format(",{}", seq.values(from_b ? 64 + t : t, k));
+      }
+      design += "\n";
+    }
+  write_file(dir / "halves.csv", design);
+  write_file(dir / "yh.csv", responses_of(dir / "halves.csv"));
+  r = run_demsa({"sensitivity", "--saltelli", (dir / "halves.csv").string(), "--responses", (dir / "yh.csv").string(),
+                 "--bootstrap", "0"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("halves.csv: column 'x1': the A and B rows are rank-correlated"), std::string::npos) << r.err;
+}
+
+TEST(CliSensitivity, GpOptionsAndLabelColumns) {
+  TempDir dir;
+  // a label column that is not an input or output is not read as a number
+  std::istringstream in(data_csv(60));
+  std::string text, line;
+  for (int n = 0; std::getline(in, line); ++n) text += line + (n == 0 ? ",label\n" : fmt::format(",run {}\n", n));
+  write_file(dir / "data.csv", text);
+  const CommandResult r = run_demsa({"sensitivity",
+                                     "--data",
+                                     (dir / "data.csv").string(),
+                                     "--inputs",
+                                     "a,b,c",
+                                     "--output",
+                                     "y",
+                                     "--metamodels",
+                                     "gp",
+                                     "--gp-kernel",
+                                     "matern52",
+                                     "--gp-trend",
+                                     "linear",
+                                     "--gp-nugget",
+                                     "--bootstrap",
+                                     "0",
+                                     "--base",
+                                     "1024",
+                                     "--json",
+                                     "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& gp = j["outputs"][0]["metamodels"][0];
+  EXPECT_EQ(gp["metamodel"], "gp");
+  EXPECT_GT(gp["quality"]["q2"].get<double>(), 0.95);
+  EXPECT_GT(gp["sobol"]["S1"]["a"]["value"].get<double>(), 0.9);
+  EXPECT_GT(gp["quality"]["parameters"]["nugget"].get<double>(), 0.0) << gp["quality"].dump();  // estimated
 }
 
 }  // namespace
