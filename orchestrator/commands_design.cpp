@@ -12,6 +12,9 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <bit>
+#include <climits>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
@@ -24,6 +27,7 @@ namespace {
 struct DesignArgs {
   int samples = 0;
   int dimension = 0;
+  bool dimension_given = false;     ///< --dim was on the command line (with any value)
   std::vector<std::string> params;  ///< NAME:LOW:HIGH[:log]
   std::uint64_t seed = 12345;
   std::string output;
@@ -37,6 +41,11 @@ struct DesignArgs {
   // saltelli
   bool second_order = false;
 };
+
+// Points of the Sobol' sequence at most (sobol_sequence's limit, 30 binary digits per coordinate), and parameters of a
+// Saltelli design at most (A and B are the two halves of one 2d-dimensional sequence, sobol/saltelli.hpp).
+constexpr int k_max_sobol_points = 1 << 30;
+constexpr int k_max_saltelli_dimension = sobol::k_max_sobol_dimension / 2;
 
 struct Parameters {
   std::vector<std::string> names;
@@ -55,10 +64,13 @@ double parse_number(const std::string& text, const std::string& what) {
 /// --param NAME:LOW:HIGH[:log|uniform] (repeatable) or --dim D (names x1..xD on the unit cube).
 Parameters parse_parameters(const DesignArgs& args) {
   Parameters p;
-  if (!args.params.empty() && args.dimension > 0)
+  if (!args.params.empty() && args.dimension_given)
     throw UserError("give either --dim or --param, not both (--param fixes the dimension)");
   if (args.params.empty()) {
-    if (args.dimension < 1) throw UserError("give the dimension with --dim D or the parameters with --param");
+    if (!args.dimension_given) throw UserError("give the dimension with --dim D or the parameters with --param");
+    if (args.dimension < 1)
+      throw UserError(
+          fmt::format("--dim {}: not a valid dimension, the number of parameters must be at least 1", args.dimension));
     for (int k = 0; k < args.dimension; ++k) p.names.push_back(fmt::format("x{}", k + 1));
     p.bounds.assign(static_cast<std::size_t>(args.dimension), sobol::Bounds{});
     return p;
@@ -97,6 +109,64 @@ Parameters parse_parameters(const DesignArgs& args) {
   return p;
 }
 
+// The checks below name the command-line option, its value and the rule. They run before the library's own
+// validate(), whose messages name the fields of sobol::DesignOptions and sobol::SaltelliOptions, which a command-line
+// user never sees; the library keeps its checks for its other callers. CLI11 does not tell which spelling of an
+// option was typed, so the sample size is named "-n" (for -n/--samples) and "--base" (for -N/--base).
+
+/// How the dimension was given, for messages: "--dim 41" or "41 parameters (--param)".
+std::string dimension_source(const DesignArgs& args, int dimension) {
+  return args.params.empty() ? fmt::format("--dim {}", dimension) : fmt::format("{} parameters (--param)", dimension);
+}
+
+void check_sobol_samples(const std::string& option, int samples) {
+  if (samples > k_max_sobol_points)
+    throw UserError(
+        fmt::format("{} {}: the Sobol' sequence has at most 2^30 = {} points", option, samples, k_max_sobol_points));
+}
+
+/// A scrambled Sobol' sequence keeps the balance of a (t,m,d)-net only over its first 2^m points (Owen 1997,
+/// "Monte Carlo variance of scrambled net quadrature"); Saltelli et al. 2010 (Comput. Phys. Commun. 181, 259-270)
+/// take N = 2^k for the same reason. Another size is allowed, with a warning on standard error (standard output may
+/// carry the JSON).
+void warn_unless_power_of_two(const std::string& option, int samples, const std::string& why) {
+  const auto n = static_cast<unsigned>(samples);
+  if (samples < 1 || std::has_single_bit(n)) return;
+  const unsigned below = std::bit_floor(n);
+  fmt::print(stderr, "demsa: warning: {} {} is not a power of two (nearest: {} and {}); {}\n", option, samples, below,
+             2 * below, why);
+}
+
+void check_point_design(const DesignArgs& args, sobol::DesignKind kind, int dimension) {
+  if (kind == sobol::DesignKind::sobol) {
+    if (args.samples < 1) throw UserError(fmt::format("-n {}: the number of samples must be at least 1", args.samples));
+    check_sobol_samples("-n", args.samples);
+    if (dimension > sobol::k_max_sobol_dimension)
+      throw UserError(fmt::format("{}: the Sobol' sequence supports at most {} parameters",
+                                  dimension_source(args, dimension), sobol::k_max_sobol_dimension));
+    return;
+  }
+  if (args.samples < 2) throw UserError(fmt::format("-n {}: a Latin hypercube needs at least 2 samples", args.samples));
+  if (!(args.time_limit > 0.0))
+    throw UserError(fmt::format("--time-limit {}: the optimisation budget must be > 0 seconds", args.time_limit));
+  if (!(args.phi_p >= 1.0) || !std::isfinite(args.phi_p))
+    throw UserError(fmt::format("--phi-p {}: p must be a finite number >= 1", args.phi_p));
+}
+
+void check_saltelli(const DesignArgs& args, int dimension) {
+  if (args.samples < 2)
+    throw UserError(fmt::format("--base {}: the base sample size must be at least 2", args.samples));
+  check_sobol_samples("--base", args.samples);
+  if (dimension > k_max_saltelli_dimension)
+    throw UserError(fmt::format(
+        "{}: a Saltelli design supports at most {} parameters (A and B come from one {}-dimensional Sobol' sequence)",
+        dimension_source(args, dimension), k_max_saltelli_dimension, 2 * k_max_saltelli_dimension));
+  const long long blocks = args.second_order ? 2LL * dimension + 2 : dimension + 2LL;
+  if (blocks * args.samples > INT_MAX)
+    throw UserError(fmt::format("--base {}: the design would have {} x {} = {} rows, more than {}", args.samples,
+                                args.samples, blocks, blocks * args.samples, INT_MAX));
+}
+
 nlohmann::json metrics_json(const sobol::DesignMetrics& m) {
   return {{"min_distance", m.min_distance},
           {"phi_p", m.phi_p},
@@ -106,6 +176,10 @@ nlohmann::json metrics_json(const sobol::DesignMetrics& m) {
 
 void run_point_design(const DesignArgs& args, sobol::DesignKind kind) {
   const Parameters p = parse_parameters(args);
+  check_point_design(args, kind, static_cast<int>(p.names.size()));
+  if (kind == sobol::DesignKind::sobol)
+    warn_unless_power_of_two("-n", args.samples,
+                             "a scrambled Sobol' sequence is balanced only at powers of two (Owen 1997)");
   sobol::DesignOptions options;
   options.kind = kind;
   options.samples = args.samples;
@@ -139,6 +213,10 @@ void run_point_design(const DesignArgs& args, sobol::DesignKind kind) {
 
 void run_saltelli(const DesignArgs& args) {
   const Parameters p = parse_parameters(args);
+  check_saltelli(args, static_cast<int>(p.names.size()));
+  warn_unless_power_of_two("--base", args.samples,
+                           "A and B come from a scrambled Sobol' sequence, balanced only at powers of two (Saltelli "
+                           "2010 takes N = 2^k)");
   sobol::SaltelliOptions options;
   options.base = args.samples;
   options.dimension = static_cast<int>(p.names.size());
@@ -176,7 +254,8 @@ void run_saltelli(const DesignArgs& args) {
 
 void add_common(CLI::App* sub, DesignArgs& args, const std::string& samples_name, const std::string& samples_help) {
   sub->add_option(samples_name, args.samples, samples_help)->required();
-  sub->add_option("--dim", args.dimension, "Number of parameters (names x1..xD, unit cube)");
+  sub->add_option("--dim", args.dimension, "Number of parameters (names x1..xD, unit cube)")
+      ->each([&args](const std::string&) { args.dimension_given = true; });
   sub->add_option("--param", args.params, "Parameter NAME:LOW:HIGH[:log] (repeat for each parameter)");
   sub->add_option("--seed", args.seed, "Seed of every random choice")->capture_default_str();
   sub->add_option("-o,--output", args.output, "CSV file to write (header row, one row per sample)")->required();
@@ -187,7 +266,16 @@ void add_common(CLI::App* sub, DesignArgs& args, const std::string& samples_name
 
 void register_design_command(CLI::App& app, CliState& state) {
   CLI::App* design = app.add_subcommand("design", "Write a design (lhs, sobol, saltelli) as CSV, for any simulator");
-  design->require_subcommand(1);
+  // At most one kind; none (or an unknown word) is reported by the check below, which lists the kinds, rather than by
+  // CLI11's "A subcommand is required". It runs once `design` is parsed, before CLI11 rejects the unknown word.
+  design->require_subcommand(0, 1);
+  design->parse_complete_callback([design] {
+    if (!design->get_subcommands().empty()) return;
+    const std::vector<std::string> words = design->remaining();
+    if (!words.empty() && !words[0].empty() && words[0][0] != '-')
+      throw UserError(fmt::format("unknown design '{}' (valid: lhs, sobol, saltelli)", words[0]));
+    throw UserError("give the kind of design: demsa design lhs|sobol|saltelli ... (see demsa design --help)");
+  });
   auto args = std::make_shared<DesignArgs>();
 
   CLI::App* lhs = design->add_subcommand("lhs", "Latin hypercube: plain, centred, or optimised (maximin, cl2)");
@@ -210,7 +298,8 @@ void register_design_command(CLI::App& app, CliState& state) {
     state.exit_code = k_exit_ok;
   });
 
-  CLI::App* sobol_cmd = design->add_subcommand("sobol", "Scrambled Sobol' sequence (first point at the origin)");
+  CLI::App* sobol_cmd = design->add_subcommand(
+      "sobol", "Scrambled Sobol' sequence (random linear matrix scrambling and digital shift, Matousek 1998)");
   add_common(sobol_cmd, *args, "-n,--samples", "Number of samples (a power of two balances best)");
   sobol_cmd->callback([args, &state] {
     run_point_design(*args, sobol::DesignKind::sobol);

@@ -6,7 +6,10 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <set>
+#include <string>
+#include <vector>
 
 namespace demsa::test {
 namespace {
@@ -82,11 +85,122 @@ TEST(CliDesignErrors, BadArguments) {
   EXPECT_NE(r.err.find("at most 40"), std::string::npos) << r.err;
   r = run_demsa({"design", "saltelli", "-N", "16", "--dim", "21", "-o", out});
   EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--dim 21: a Saltelli design supports at most 20 parameters"), std::string::npos) << r.err;
   r = run_demsa({"design", "lhs", "-n", "10", "-o", out});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--dim"), std::string::npos) << r.err;
   r = run_demsa({"design", "halton", "-n", "10"});
   EXPECT_EQ(r.exit_code, 2);
+}
+
+// Each error names the option as typed on the command line and its rule, not a field of the sobol/ library's
+// Options structs (those names stay in the library's own messages).
+TEST(CliDesignErrors, ValuesOutOfRangeNameTheOption) {
+  TempDir dir;
+  const std::string out = (dir / "x.csv").string();
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {{"lhs", "-n", "1", "--dim", "2"}, "demsa: error: -n 1: a Latin hypercube needs at least 2 samples"},
+      {{"lhs", "-n", "10", "--dim", "2", "--criterion", "maximin", "--time-limit", "0"},
+       "demsa: error: --time-limit 0: the optimisation budget must be > 0 seconds"},
+      {{"lhs", "-n", "10", "--dim", "2", "--phi-p", "0.5"},
+       "demsa: error: --phi-p 0.5: p must be a finite number >= 1"},
+      {{"sobol", "-n", "0", "--dim", "2"}, "demsa: error: -n 0: the number of samples must be at least 1"},
+      {{"sobol", "-n", "2000000000", "--dim", "2"},
+       "demsa: error: -n 2000000000: the Sobol' sequence has at most 2^30 = 1073741824 points"},
+      {{"sobol", "-n", "16", "--dim", "41"},
+       "demsa: error: --dim 41: the Sobol' sequence supports at most 40 parameters"},
+      {{"saltelli", "--base", "1", "--dim", "2"}, "demsa: error: --base 1: the base sample size must be at least 2"},
+      {{"saltelli", "-N", "1", "--dim", "2"}, "demsa: error: --base 1: the base sample size must be at least 2"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args{"design"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    args.insert(args.end(), {"-o", out});
+    const CommandResult r = run_demsa(args);
+    EXPECT_EQ(r.exit_code, 2) << c.message;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    for (const char* field : {"design samples", "time_limit", "phi_p_power", "saltelli base", "design dimension"})
+      EXPECT_EQ(r.err.find(field), std::string::npos) << r.err;
+  }
+}
+
+TEST(CliDesignErrors, DimensionZeroIsNotADimension) {
+  TempDir dir;
+  const std::string out = (dir / "x.csv").string();
+  for (const std::string kind : {"lhs", "sobol", "saltelli"}) {
+    const CommandResult r =
+        run_demsa({"design", kind, kind == "saltelli" ? "-N" : "-n", "16", "--dim", "0", "-o", out});
+    EXPECT_EQ(r.exit_code, 2) << kind;
+    EXPECT_NE(r.err.find("--dim 0: not a valid dimension, the number of parameters must be at least 1"),
+              std::string::npos)
+        << r.err;
+  }
+  const CommandResult r = run_demsa({"design", "lhs", "-n", "16", "--dim", "0", "--param", "a:0:1", "-o", out});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("give either --dim or --param, not both"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(CliDesignErrors, MissingOrUnknownKindListsTheKinds) {
+  CommandResult r = run_demsa({"design", "halton", "-n", "10"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("demsa: error: unknown design 'halton' (valid: lhs, sobol, saltelli)"), std::string::npos)
+      << r.err;
+  r = run_demsa({"design"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("demsa: error: give the kind of design: demsa design lhs|sobol|saltelli"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("A subcommand is required"), std::string::npos) << r.err;
+  r = run_demsa({"design", "--help"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("saltelli"), std::string::npos) << r.out;
+}
+
+// The sequence is scrambled (random linear matrix scrambling and digital shift): its first point is not the origin.
+TEST(CliDesign, SobolHelpDescribesTheScrambling) {
+  const CommandResult r = run_demsa({"design", "sobol", "--help"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("origin"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("random linear matrix scrambling and digital shift"), std::string::npos) << r.out;
+  TempDir dir;
+  ASSERT_EQ(run_demsa({"design", "sobol", "-n", "8", "--dim", "3", "-o", (dir / "s.csv").string()}).exit_code, 0);
+  const CsvTable t = read_csv(dir / "s.csv");
+  EXPECT_GT(t.values.row(0).norm(), 0.0);
+}
+
+// A scrambled Sobol' sequence is balanced only at powers of two: other sizes are written, with a warning on standard
+// error that names the value and the nearest powers of two; the JSON on standard output is unchanged.
+TEST(CliDesign, SizesOtherThanPowersOfTwoWarnOnStandardError) {
+  TempDir dir;
+  const std::string out = (dir / "x.csv").string();
+  CommandResult r = run_demsa({"design", "sobol", "-n", "10", "--dim", "2", "-o", out, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("demsa: warning: -n 10 is not a power of two (nearest: 8 and 16)"), std::string::npos) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["samples"], 10);
+  EXPECT_EQ(read_csv(out).rows(), 10);
+
+  r = run_demsa({"design", "saltelli", "--base", "100", "--dim", "2", "-o", out, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("demsa: warning: --base 100 is not a power of two (nearest: 64 and 128)"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("Saltelli 2010"), std::string::npos) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["base"], 100);
+  EXPECT_EQ(read_csv(out).rows(), 400);
+
+  r = run_demsa({"design", "sobol", "-n", "16", "--dim", "2", "-o", out, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  r = run_demsa({"design", "saltelli", "-N", "16", "--dim", "2", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  // Latin hypercubes have no such constraint.
+  r = run_demsa({"design", "lhs", "-n", "10", "--dim", "2", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
 }
 
 }  // namespace
