@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 namespace demsa::sobol {
 
@@ -136,6 +137,10 @@ void SaltelliOptions::validate() const {
         fmt::format("saltelli dimension = {}: must be in 1..{} (A and B come from one {}-dimensional "
                     "Sobol' sequence)",
                     dimension, k_max_saltelli_dimension, 2 * k_max_saltelli_dimension));
+  const long long rows = static_cast<long long>(base) * (second_order ? 2 * dimension + 2 : dimension + 2);
+  if (rows > std::numeric_limits<int>::max())
+    throw InputError(fmt::format("saltelli base = {}: the design would have {} rows, more than {}", base, rows,
+                                 std::numeric_limits<int>::max()));
 }
 
 void SobolOptions::validate() const {
