@@ -219,6 +219,7 @@ Written write_oedometer(const StudyConfig& c, const Material& m, const TimestepC
   params.number("box_side", s.box_side, "box base side [m]");
   params.number("box_lo", -s.box_side / 2.0, "box walls at x, y = box_lo and box_hi [m]");
   params.number("box_hi", s.box_side / 2.0, "");
+  params.number("box_height", s.box_height, "settled top + plate_gap above it stops the case [m]");
   params.number("solid_volume", a.solid_volume, "sum of particle volumes [m^3]");
   params.integer("fill_steps", fill_steps, "pouring and settling");
   params.number("plate_gap", s.plate_gap, "plate starts this far above the settled top [m]");
@@ -290,9 +291,25 @@ Written write_oedometer(const StudyConfig& c, const Material& m, const TimestepC
 std::string run_script(const StudyConfig& c, const CaseRequest& request) {
   const bool driver = c.experiment == Experiment::oedometer && c.oedometer.plate_mode == PlateMode::trial_step;
   std::string program;
+  std::string find_demsa;
   if (driver) {
     assert(!request.demsa_executable.empty() && "a trial-step oedometer case needs the demsa executable");
-    program = shell_quote(request.demsa_executable.string()) + " drive-oedometer .";
+    // The build that wrote the case is only a default, so that the folder can move to another machine.
+    find_demsa = fmt::format(
+        "# The trial-step loop runs inside demsa: $DEMSA if set, else the demsa that wrote this case; when that is\n"
+        "# not an executable here (the folder moved to another machine), demsa from PATH.\n"
+        "demsa_built={}\n"
+        "demsa=\"${{DEMSA:-$demsa_built}}\"\n"
+        "if ! command -v \"$demsa\" > /dev/null 2>&1; then\n"
+        "  if ! command -v demsa > /dev/null 2>&1; then\n"
+        "    echo \"run.sh: no demsa executable: $demsa is not one and demsa is not on PATH; set "
+        "DEMSA=/path/to/demsa\" >&2\n"
+        "    exit 127\n"
+        "  fi\n"
+        "  demsa=demsa\n"
+        "fi\n",
+        shell_quote(request.demsa_executable.string()));
+    program = "\"$demsa\" drive-oedometer .";
   } else {
     program =
         shell_quote(c.run.liggghts) + " -in " + k_case_input + " -log " + k_case_log + " -screen " + k_case_screen;
@@ -303,6 +320,7 @@ std::string run_script(const StudyConfig& c, const CaseRequest& request) {
       "# Exit status: LIGGGHTS's. Output: {log}, {screen}.\n"
       "set -u\n"
       "cd \"$(dirname \"$0\")\" || exit 2\n"
+      "{find_demsa}"
       "# Open MPI refuses to run as root unless told to.\n"
       "root_flag=()\n"
       "if [ \"$(id -u)\" -eq 0 ]; then root_flag=(--allow-run-as-root); fi\n"
@@ -311,7 +329,64 @@ std::string run_script(const StudyConfig& c, const CaseRequest& request) {
       "status=$?\n"
       "exit $status\n",
       fmt::arg("log", k_case_log), fmt::arg("screen", k_case_screen), fmt::arg("mpirun", shell_quote(c.run.mpirun)),
-      fmt::arg("ranks", c.run.ranks), fmt::arg("program", program));
+      fmt::arg("ranks", c.run.ranks), fmt::arg("find_demsa", find_demsa), fmt::arg("program", program));
+}
+
+/// Entries of `dir` (none when it does not exist): the files a run writes first, then the others, each by name.
+std::vector<std::string> folder_entries(const fs::path& dir) {
+  std::vector<std::string> names;
+  if (!fs::is_directory(dir)) return names;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  const std::vector<std::string> outputs{k_case_log,      k_case_screen, k_pile_final_dump, k_oedometer_final_dump,
+                                         k_plate_history, k_plate_states};
+  std::stable_partition(names.begin(), names.end(), [&](const std::string& n) {
+    return std::find(outputs.begin(), outputs.end(), n) != outputs.end();
+  });
+  return names;
+}
+
+/// "a, b, c and 4 more".
+std::string some_of(const std::vector<std::string>& names, std::size_t shown = 3) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < shown; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > shown) out += fmt::format(" and {} more", names.size() - shown);
+  return out;
+}
+
+/// True when `file` lies inside `dir` (at any depth); both must exist.
+bool lies_inside(const fs::path& file, const fs::path& dir) {
+  std::error_code ec;
+  const fs::path f = fs::canonical(file, ec);
+  if (ec) return false;
+  const fs::path d = fs::canonical(dir, ec);
+  if (ec) return false;
+  const auto [end_d, at_f] = std::mismatch(d.begin(), d.end(), f.begin(), f.end());
+  return end_d == d.end();
+}
+
+/// Applies `existing` to the case folder before anything is written.
+void prepare_folder(const StudyConfig& config, const fs::path& dir, ExistingCaseFiles existing) {
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw UserError(fmt::format("{}: cannot write a case there: it is a file, not a folder", dir.string()));
+  if (existing == ExistingCaseFiles::rewrite) return;
+  const std::vector<std::string> names = folder_entries(dir);
+  if (names.empty()) return;
+  if (existing == ExistingCaseFiles::refuse) {
+    throw UserError(fmt::format(
+        "{}: the case folder is not empty ({}); files of an earlier run there would not match the new case: write "
+        "the case into a new folder, or give --overwrite to empty this one first",
+        dir.string(), some_of(names)));
+  }
+  if (lies_inside(config.file, dir))
+    throw UserError(fmt::format("{}: will not empty the folder that holds the study file {}; choose another folder",
+                                dir.string(), config.file.string()));
+  for (const std::string& name : names) {
+    std::error_code ec;
+    fs::remove_all(dir / name, ec);
+    if (ec) throw UserError(fmt::format("{}: cannot remove: {}", (dir / name).string(), ec.message()));
+  }
 }
 
 }  // namespace
@@ -361,7 +436,8 @@ CaseRequest request_from_values(const StudyConfig& config, const std::vector<std
   return r;
 }
 
-CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, const fs::path& dir) {
+CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, const fs::path& dir,
+                       ExistingCaseFiles existing) {
   assert(request.physical.size() == config.parameters.size());
   const Material material = material_for(config, request.physical);
   const std::string study_file = config.file.filename().string();
@@ -386,6 +462,7 @@ CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, co
     throw UserError(study_file, 0, message);
   }
 
+  prepare_folder(config, dir, existing);
   fs::create_directories(dir);
   Params params;
   add_common_params(params, material, ts, config);
@@ -409,9 +486,12 @@ CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, co
   nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
   for (std::size_t i = 0; i < config.parameters.size(); ++i)
     parameters[config.parameters[i].name] = request.physical[i];
+  // A case of values set by hand has no design row: "sample": null.
+  const nlohmann::ordered_json sample =
+      request.sample >= 0 ? nlohmann::ordered_json(request.sample) : nlohmann::ordered_json(nullptr);
   nlohmann::ordered_json doc{{"study", config.name},
                              {"experiment", config.experiment == Experiment::pile ? "pile" : "oedometer"},
-                             {"sample", request.sample},
+                             {"sample", sample},
                              {"unit_point", request.unit_point},
                              {"parameters", parameters},
                              {"material",

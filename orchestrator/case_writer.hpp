@@ -31,7 +31,7 @@ std::string final_dump_name(Experiment experiment);
 
 /// What to write: one sample of a study (or a hand-set parameter tuple).
 struct CaseRequest {
-  int sample = 0;                          ///< sample index in the design (-1: values set by hand)
+  int sample = 0;                          ///< sample index in the design (-1: values set by hand; null in case.json)
   std::vector<double> unit_point;          ///< the sample in [0,1]^d, ordered as config.parameters
   std::vector<double> physical;            ///< physical values, ordered as config.parameters
   std::filesystem::path demsa_executable;  ///< absolute path of demsa (run.sh of a trial-step oedometer calls it)
@@ -49,10 +49,23 @@ struct CaseSummary {
   std::string final_dump;      ///< file name of the final dump
 };
 
-/// Writes the case folder `dir` (created if missing; existing generated files are overwritten). Deterministic:
-/// the same study and request give byte-identical input files. Throws UserError when the sample's settings break
-/// a LIGGGHTS limit (time step, servo speed, Young's modulus range), naming the limit and the values.
-CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, const std::filesystem::path& dir);
+/// What write_case does with a case folder that already holds files (for example the dump and logs of an earlier
+/// ./run.sh, which would no longer match the new case.json).
+enum class ExistingCaseFiles {
+  rewrite,  ///< write the case's files over the folder's; files of other names stay. For callers that empty or
+            ///< remove the folder themselves before (demsa run's per-sample folders on every attempt).
+  refuse,   ///< throw UserError naming the folder and a few of its files when it is not empty (demsa case)
+  remove,   ///< remove everything in the folder first (demsa case --overwrite); refused when the folder holds
+            ///< the study file itself
+};
+
+/// Writes the case folder `dir` (created if missing; a folder that already holds files is handled as `existing`
+/// says). Deterministic: the same study and request give byte-identical input files. Throws UserError when the
+/// sample's settings break a LIGGGHTS limit (time step, servo speed, Young's modulus range), naming the limit and
+/// the values, and when `dir` is a file or (with `refuse`) a non-empty folder. Nothing is written or removed
+/// when it throws.
+CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, const std::filesystem::path& dir,
+                       ExistingCaseFiles existing = ExistingCaseFiles::rewrite);
 
 /// A CaseRequest from explicit parameter values `name=value` (names from contact_parameter_names(); the varied
 /// parameters not named take the middle of their range, the others config.material). Throws UserError on an

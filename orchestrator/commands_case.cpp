@@ -28,6 +28,7 @@ struct CaseOptions {
   int sample = -1;                ///< --sample K (0-based design row)
   std::vector<std::string> sets;  ///< --set name=value,...
   std::string output;             ///< -o DIR
+  bool overwrite = false;         ///< --overwrite: empty a non-empty DIR first
   bool json = false;
 };
 
@@ -78,15 +79,17 @@ void run_case(const CaseOptions& o, CliState& state) {
   const std::filesystem::path dir =
       o.output.empty() ? std::filesystem::path(o.sample >= 0 ? fmt::format("case-{:06d}", o.sample) : "case-set")
                        : std::filesystem::path(o.output);
-  const CaseSummary summary = write_case(config, request, dir);
+  const CaseSummary summary =
+      write_case(config, request, dir, o.overwrite ? ExistingCaseFiles::remove : ExistingCaseFiles::refuse);
   if (o.json) {
-    nlohmann::ordered_json j{{"dir", summary.dir.string()},
-                             {"sample", request.sample},
-                             {"particles", summary.particles},
-                             {"dt", summary.dt},
-                             {"rayleigh_time", summary.rayleigh_time},
-                             {"dt_source", summary.dt_source},
-                             {"final_dump", summary.final_dump}};
+    nlohmann::ordered_json j{
+        {"dir", summary.dir.string()},
+        {"sample", request.sample >= 0 ? nlohmann::ordered_json(request.sample) : nlohmann::ordered_json(nullptr)},
+        {"particles", summary.particles},
+        {"dt", summary.dt},
+        {"rayleigh_time", summary.rayleigh_time},
+        {"dt_source", summary.dt_source},
+        {"final_dump", summary.final_dump}};
     fmt::print("{}\n", j.dump(2));
   } else {
     fmt::print("wrote {} ({} particles, dt = {:.4g} s = {:.3f} T_R); run it with: cd {} && ./run.sh\n",
@@ -109,7 +112,9 @@ void register_case_command(CLI::App& app, CliState& state) {
                                      "Parameter values name=value[,name=value...]; varied parameters not named take "
                                      "the middle of their range");
   sample->excludes(set);
-  sub->add_option("-o,--output", options->output, "Case folder (default case-<K>)");
+  sub->add_option("-o,--output", options->output, "Case folder (default case-<K>); it must be empty or new");
+  sub->add_flag("--overwrite", options->overwrite,
+                "Empty the case folder first when it holds files (e.g. the outputs of an earlier ./run.sh)");
   sub->add_flag("--json", options->json, "Print what was written as JSON");
   sub->callback([options, sample, set, &state] {
     if (sample->count() == 0 && set->count() == 0) throw UserError("demsa case: give --sample K or --set name=value");

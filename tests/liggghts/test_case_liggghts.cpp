@@ -102,6 +102,37 @@ TEST(CaseLiggghts, PileThatReachesTheInsertionHeightStopsWithAClearError) {
   EXPECT_FALSE(fs::exists(tmp / "case" / "pile_final.dump"));
 }
 
+TEST(CaseLiggghts, OedometerPackingAboveTheBoxStopsWithAClearError) {
+  // A 5 mm box under 300 particles of 2.5 to 3.5 mm, after a short fill: the plate would start above the box. Both
+  // plate modes must stop right after the fill with an error that says so, before any load.
+  for (const std::string mode : {"servo", "trial"}) {
+    SCOPED_TRACE(mode);
+    test::TempDir tmp;
+    const std::string text = test::read_file(test::data_path("cases/tiny_oedometer_" + mode + ".toml"));
+    const std::size_t at = text.find("fill_time = 0.25\n");
+    ASSERT_NE(at, std::string::npos);
+    test::write_file(tmp / "low.toml", text.substr(0, at) + "fill_time = 0.01\nbox_height = 0.005\n" +
+                                           text.substr(at + std::string("fill_time = 0.25\n").size()));
+    const test::CommandResult w =
+        test::run_demsa({"case", (tmp / "low.toml").string(), "--sample", "0", "-o", (tmp / "case").string()});
+    ASSERT_EQ(w.exit_code, 0) << w.out << w.err;
+    const test::CommandResult r = test::run_command({(tmp / "case" / "run.sh").string()});
+    EXPECT_NE(r.exit_code, 0);
+    const std::string log = test::read_file(tmp / "case" / "log.liggghts");
+    EXPECT_NE(log.find("plate_gap 0.0005 m lies above box_height = 0.005 m: raise [oedometer] box_height or use "
+                       "fewer or smaller particles"),
+              std::string::npos)
+        << log.substr(log.size() > 3000 ? log.size() - 3000 : 0);
+    EXPECT_NE(log.find("ERROR: Unknown command: demsa:_the_settled_packing_does_not_fit_under_box_height"),
+              std::string::npos);
+    EXPECT_FALSE(fs::exists(tmp / "case" / "oedometer_final.dump"));
+    // The settled packing is still recorded, and no load state follows it.
+    const std::string states = test::read_file(tmp / "case" / "plate_states.txt");
+    EXPECT_NE(states.find("# settled packing: particles 300, top_z_m "), std::string::npos) << states;
+    EXPECT_TRUE(postprocess::read_plate_states(tmp / "case" / "plate_states.txt").empty());
+  }
+}
+
 /// Both loads reached within the tolerance, settlement positive.
 void check_oedometer(const fs::path& dir, double tolerance) {
   const std::vector<postprocess::PlateState> states = postprocess::read_plate_states(dir / "plate_states.txt");
@@ -134,6 +165,31 @@ TEST(CaseLiggghts, TinyOedometerTrialStepReachesBothLoads) {
   ASSERT_EQ(history.accepted.size(), history.size());
   // The paper's loop restores at least once per load on this packing (an overshoot after relaxation).
   EXPECT_GT(std::count(history.accepted.begin(), history.accepted.end(), 0), 0);
+}
+
+TEST(CaseLiggghts, CaseIntoAFolderWithOutputsNeedsOverwrite) {
+  // No LIGGGHTS run: the outputs of an earlier ./run.sh are faked.
+  test::TempDir tmp;
+  const std::string study = test::data_path("cases/tiny_oedometer_servo.toml").string();
+  const fs::path dir = tmp / "case";
+  ASSERT_EQ(test::run_demsa({"case", study, "--sample", "0", "-o", dir.string()}).exit_code, 0);
+  for (const char* f : {"oedometer_final.dump", "log.liggghts", "plate_states.txt"}) test::write_file(dir / f, "old\n");
+  const test::CommandResult refused = test::run_demsa({"case", study, "--sample", "1", "-o", dir.string()});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find(dir.string() + ": the case folder is not empty (log.liggghts, oedometer_final.dump, "
+                                            "plate_states.txt and "),
+            std::string::npos)
+      << refused.err;
+  EXPECT_NE(test::read_file(dir / "case.json").find("\"sample\": 0"), std::string::npos);
+  const test::CommandResult again =
+      test::run_demsa({"case", study, "--sample", "1", "-o", dir.string(), "--overwrite", "--json"});
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_FALSE(fs::exists(dir / "oedometer_final.dump"));
+  EXPECT_NE(test::read_file(dir / "case.json").find("\"sample\": 1"), std::string::npos);
+  const test::CommandResult set =
+      test::run_demsa({"case", study, "--set", "E=3e8", "-o", (tmp / "set").string(), "--json"});
+  ASSERT_EQ(set.exit_code, 0) << set.err;
+  EXPECT_TRUE(nlohmann::json::parse(set.out).at("sample").is_null()) << set.out;
 }
 
 TEST(CaseLiggghts, RegeneratedCaseHasIdenticalInputs) {

@@ -100,6 +100,61 @@ TEST(CaseWriter, RegeneratingGivesIdenticalFiles) {
   EXPECT_NE(read_file(tmp / "a" / "params.liggghts"), read_file(tmp / "c" / "params.liggghts"));
 }
 
+TEST(CaseWriter, FolderWithFilesIsRefusedEmptiedOrRewrittenAsAsked) {
+  const StudyConfig c = study("[pile]\nparticles = 100\n");
+  TempDir tmp;
+  const fs::path dir = tmp / "case";
+  const CaseRequest r = request_from_unit_point(c, 2, {0.5, 0.5});
+  write_case(c, r, dir, ExistingCaseFiles::refuse);  // a new folder
+  // The outputs of an earlier ./run.sh.
+  for (const char* f : {"pile_final.dump", "log.liggghts", "screen.txt"}) test::write_file(dir / f, "old\n");
+  const std::string m = test::message_of<UserError>([&] { write_case(c, r, dir, ExistingCaseFiles::refuse); });
+  EXPECT_NE(m.find(dir.string() + ": the case folder is not empty (log.liggghts, pile_final.dump, screen.txt and "),
+            std::string::npos)
+      << m;
+  EXPECT_NE(m.find("--overwrite"), std::string::npos) << m;
+  EXPECT_TRUE(fs::exists(dir / "pile_final.dump"));
+
+  // Only the old outputs: they are named.
+  const fs::path outputs = tmp / "outputs";
+  fs::create_directories(outputs / "post");
+  for (const char* f : {"pile_final.dump", "log.liggghts", "screen.txt"}) test::write_file(outputs / f, "old\n");
+  const std::string m2 = test::message_of<UserError>([&] { write_case(c, r, outputs, ExistingCaseFiles::refuse); });
+  EXPECT_NE(m2.find("(log.liggghts, pile_final.dump, screen.txt and 1 more)"), std::string::npos) << m2;
+  EXPECT_FALSE(fs::exists(outputs / "case.json"));
+
+  // demsa run's path (the default): the case's files are written, other files are left to the caller.
+  write_case(c, r, dir);
+  EXPECT_TRUE(fs::exists(dir / "pile_final.dump"));
+
+  // --overwrite: the folder is emptied first.
+  const std::string before = read_file(dir / "params.liggghts");
+  write_case(c, r, dir, ExistingCaseFiles::remove);
+  for (const char* f : {"pile_final.dump", "log.liggghts", "screen.txt"}) EXPECT_FALSE(fs::exists(dir / f)) << f;
+  EXPECT_EQ(read_file(dir / "params.liggghts"), before);
+  EXPECT_TRUE(fs::exists(dir / "run.sh"));
+
+  // A file is not a folder.
+  test::write_file(tmp / "plain", "x\n");
+  EXPECT_NE(test::message_of<UserError>([&] {
+              write_case(c, r, tmp / "plain", ExistingCaseFiles::remove);
+            }).find("it is a file, not a folder"),
+            std::string::npos);
+}
+
+TEST(CaseWriter, OverwriteNeverEmptiesTheFolderOfTheStudyFile) {
+  TempDir tmp;
+  const std::string text =
+      "[study]\nname = \"t\"\nexperiment = \"pile\"\n[parameters]\n"
+      "mu_pp = { low = 0.5, high = 1.0 }\n[pile]\nparticles = 100\n";
+  test::write_file(tmp / "study.toml", text);
+  const StudyConfig c = load_study(tmp / "study.toml");
+  const CaseRequest r = request_from_unit_point(c, 0, {0.5});
+  const std::string m = test::message_of<UserError>([&] { write_case(c, r, tmp.path(), ExistingCaseFiles::remove); });
+  EXPECT_NE(m.find("will not empty the folder that holds the study file"), std::string::npos) << m;
+  EXPECT_EQ(read_file(tmp / "study.toml"), text);
+}
+
 TEST(CaseWriter, TooLargeFixedTimestepIsRefused) {
   const StudyConfig c = study("[pile]\nparticles = 100\n[timestep]\nmode = \"fixed\"\nvalue = 2e-5\n");
   TempDir tmp;
@@ -134,6 +189,13 @@ TEST(CaseWriter, SetValuesAreCheckedAndExact) {
   EXPECT_THROW(request_from_values(c, {{"E", 2e9}}), UserError);
   EXPECT_THROW(request_from_values(c, {{"young", 2e8}}), UserError);
   EXPECT_THROW(request_from_values(c, {{"nu", 0.3}}), UserError);  // not varied
+  // case.json: no design row, so no sample number.
+  TempDir tmp;
+  write_case(c, r, tmp / "set");
+  const nlohmann::json j = nlohmann::json::parse(read_file(tmp / "set" / "case.json"));
+  ASSERT_TRUE(j.contains("sample"));
+  EXPECT_TRUE(j["sample"].is_null()) << j["sample"];
+  EXPECT_DOUBLE_EQ(j["parameters"]["E"].get<double>(), 2e8);
 }
 
 TEST(CaseWriter, TrialStepOedometerRunsTheDriver) {
@@ -143,13 +205,61 @@ TEST(CaseWriter, TrialStepOedometerRunsTheDriver) {
   r.demsa_executable = "/opt/my tools/demsa";
   write_case(c, r, tmp / "t");
   const std::string run = read_file(tmp / "t" / "run.sh");
-  EXPECT_NE(run.find("'/opt/my tools/demsa' drive-oedometer ."), std::string::npos) << run;
+  EXPECT_NE(run.find("demsa_built='/opt/my tools/demsa'\ndemsa=\"${DEMSA:-$demsa_built}\"\n"), std::string::npos)
+      << run;
+  EXPECT_NE(run.find("-np 1 \"$demsa\" drive-oedometer ."), std::string::npos) << run;
   for (const char* f : {"oedometer_restore.liggghts", "oedometer_plate.liggghts", "plate.stl"})
     EXPECT_TRUE(fs::exists(tmp / "t" / f)) << f;
   const nlohmann::json j = nlohmann::json::parse(read_file(tmp / "t" / "case.json"));
   EXPECT_EQ(j["oedometer"]["trial_step"]["trial_steps"], 15000);
   EXPECT_EQ(j["oedometer"]["trial_step"]["relax_steps"], 80000);
   EXPECT_DOUBLE_EQ(j["oedometer"]["trial_step"]["trial_step0_m"].get<double>(), 0.0075e-3);
+}
+
+TEST(CaseWriter, TrialStepRunScriptFindsDemsaWhenTheFolderMoves) {
+  TempDir tmp;
+  // A fake mpirun that records the program it was asked to start, and a `demsa` on PATH.
+  fs::create_directories(tmp / "bin");
+  test::write_file(tmp / "bin" / "mpirun",
+                   "#!/bin/sh\nfor a; do last3=\"$last2\"; last2=\"$last1\"; last1=\"$a\"; done\n"
+                   "echo \"$last3\" > started.txt\n");
+  test::write_file(tmp / "bin" / "demsa", "#!/bin/sh\nexit 0\n");
+  test::write_file(tmp / "other-demsa", "#!/bin/sh\nexit 0\n");
+  for (const char* f : {"bin/mpirun", "bin/demsa", "other-demsa"})
+    fs::permissions(tmp / f, fs::perms::owner_all, fs::perm_options::replace);
+  const StudyConfig c = study("[oedometer]\nparticles = 60\nplate_mode = \"trial-step\"\n[run]\nmpirun = \"" +
+                                  (tmp / "bin" / "mpirun").string() + "\"\n",
+                              "oedometer");
+  CaseRequest r = request_from_unit_point(c, 0, {0.5, 0.5});
+  r.demsa_executable = tmp / "build-that-moved" / "demsa";
+  write_case(c, r, tmp / "a");
+  write_case(c, r, tmp / "b");
+  for (const auto& entry : fs::directory_iterator(tmp / "a"))
+    EXPECT_EQ(read_file(entry.path()), read_file(tmp / "b" / entry.path().filename())) << entry.path();
+
+  const std::string path = "PATH=" + (tmp / "bin").string() + ":/usr/bin:/bin";
+  const auto started = [&](const std::vector<std::string>& env) {
+    std::vector<std::string> argv{"env", "-u", "DEMSA", path};
+    argv.insert(argv.end(), env.begin(), env.end());
+    argv.push_back((tmp / "a" / "run.sh").string());
+    const test::CommandResult result = test::run_command(argv);
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    const std::string text = read_file(tmp / "a" / "started.txt");
+    return text.substr(0, text.find('\n'));
+  };
+  EXPECT_EQ(started({}), "demsa");  // the writing build is gone: demsa from PATH
+  EXPECT_EQ(started({"DEMSA=" + (tmp / "other-demsa").string()}), (tmp / "other-demsa").string());
+  EXPECT_EQ(started({"DEMSA=" + (tmp / "a" / "case.json").string()}), "demsa");  // not an executable
+  // The writing build is still there: it is used.
+  fs::create_directories(tmp / "build-that-moved");
+  fs::copy_file(tmp / "other-demsa", tmp / "build-that-moved" / "demsa");
+  EXPECT_EQ(started({}), (tmp / "build-that-moved" / "demsa").string());
+  // No demsa anywhere: a clear error.
+  fs::remove(tmp / "bin" / "demsa");
+  fs::remove(tmp / "build-that-moved" / "demsa");
+  const test::CommandResult none = test::run_command({"env", "-u", "DEMSA", path, (tmp / "a" / "run.sh").string()});
+  EXPECT_EQ(none.exit_code, 127);
+  EXPECT_NE(none.err.find("set DEMSA=/path/to/demsa"), std::string::npos) << none.err;
 }
 
 TEST(CaseWriter, PaperPresetsWriteFullCases) {
