@@ -1,6 +1,7 @@
 #include "orchestrator/study_config.hpp"
 
 #include "orchestrator/errors.hpp"
+#include "orchestrator/physics.hpp"
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
 
@@ -199,8 +200,18 @@ void apply_oedometer_preset(const TableReader& r, const toml::node& node, Oedome
   const std::string preset = r.string("preset", node);
   if (preset != "paper") r.fail(node, "preset", fmt::format("unknown preset '{}' (valid: paper)", preset));
   oedometer.preset = preset;
+  // Paper §4: assembly one has 4642 particles and the void ratio 0.66, with the pore volume computed on a
+  // 10 x 10 x 5 cm^3 sample: V_P = 500 cm^3 - V_S. (The paper's formula reads e_1 = V_S / V_P, but a solid
+  // fraction of 1/1.66 = 0.60 is a sphere packing under load and 0.40 is not, so e = V_P / V_S as usual.) The
+  // paper gives no radii; these give that solid volume in expectation:
+  //   V_S = 500 cm^3 / (1 + 0.66) = 301.2 cm^3, so E[r^3] = V_S / (4642 * 4/3 pi) = 15.49 mm^3.
+  // Radii are N(mu, sd) truncated to [a, b] = [2.0, 3.0] mm with sd = 0.25 mm, i.e. density proportional to
+  // phi((r - mu)/sd) on [a, b]; E[r^3] = int_a^b r^3 phi dr / int_a^b phi dr (trapezoid rule, 2e5 intervals).
+  // mu = 2.466 mm gives E[r] = 2.4737 mm and E[r^3] = 15.496 mm^3: V_S = 301.30 cm^3 and e = 500 / 301.30 - 1 =
+  // 0.6595 (mu = 2.47 mm would give 0.653). The former radii, 2.5 to 3.5 mm around 3 mm (E[r^3] = 27.4 mm^3),
+  // put V_S = 533 cm^3 above the 500 cm^3 of the sample.
   oedometer.particles = 4642;
-  oedometer.radii = RadiusDistribution{2.5e-3, 3.5e-3, 3.0e-3, 0.25e-3};
+  oedometer.radii = RadiusDistribution{2.0e-3, 3.0e-3, 2.466e-3, 0.25e-3};
 }
 
 void check_radii(const TableReader& r, const toml::table& table, const RadiusDistribution& radii) {
@@ -256,6 +267,30 @@ void check_parameter_range(const TableReader& r, const toml::node& node, const P
     bad("must be >= 0");
 }
 
+/// LIGGGHTS's SI check on Young's modulus (physics.hpp: k_liggghts_min_E, k_liggghts_max_E), applied to the whole
+/// range of a varied E and to a fixed [material] E once every table is read (the flags may follow [parameters]):
+/// otherwise the study is accepted and its samples fail one by one when their cases are written.
+void check_young_modulus_limits(const StudyConfig& c, const std::string& file, int material_E_line) {
+  const auto it =
+      std::find_if(c.parameters.begin(), c.parameters.end(), [](const ParameterRange& p) { return p.name == "E"; });
+  const bool varied = it != c.parameters.end();
+  const double low = varied ? it->bounds.low : c.material.E;
+  const double high = varied ? it->bounds.high : c.material.E;
+  const int line = varied ? it->line : material_E_line;
+  const std::string what = varied ? fmt::format("[parameters] E: range [{:.4g}, {:.4g}] Pa", low, high)
+                                  : fmt::format("[material] E: {:.4g} Pa", low);
+  if (high > k_liggghts_max_E && !c.material.hard_particles)
+    throw UserError(file, line,
+                    fmt::format("{} reaches above {:.0e} Pa, which LIGGGHTS refuses in SI units: set [material] "
+                                "hard_particles = true to allow it, or keep E <= {:.0e} Pa",
+                                what, k_liggghts_max_E, k_liggghts_max_E));
+  if (low < k_liggghts_min_E && !c.material.soft_particles)
+    throw UserError(file, line,
+                    fmt::format("{} reaches below {:.0e} Pa, which LIGGGHTS refuses in SI units: set [material] "
+                                "soft_particles = true to allow it, or keep E >= {:.0e} Pa",
+                                what, k_liggghts_min_E, k_liggghts_min_E));
+}
+
 }  // namespace
 
 StudyConfig parse_study(const std::string& text, const std::filesystem::path& file) {
@@ -269,6 +304,7 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
   StudyConfig c;
   c.file = file;
   bool have_name = false, have_experiment = false;
+  int material_E_line = 0;  // line of [material] E, 0 when not given
   const TableReader top(root, name, "");
 
   for (const auto& [key, node] : root) {
@@ -352,9 +388,10 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
       });
     } else if (section == "material") {
       r.each([&](const std::string& k, const toml::node& n) {
-        if (is_parameter(k))
+        if (is_parameter(k)) {
           read_material_value(r, k, n, c.material);
-        else if (k == "density")
+          if (k == "E") material_E_line = r.line_of(n);
+        } else if (k == "density")
           c.material.density = r.positive(k, n);
         else if (k == "gravity")
           c.material.gravity = r.positive(k, n);
@@ -591,6 +628,7 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
   std::sort(c.parameters.begin(), c.parameters.end(), [&](const ParameterRange& a, const ParameterRange& b) {
     return std::find(order.begin(), order.end(), a.name) < std::find(order.begin(), order.end(), b.name);
   });
+  check_young_modulus_limits(c, name, material_E_line);
   return c;
 }
 

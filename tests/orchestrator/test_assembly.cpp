@@ -112,9 +112,24 @@ TEST(Assembly, PileIsIdenticalForTheSameSeed) {
 }
 
 TEST(Assembly, PaperOedometerHas4642ValidParticles) {
-  OedometerSettings s;
-  s.particles = 4642;
+  const OedometerSettings s = parse_study(
+                                  "[study]\nname = \"p\"\nexperiment = \"oedometer\"\n[parameters]\n"
+                                  "E = { low = 1e8, high = 1e9 }\n[oedometer]\npreset = \"paper\"\n",
+                                  "study.toml")
+                                  .oedometer;
+  ASSERT_EQ(s.particles, 4642);
+  // Paper §4, assembly one: e = V_P / V_S = 0.66 with V_P = 10 x 10 x 5 cm^3 - V_S, so V_S = 301.2 cm^3 and
+  // E[r^3] = 15.49 mm^3. The preset's truncated normal has E[r^3] = 15.496 mm^3 (study_config.cpp): the sampler
+  // must reproduce it (sd of r^3 < 5 mm^3, so 4 standard errors over 200000 radii are < 0.045 mm^3)...
+  const std::vector<double> many = truncated_normal_radii(s.radii, 200000, 1);
+  double cube_mean = 0;
+  for (const double r : many) cube_mean += r * r * r / static_cast<double>(many.size());
+  EXPECT_NEAR(cube_mean, 15.496e-9, 0.045e-9);
   const OedometerAssembly a = build_oedometer_assembly(s, 12345);
+  // ... and the 4642 particles of a study fit in the 500 cm^3 with the paper's void ratio (4 standard errors:
+  // 4 x 1.66 x 4.6 / (15.5 sqrt(4642)) = 0.03).
+  const double void_ratio = (0.1 * 0.1 * 0.05 - a.solid_volume) / a.solid_volume;
+  EXPECT_NEAR(void_ratio, 0.66, 0.03);
   ASSERT_EQ(a.particles.size(), 4642u);
   EXPECT_GE(min_pair_gap(a.particles), 0.1 * s.radii.r_max - 1e-12);  // the lattice's cell gap at least
   double volume = 0;
@@ -127,9 +142,13 @@ TEST(Assembly, PaperOedometerHas4642ValidParticles) {
     volume += 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius;
   }
   EXPECT_NEAR(a.solid_volume, volume, 1e-15);
-  // cell = 2 * 3.5 + 0.35 = 7.35 mm; floor((100 - 0.35) / 7.35) = 13 per row.
-  EXPECT_EQ(a.per_layer, 169);
-  EXPECT_EQ(a.layers, (4642 + 168) / 169);
+  // cell = 2 * 3.0 + 0.3 = 6.3 mm; floor((100 - 0.3) / 6.3) = 15 per row.
+  EXPECT_EQ(a.per_layer, 225);
+  EXPECT_EQ(a.layers, (4642 + 224) / 225);
+  for (const Particle& p : a.particles) {
+    ASSERT_GE(p.radius, 2.0e-3);
+    ASSERT_LE(p.radius, 3.0e-3);
+  }
 }
 
 }  // namespace

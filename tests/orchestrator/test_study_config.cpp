@@ -119,6 +119,34 @@ TEST(StudyConfig, ParameterRangesAreChecked) {
             std::string::npos);
 }
 
+TEST(StudyConfig, YoungModulusOutsideLiggghtsLimitsNeedsTheFlag) {
+  const std::string base =
+      "[study]\nname = \"s\"\nexperiment = \"pile\"\n[parameters]\nmu_pp = { low = 0.5, high = 1 }\n";
+  // Above 1e9 Pa: refused at the line of the E entry, naming the bound and the flag.
+  const std::string hard = error_of(base + "E = { low = 1e8, high = 2e9, scale = \"log\" }\n");
+  EXPECT_NE(hard.find("study.toml:6: [parameters] E: range [1e+08, 2e+09] Pa reaches above 1e+09 Pa, which LIGGGHTS "
+                      "refuses in SI units: set [material] hard_particles = true"),
+            std::string::npos)
+      << hard;
+  // Below 5e6 Pa.
+  const std::string soft = error_of(base + "E = { low = 1e6, high = 1e8 }\n");
+  EXPECT_NE(soft.find("study.toml:6: [parameters] E: range [1e+06, 1e+08] Pa reaches below 5e+06 Pa"),
+            std::string::npos)
+      << soft;
+  EXPECT_NE(soft.find("set [material] soft_particles = true"), std::string::npos) << soft;
+  // The bounds themselves pass; the flags allow the rest, wherever [material] stands in the file.
+  EXPECT_NO_THROW(parse_study(base + "E = { low = 5e6, high = 1e9 }\n", "study.toml"));
+  EXPECT_NO_THROW(
+      parse_study("[material]\nhard_particles = true\n" + base + "E = { low = 1e8, high = 2e9 }\n", "study.toml"));
+  EXPECT_NO_THROW(
+      parse_study(base + "E = { low = 1e6, high = 1e8 }\n[material]\nsoft_particles = true\n", "study.toml"));
+  // A fixed E outside the limits, at the line of [material] E.
+  const std::string fixed = error_of(base + "[material]\nnu = 0.3\nE = 3e9\n");
+  EXPECT_NE(fixed.find("study.toml:8: [material] E: 3e+09 Pa reaches above 1e+09 Pa"), std::string::npos) << fixed;
+  // Varied E: the fixed [material] E is not used, so it is not checked.
+  EXPECT_NO_THROW(parse_study(base + "E = { low = 1e8, high = 1e9 }\n[material]\nE = 3e9\n", "study.toml"));
+}
+
 TEST(StudyConfig, MissingRequiredParts) {
   EXPECT_NE(error_of("[study]\nname = \"s\"\n").find("experiment is required"), std::string::npos);
   EXPECT_NE(error_of("[study]\nname = \"s\"\nexperiment = \"pile\"\n").find("[parameters] must vary"),
