@@ -27,6 +27,10 @@ mu_r_pp = 0.005
 mu_r_pw = 0.005
 [oedometer]
 particles = $particles
+r_min = 2.5e-3
+r_max = 3.5e-3
+r_mean = 3.0e-3
+r_sd = 0.25e-3
 fill_time = 0.3
 loads = $loads
 plate_mode = "$1"
