@@ -138,7 +138,8 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
       ModelAnalysis model;
       model.model = model_name;
       try {
-        std::unique_ptr<sobol::Metamodel> metamodel = sobol::make_metamodel(model_name);
+        std::unique_ptr<sobol::Metamodel> metamodel =
+            sobol::make_metamodel(model_name, config.analysis.metamodel_options());
         metamodel->fit(x, y);
         model.quality = metamodel->summary();
         model.indices = sobol::metamodel_sobol(*metamodel, sobol_options);

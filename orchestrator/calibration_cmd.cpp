@@ -238,7 +238,7 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
     std::string errors;
     for (const std::string& name : candidates) {
       try {
-        std::unique_ptr<sobol::Metamodel> m = sobol::make_metamodel(name);
+        std::unique_ptr<sobol::Metamodel> m = sobol::make_metamodel(name, config.analysis.metamodel_options());
         m->fit(x, y);
         const sobol::MetamodelSummary s = m->summary();
         // A Q² that is not finite (as many terms as samples: no leave-one-out) ranks below every finite one.

@@ -506,7 +506,7 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
   for (const ModelEntry& m : models) {
     if (!m.ok) continue;
     try {
-      std::unique_ptr<sobol::Metamodel> model = sobol::make_metamodel(m.name);
+      std::unique_ptr<sobol::Metamodel> model = sobol::make_metamodel(m.name, s.config.analysis.metamodel_options());
       model->fit(data.unit, data.y);
       const Eigen::VectorXd residuals = model->loo_residuals();
       PredictedVsObserved p;

@@ -144,7 +144,7 @@ class TableReader {
         {"timestep", "mode, fraction, value, skin"},
         {"run", "executor, ranks, parallel, oversubscribe, timeout, retries, lost_fraction, liggghts, mpirun, slurm"},
         {"run.slurm", "partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval"},
-        {"analysis", "metamodels, second_order, bootstrap, confidence, base_samples"},
+        {"analysis", "metamodels, second_order, bootstrap, confidence, base_samples, gp_kernel, gp_trend, gp_nugget"},
     };
     const auto it = keys.find(m_section);
     return it == keys.end() ? std::string() : " (valid: " + it->second + ")";
@@ -613,6 +613,20 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
             r.fail(n, k, fmt::format("must lie in (0, 1), got {}", a.confidence));
         } else if (k == "base_samples")
           a.base_samples = static_cast<int>(r.integer(k, n, 16));
+        else if (k == "gp_kernel") {
+          try {
+            a.gp_kernel = sobol::gp_kernel_from_string(r.string(k, n));
+          } catch (const sobol::InputError& e) {
+            r.fail(n, k, e.what());
+          }
+        } else if (k == "gp_trend") {
+          try {
+            a.gp_trend = sobol::gp_trend_from_string(r.string(k, n));
+          } catch (const sobol::InputError& e) {
+            r.fail(n, k, e.what());
+          }
+        } else if (k == "gp_nugget")
+          a.gp_nugget = r.boolean(k, n);
         else
           return false;
         return true;
@@ -757,6 +771,14 @@ Material material_for(const StudyConfig& config, const std::vector<double>& phys
       assert(false && "unknown parameter name in config.parameters");
   }
   return m;
+}
+
+sobol::MetamodelOptions AnalysisSettings::metamodel_options() const {
+  sobol::MetamodelOptions o;
+  o.gp.kernel = gp_kernel;
+  o.gp.trend = gp_trend;
+  o.gp.nugget = gp_nugget;
+  return o;
 }
 
 }  // namespace demsa

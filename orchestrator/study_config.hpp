@@ -4,6 +4,7 @@
 // its value and the broken rule. Keys, units and defaults for users: docs/study-file.md.
 //
 // Units are SI throughout (m, s, kg, Pa, N). The paper's mg-mm-ms values are converted in docs/study-file.md.
+#include "sobol/metamodel.hpp"
 #include "sobol/scaling.hpp"
 
 #include <cstdint>
@@ -140,6 +141,13 @@ struct AnalysisSettings {
   int bootstrap = 200;  ///< bootstrap resamples for confidence intervals
   double confidence = 0.95;
   int base_samples = 16384;  ///< QMC base N for metamodel-based indices
+  /// The gp metamodel: kernel, trend and an estimated nugget (DEM responses are noisy: a nugget lets the GP smooth
+  /// rather than interpolate). Used alike by analyze, report and calibrate.
+  sobol::GpKernel gp_kernel = sobol::GpKernel::squared_exponential;
+  sobol::GpTrend gp_trend = sobol::GpTrend::constant;
+  bool gp_nugget = false;
+  /// The metamodel options these settings give.
+  sobol::MetamodelOptions metamodel_options() const;
 };
 
 struct StudyConfig {

@@ -35,24 +35,25 @@ struct StudyText {
   int parallel = 2;
   double timeout = 0;
   int retries = 1;
+  std::string analysis =
+      "metamodels = [\"rsm2\", \"rbf-cubic\"]\nbootstrap = 0\nbase_samples = 512\nsecond_order = false\n";
   std::string extra;
 };
 
 std::string study_toml(const StudyText& s) {
-  return test::StudyToml{
-      .name = "fake-" + s.experiment,
-      .experiment = s.experiment,
-      .seed = 7,
-      .samples = s.samples,
-      .parameters =
-          "mu_pp = { low = 0.2, high = 0.8 }\nmu_r_pp = { low = 0.05, high = 0.3 }\n"
-          "e_r = { low = 0.3, high = 0.7 }\n",
-      .tables = s.experiment == "pile" ? "[pile]\nparticles = 300\n" : "",
-      .run = test::fake_liggghts_run_lines() +
-             fmt::format("parallel = {}\noversubscribe = true\ntimeout = {}\nretries = {}\n", s.parallel, s.timeout,
-                         s.retries),
-      .analysis = "metamodels = [\"rsm2\", \"rbf-cubic\"]\nbootstrap = 0\nbase_samples = 512\nsecond_order = false\n",
-      .extra = s.extra}
+  return test::StudyToml{.name = "fake-" + s.experiment,
+                         .experiment = s.experiment,
+                         .seed = 7,
+                         .samples = s.samples,
+                         .parameters =
+                             "mu_pp = { low = 0.2, high = 0.8 }\nmu_r_pp = { low = 0.05, high = 0.3 }\n"
+                             "e_r = { low = 0.3, high = 0.7 }\n",
+                         .tables = s.experiment == "pile" ? "[pile]\nparticles = 300\n" : "",
+                         .run = test::fake_liggghts_run_lines() +
+                                fmt::format("parallel = {}\noversubscribe = true\ntimeout = {}\nretries = {}\n",
+                                            s.parallel, s.timeout, s.retries),
+                         .analysis = s.analysis,
+                         .extra = s.extra}
       .text();
 }
 
@@ -219,6 +220,31 @@ TEST(RunFake, ResumeAfterSigkillAtRandomMomentsDoesEachSampleExactlyOnce) {
   const std::size_t starts_before = test::read_file(tmp / "starts.log").size();
   EXPECT_EQ(test::run_demsa(args).exit_code, 0);
   EXPECT_EQ(test::read_file(tmp / "starts.log").size(), starts_before);
+}
+
+TEST(RunFake, GpSettingsOfTheStudyReachAnalyzeAndCalibrate) {
+  test::TempDir tmp;
+  StudyText s;
+  s.analysis =
+      "metamodels = [\"gp\"]\nbootstrap = 0\nbase_samples = 512\nsecond_order = false\ngp_kernel = \"matern52\"\n"
+      "gp_trend = \"linear\"\ngp_nugget = true\n";
+  write_study(tmp, s);
+  FakeEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(run_args(tmp, {"--quiet"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const nlohmann::json analysis = nlohmann::json::parse(test::read_file(tmp / "study" / "analysis" / "analysis.json"));
+  const std::string text = analysis.dump();
+  const nlohmann::json* gp = nullptr;
+  for (const nlohmann::json& o : analysis.at("observables"))
+    for (const nlohmann::json& m : o.at("models"))
+      if (m.at("model") == "gp") gp = &m;
+  ASSERT_NE(gp, nullptr) << text;
+  // an estimated nugget (it is exactly 0 without gp_nugget)
+  EXPECT_GT(gp->at("quality").at("parameters").at("nugget").get<double>(), 0.0) << gp->dump();
+  const test::CommandResult calibrate =
+      test::run_demsa({"calibrate", (tmp / "study").string(), "--target", "angle=30"});
+  EXPECT_EQ(calibrate.exit_code, 0) << calibrate.out << calibrate.err;
+  EXPECT_NE(calibrate.out.find("gp"), std::string::npos) << calibrate.out;
 }
 
 TEST(RunFake, SigintStopsTheCasesAndTheStudyResumes) {

@@ -107,6 +107,24 @@ TEST(StudyConfig, ImpossibleValuesAreRefused) {
             std::string::npos);
 }
 
+TEST(StudyConfig, GpSettingsOfTheAnalysis) {
+  const StudyConfig c = parse_study(
+      std::string(k_minimal) + "[analysis]\ngp_kernel = \"matern52\"\ngp_trend = \"linear\"\ngp_nugget = true\n",
+      "study.toml");
+  const sobol::MetamodelOptions o = c.analysis.metamodel_options();
+  EXPECT_EQ(o.gp.kernel, sobol::GpKernel::matern52);
+  EXPECT_EQ(o.gp.trend, sobol::GpTrend::linear);
+  EXPECT_TRUE(o.gp.nugget);
+  const sobol::MetamodelOptions d = parse_study(k_minimal, "study.toml").analysis.metamodel_options();
+  EXPECT_EQ(d.gp.kernel, sobol::GpKernel::squared_exponential);
+  EXPECT_FALSE(d.gp.nugget);
+  EXPECT_NE(error_of(std::string(k_minimal) + "[analysis]\ngp_kernel = \"rbf\"\n")
+                .find("study.toml:10: [analysis] gp_kernel: unknown GP kernel 'rbf' (valid: squared-exponential, "
+                      "matern52)"),
+            std::string::npos)
+      << error_of(std::string(k_minimal) + "[analysis]\ngp_kernel = \"rbf\"\n");
+}
+
 TEST(StudyConfig, ParameterRangesAreChecked) {
   const std::string base = "[study]\nname = \"s\"\nexperiment = \"pile\"\n[parameters]\n";
   EXPECT_NE(error_of(base + "E = { low = 1e9, high = 1e8 }\n").find("study.toml:5: [parameters] E:"),
