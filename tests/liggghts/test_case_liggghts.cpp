@@ -82,23 +82,41 @@ TEST(CaseLiggghts, TinyPileSettlesIntoAPlausibleConeAndRerunsIdentically) {
   EXPECT_EQ(test::read_file(tmp / "first.dump"), test::read_file(dir / "pile_final.dump"));
 }
 
+/// A case that LIGGGHTS stops: its run and the LIGGGHTS log.
+struct StoppedCase {
+  test::CommandResult run;
+  std::string log;
+  std::string tail() const { return log.substr(log.size() > 3000 ? log.size() - 3000 : 0); }
+};
+
+/// tests/data/cases/NAME with the text `from` replaced by `to`, written to TMP/edited.toml; its sample 0 written
+/// to TMP/case and run there with its run.sh.
+StoppedCase run_edited_case(const test::TempDir& tmp, const std::string& name, const std::string& from,
+                            const std::string& to) {
+  std::string text = test::read_file(test::data_path("cases/" + name));
+  const std::size_t at = text.find(from);
+  if (at == std::string::npos)
+    ADD_FAILURE() << name << " has no '" << from << "'";
+  else
+    text.replace(at, from.size(), to);
+  test::write_file(tmp / "edited.toml", text);
+  const test::CommandResult w =
+      test::run_demsa({"case", (tmp / "edited.toml").string(), "--sample", "0", "-o", (tmp / "case").string()});
+  EXPECT_EQ(w.exit_code, 0) << w.out << w.err;
+  StoppedCase c{test::run_command({(tmp / "case" / "run.sh").string()}), ""};
+  c.log = test::read_file(tmp / "case" / "log.liggghts");
+  return c;
+}
+
 TEST(CaseLiggghts, PileThatReachesTheInsertionHeightStopsWithAClearError) {
   // A fill height of 5 mm above the pedestal: the pile soon reaches the layer where new discs appear. The case must
   // stop there with an error that says so, instead of inserting particles into the pile.
   test::TempDir tmp;
-  const std::string text = test::read_file(test::data_path("cases/tiny_pile.toml"));
-  const std::string study = text.substr(0, text.find("fill_height")) + "fill_height = 0.005" +
-                            text.substr(text.find('\n', text.find("fill_height")));
-  test::write_file(tmp / "low.toml", study);
-  const test::CommandResult w =
-      test::run_demsa({"case", (tmp / "low.toml").string(), "--sample", "0", "-o", (tmp / "case").string()});
-  ASSERT_EQ(w.exit_code, 0) << w.out << w.err;
-  const test::CommandResult r = test::run_command({(tmp / "case" / "run.sh").string()});
-  EXPECT_NE(r.exit_code, 0);
-  const std::string log = test::read_file(tmp / "case" / "log.liggghts");
-  EXPECT_NE(log.find("the pile has reached the insertion height (raise [pile] fill_height)"), std::string::npos)
-      << log.substr(log.size() > 3000 ? log.size() - 3000 : 0);
-  EXPECT_NE(log.find("ERROR: Unknown command: demsa:_the_pile_has_reached_the_insertion_height"), std::string::npos);
+  const StoppedCase c = run_edited_case(tmp, "tiny_pile.toml", "fill_height = 0.06\n", "fill_height = 0.005\n");
+  EXPECT_NE(c.run.exit_code, 0);
+  EXPECT_NE(c.log.find("the pile has reached the insertion height (raise [pile] fill_height)"), std::string::npos)
+      << c.tail();
+  EXPECT_NE(c.log.find("ERROR: Unknown command: demsa:_the_pile_has_reached_the_insertion_height"), std::string::npos);
   EXPECT_FALSE(fs::exists(tmp / "case" / "pile_final.dump"));
 }
 
@@ -108,22 +126,14 @@ TEST(CaseLiggghts, OedometerPackingAboveTheBoxStopsWithAClearError) {
   for (const std::string mode : {"servo", "trial"}) {
     SCOPED_TRACE(mode);
     test::TempDir tmp;
-    const std::string text = test::read_file(test::data_path("cases/tiny_oedometer_" + mode + ".toml"));
-    const std::size_t at = text.find("fill_time = 0.25\n");
-    ASSERT_NE(at, std::string::npos);
-    test::write_file(tmp / "low.toml", text.substr(0, at) + "fill_time = 0.01\nbox_height = 0.005\n" +
-                                           text.substr(at + std::string("fill_time = 0.25\n").size()));
-    const test::CommandResult w =
-        test::run_demsa({"case", (tmp / "low.toml").string(), "--sample", "0", "-o", (tmp / "case").string()});
-    ASSERT_EQ(w.exit_code, 0) << w.out << w.err;
-    const test::CommandResult r = test::run_command({(tmp / "case" / "run.sh").string()});
-    EXPECT_NE(r.exit_code, 0);
-    const std::string log = test::read_file(tmp / "case" / "log.liggghts");
-    EXPECT_NE(log.find("plate_gap 0.0005 m lies above box_height = 0.005 m: raise [oedometer] box_height or use "
-                       "fewer or smaller particles"),
+    const StoppedCase c = run_edited_case(tmp, "tiny_oedometer_" + mode + ".toml", "fill_time = 0.25\n",
+                                          "fill_time = 0.01\nbox_height = 0.005\n");
+    EXPECT_NE(c.run.exit_code, 0);
+    EXPECT_NE(c.log.find("plate_gap 0.0005 m lies above box_height = 0.005 m: raise [oedometer] box_height or use "
+                         "fewer or smaller particles"),
               std::string::npos)
-        << log.substr(log.size() > 3000 ? log.size() - 3000 : 0);
-    EXPECT_NE(log.find("ERROR: Unknown command: demsa:_the_settled_packing_does_not_fit_under_box_height"),
+        << c.tail();
+    EXPECT_NE(c.log.find("ERROR: Unknown command: demsa:_the_settled_packing_does_not_fit_under_box_height"),
               std::string::npos);
     EXPECT_FALSE(fs::exists(tmp / "case" / "oedometer_final.dump"));
     // The settled packing is still recorded, and no load state follows it.
