@@ -379,6 +379,12 @@ void prepare_folder(const StudyConfig& config, const fs::path& dir, ExistingCase
         "the case into a new folder, or give --overwrite to empty this one first",
         dir.string(), some_of(names)));
   }
+  // Only a case folder is ever emptied: `-o ~ --overwrite` must not cost anyone their home directory.
+  if (!fs::exists(dir / k_case_json))
+    throw UserError(
+        fmt::format("{}: holds files ({}) but no {}: it is not a case folder, and --overwrite empties "
+                    "only case folders; write the case into a new folder",
+                    dir.string(), some_of(names), k_case_json));
   if (lies_inside(config.file, dir))
     throw UserError(fmt::format("{}: will not empty the folder that holds the study file {}; choose another folder",
                                 dir.string(), config.file.string()));

@@ -114,7 +114,8 @@ void register_case_command(CLI::App& app, CliState& state) {
   sample->excludes(set);
   sub->add_option("-o,--output", options->output, "Case folder (default case-<K>); it must be empty or new");
   sub->add_flag("--overwrite", options->overwrite,
-                "Empty the case folder first when it holds files (e.g. the outputs of an earlier ./run.sh)");
+                "Empty the case folder first when it holds files (e.g. the outputs of an earlier ./run.sh); only a "
+                "folder that holds a case.json is emptied");
   sub->add_flag("--json", options->json, "Print what was written as JSON");
   sub->callback([options, sample, set, &state] {
     if (sample->count() == 0 && set->count() == 0) throw UserError("demsa case: give --sample K or --set name=value");

@@ -134,6 +134,11 @@ TEST(CaseWriter, FolderWithFilesIsRefusedEmptiedOrRewrittenAsAsked) {
   EXPECT_EQ(read_file(dir / "params.liggghts"), before);
   EXPECT_TRUE(fs::exists(dir / "run.sh"));
 
+  // A folder that holds no case.json is not a case folder: --overwrite leaves it alone.
+  const std::string m3 = test::message_of<UserError>([&] { write_case(c, r, outputs, ExistingCaseFiles::remove); });
+  EXPECT_NE(m3.find("but no case.json: it is not a case folder"), std::string::npos) << m3;
+  EXPECT_TRUE(fs::exists(outputs / "pile_final.dump"));
+
   // A file is not a folder.
   test::write_file(tmp / "plain", "x\n");
   EXPECT_NE(test::message_of<UserError>([&] {
@@ -150,6 +155,7 @@ TEST(CaseWriter, OverwriteNeverEmptiesTheFolderOfTheStudyFile) {
   test::write_file(tmp / "study.toml", text);
   const StudyConfig c = load_study(tmp / "study.toml");
   const CaseRequest r = request_from_unit_point(c, 0, {0.5});
+  test::write_file(tmp / "case.json", "{}\n");  // a case written next to the study file earlier
   const std::string m = test::message_of<UserError>([&] { write_case(c, r, tmp.path(), ExistingCaseFiles::remove); });
   EXPECT_NE(m.find("will not empty the folder that holds the study file"), std::string::npos) << m;
   EXPECT_EQ(read_file(tmp / "study.toml"), text);
