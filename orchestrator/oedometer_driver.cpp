@@ -101,8 +101,7 @@ int drive_oedometer(const std::filesystem::path& case_dir) {
   if (writer) {
     history.open(k_plate_history, std::ios::trunc);
     history << "# demsa trial-step load plate (paper §4): one row per trial; step counts every integration step\n"
-               "# since loading began (restored trials included); accepted 0 = overshoot, backup restored; trial 0 is\n"
-               "# the approach to one trial step above the settled top\n"
+               "# since loading began (restored trials included); accepted 0 = overshoot, backup restored\n"
                "# step load_N plate_z_m force_N trial delta_m accepted\n";
   }
   const auto append_state = [&](double load, double force, bool converged) {
@@ -112,22 +111,6 @@ int drive_oedometer(const std::filesystem::path& case_dir) {
   };
 
   long steps = 0;
-  // Approach (demsa's, not the paper's): the plate starts plate_gap above the settled top, and the paper's loop
-  // would spend plate_gap / δ_T0 trials (67 at its constants: about 10^6 steps) reaching the packing without
-  // touching a particle. One move of n_s steps brings it to one trial step above the settled top instead; the
-  // paper's loop starts from there, with its own δ_T0.
-  const double approach = z - (lmp.variable("settled_top") + options.step0);
-  if (approach > 0.0) {
-    lmp.command(fmt::format("fix approach_move all move/mesh mesh plate linear 0. 0. {:.17g}",
-                            -approach / (static_cast<double>(options.trial_steps) * options.dt)));
-    lmp.command(fmt::format("run {}", options.trial_steps));
-    lmp.command("unfix approach_move");
-    z -= approach;
-    steps += options.trial_steps;
-    if (writer && !options.loads.empty())
-      history << fmt::format("{} {:.10g} {:.10g} {:.10g} 0 {:.6g} 1\n", steps, options.loads.front(), z,
-                             lmp.fix_vector("plate", 2), approach);
-  }
   bool all_converged = true;
   for (const double load : options.loads) {
     double step = options.step0;
