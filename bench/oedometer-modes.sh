@@ -3,14 +3,16 @@
 # loading phase, wall time of the whole case, and the settlements s_i = z_0 - z_i of each mode and their difference.
 # Prints a Markdown table (docs/benchmarks.md, "Oedometer plate modes").
 #
-# usage: bench/oedometer-modes.sh [DEMSA] [PARTICLES] [LOADS]
+# usage: bench/oedometer-modes.sh [DEMSA] [PARTICLES] [LOADS] [FILL_TIME]
 #   DEMSA      demsa executable (default: demsa on PATH)
 #   PARTICLES  particles in the box (default 600)
 #   LOADS      TOML array of loads in N (default "[100.0, 400.0, 1100.0]")
+#   FILL_TIME  pouring and settling before the first load in s (default 0.3)
 set -euo pipefail
 demsa=${1:-demsa}
 particles=${2:-600}
 loads=${3:-"[100.0, 400.0, 1100.0]"}
+fill_time=${4:-0.3}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
@@ -31,7 +33,7 @@ r_min = 2.5e-3
 r_max = 3.5e-3
 r_mean = 3.0e-3
 r_sd = 0.25e-3
-fill_time = 0.3
+fill_time = $fill_time
 loads = $loads
 plate_mode = "$1"
 load_tolerance = 1.0
@@ -72,4 +74,4 @@ echo
 echo "Settlement difference trial-step − servo [mm]: $(paste <(echo "${zs[servo]}" | tr ' ' '\n') \
   <(echo "${zs[trial-step]}" | tr ' ' '\n') | awk -F'[:\t]' 'NF >= 8 { if (NR == 1) { zs0 = $2; zt0 = $6 }
   printf "%s N: %+.4f; ", $1, ((zt0 - $6) - (zs0 - $2)) * 1000 }')"
-echo "($particles particles, E = 2e8 Pa, 1 rank; load average before/after: $load_before / $(cut -d' ' -f1-3 /proc/loadavg))"
+echo "($particles particles, E = 2e8 Pa, fill $fill_time s, 1 rank; load average before/after: $load_before / $(cut -d' ' -f1-3 /proc/loadavg))"
