@@ -42,10 +42,8 @@ struct DesignArgs {
   bool second_order = false;
 };
 
-// Points of the Sobol' sequence at most (sobol_sequence's limit, 30 binary digits per coordinate), and parameters of a
-// Saltelli design at most (A and B are the two halves of one 2d-dimensional sequence, sobol/saltelli.hpp).
+// Points of the Sobol' sequence at most (sobol_sequence's limit, 30 binary digits per coordinate).
 constexpr int k_max_sobol_points = 1 << 30;
-constexpr int k_max_saltelli_dimension = sobol::k_max_sobol_dimension / 2;
 
 struct Parameters {
   std::vector<std::string> names;
@@ -157,10 +155,10 @@ void check_saltelli(const DesignArgs& args, int dimension) {
   if (args.samples < 2)
     throw UserError(fmt::format("--base {}: the base sample size must be at least 2", args.samples));
   check_sobol_samples("--base", args.samples);
-  if (dimension > k_max_saltelli_dimension)
+  if (dimension > sobol::k_max_saltelli_dimension)
     throw UserError(fmt::format(
         "{}: a Saltelli design supports at most {} parameters (A and B come from one {}-dimensional Sobol' sequence)",
-        dimension_source(args, dimension), k_max_saltelli_dimension, 2 * k_max_saltelli_dimension));
+        dimension_source(args, dimension), sobol::k_max_saltelli_dimension, 2 * sobol::k_max_saltelli_dimension));
   const long long blocks = args.second_order ? 2LL * dimension + 2 : dimension + 2LL;
   if (blocks * args.samples > INT_MAX)
     throw UserError(fmt::format("--base {}: the design would have {} x {} = {} rows, more than {}", args.samples,

@@ -99,8 +99,12 @@ void run_saltelli(const SensitivityArgs& args) {
   const CsvTable design = read_csv(args.saltelli);
   const int block_column = design.column_index("block");
   std::vector<std::string> names;
-  for (std::size_t k = 0; k < design.columns.size(); ++k)
-    if (static_cast<int>(k) != block_column) names.push_back(design.columns[k]);
+  std::vector<int> parameter_columns;  // column of names[k] in the file
+  for (int k = 0; k < static_cast<int>(design.columns.size()); ++k)
+    if (k != block_column) {
+      names.push_back(design.columns[static_cast<std::size_t>(k)]);
+      parameter_columns.push_back(k);
+    }
   const int d = static_cast<int>(names.size());
   if (d < 1) design.fail(-1, -1, "no parameter column besides 'block'");
   std::vector<int> codes(static_cast<std::size_t>(design.rows()));
@@ -114,9 +118,6 @@ void run_saltelli(const SensitivityArgs& args) {
   }
   // The parameter values must form a Saltelli design (AB_i from A and B, A and B independent): indices computed
   // from anything else are wrong without any sign in the numbers.
-  std::vector<int> parameter_columns;
-  for (int k = 0; k < static_cast<int>(design.columns.size()); ++k)
-    if (k != block_column) parameter_columns.push_back(k);
   Eigen::MatrixXd x(design.rows(), d);
   for (int k = 0; k < d; ++k) x.col(k) = design.values.col(parameter_columns[static_cast<std::size_t>(k)]);
   try {
@@ -242,10 +243,14 @@ std::vector<sobol::Bounds> parse_bounds(const std::string& text, const std::vect
 /// Two inputs in an exact linear relation (a copy, a unit conversion) make every metamodel singular; say which.
 void check_collinear_inputs(const CsvTable& data, const std::vector<std::string>& inputs,
                             const std::vector<int>& columns) {
+  Eigen::MatrixXd centred(data.rows(), static_cast<Eigen::Index>(inputs.size()));
+  for (std::size_t k = 0; k < inputs.size(); ++k)
+    centred.col(static_cast<Eigen::Index>(k)) =
+        data.values.col(columns[k]).array() - data.values.col(columns[k]).mean();
   for (std::size_t i = 0; i < inputs.size(); ++i)
     for (std::size_t j = i + 1; j < inputs.size(); ++j) {
-      const Eigen::VectorXd a = data.values.col(columns[i]).array() - data.values.col(columns[i]).mean();
-      const Eigen::VectorXd b = data.values.col(columns[j]).array() - data.values.col(columns[j]).mean();
+      const auto a = centred.col(static_cast<Eigen::Index>(i));
+      const auto b = centred.col(static_cast<Eigen::Index>(j));
       const double denominator = std::sqrt(a.squaredNorm() * b.squaredNorm());
       if (!(denominator > 0.0)) continue;  // a constant column is reported with its bounds
       const double r = a.dot(b) / denominator;

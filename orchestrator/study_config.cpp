@@ -211,7 +211,7 @@ void apply_oedometer_preset(const TableReader& r, const toml::node& node, Oedome
   // 0.6595 (mu = 2.47 mm would give 0.653). The former radii, 2.5 to 3.5 mm around 3 mm (E[r^3] = 27.4 mm^3),
   // put V_S = 533 cm^3 above the 500 cm^3 of the sample.
   oedometer.particles = 4642;
-  oedometer.radii = RadiusDistribution{2.0e-3, 3.0e-3, 2.466e-3, 0.25e-3};
+  oedometer.radii = k_paper_oedometer_radii;
 }
 
 void check_radii(const TableReader& r, const toml::table& table, const RadiusDistribution& radii) {

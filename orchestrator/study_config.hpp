@@ -75,16 +75,20 @@ struct PileSettings {
   double domain_half_width = 0.15;  ///< simulation box half width in x and y [m]; particles leaving it are lost
 };
 
+/// Radii of the paper's oedometer assembly one (§4; derivation in apply_oedometer_preset): the `paper` preset and the
+/// default.
+inline constexpr RadiusDistribution k_paper_oedometer_radii{2.0e-3, 3.0e-3, 2.466e-3, 0.25e-3};
+
 /// Oedometer experiment (paper §4).
 struct OedometerSettings {
   int particles = 4642;
-  std::string preset;                                           ///< "" or "paper" (assembly one of §4: 4642 particles)
-  RadiusDistribution radii{2.0e-3, 3.0e-3, 2.466e-3, 0.25e-3};  ///< assembly one of §4 (see apply_oedometer_preset)
-  double box_side = 0.10;                                       ///< [m]
-  double box_height = 0.10;                                     ///< [m]
-  double fill_time = 0.5;                                       ///< pouring and settling before loading [s]
-  std::vector<double> loads{100.0, 400.0, 1100.0, 2700.0};      ///< L_n [N], increasing
-  std::vector<double> measured_settlements;                     ///< s̃_i for loads 1..n-1 relative to load 0 [m]
+  std::string preset;  ///< "" or "paper" (assembly one of §4: 4642 particles)
+  RadiusDistribution radii = k_paper_oedometer_radii;
+  double box_side = 0.10;                                   ///< [m]
+  double box_height = 0.10;                                 ///< [m]
+  double fill_time = 0.5;                                   ///< pouring and settling before loading [s]
+  std::vector<double> loads{100.0, 400.0, 1100.0, 2700.0};  ///< L_n [N], increasing
+  std::vector<double> measured_settlements;                 ///< s̃_i for loads 1..n-1 relative to load 0 [m]
   PlateMode plate_mode = PlateMode::servo;
   // servo mode
   double servo_vel_max = 0.05;  ///< [m/s]; must be < skin/(2 dt)

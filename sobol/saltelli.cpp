@@ -15,8 +15,6 @@ namespace demsa::sobol {
 
 namespace {
 
-constexpr int k_max_saltelli_dimension = k_max_sobol_dimension / 2;
-
 /// Point estimates on the base rows `rows` (a bootstrap resample or 0..N-1), outputs centred by `shift`.
 struct Estimates {
   std::vector<double> first, total, second;  // second: row-major over i < j
@@ -315,8 +313,8 @@ void check_saltelli_inputs(const Eigen::MatrixXd& x, const std::vector<int>& cod
   for (int k = 0; k < dimension; ++k) {
     const double tolerance = 1e-9 * std::max(x.col(k).maxCoeff() - x.col(k).minCoeff(), x.col(k).cwiseAbs().maxCoeff());
     for (std::size_t c = 2; c < blocks.size(); ++c) {
-      const int i = static_cast<int>(c) - 2 < dimension ? static_cast<int>(c) - 2 : static_cast<int>(c) - 2 - dimension;
-      const bool ab = static_cast<int>(c) - 2 < dimension;
+      const bool ab = static_cast<int>(c) - 2 < dimension;  // AB_i, else BA_i
+      const int i = ab ? static_cast<int>(c) - 2 : static_cast<int>(c) - 2 - dimension;
       const std::vector<int>& base = (k == i) == ab ? b : a;
       for (std::size_t t = 0; t < n; ++t) {
         const int row = blocks[c][t], source = base[t];

@@ -13,6 +13,8 @@
 //
 // A and B are the two halves of ONE 2d-dimensional scrambled Sobol' sequence. Taking A and B as consecutive blocks
 // of a d-dimensional sequence correlates them and biases the indices; saltelli_design() never does that.
+#include "sobol/design.hpp"
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -21,6 +23,9 @@
 #include <vector>
 
 namespace demsa::sobol {
+
+/// Most inputs of a Saltelli design: A and B are the two halves of one 2d-dimensional Sobol' sequence.
+inline constexpr int k_max_saltelli_dimension = k_max_sobol_dimension / 2;
 
 struct SaltelliOptions {
   int base = 1024;             ///< N, rows of A and of B, >= 2 (a power of two gives the best balance)
