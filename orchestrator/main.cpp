@@ -1,4 +1,4 @@
 // demsa — sensitivity analysis and calibration of DEM models in LIGGGHTS. Everything lives in the libraries.
-#include "orchestrator/cli.hpp"
+#include "orchestrator/cli/cli.hpp"
 
-int main(int argc, char** argv) { return demsa::run_cli(argc, argv); }
+int main(int argc, char** argv) { return demsa::cli::run_cli(argc, argv); }

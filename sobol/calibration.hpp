@@ -1,5 +1,5 @@
 #pragma once
-// Calibration on metamodels (DESIGN.md §7): find x in a box of [0,1]^d minimising the weighted misfit
+// Calibration on metamodels (ARCHITECTURE.md "sobol/"): find x in a box of [0,1]^d minimising the weighted misfit
 //   J(x) = Σ_k w_k ((m_k(x) - t_k) / s_k)²
 // between metamodel predictions m_k and targets t_k (s_k a scale, e.g. the measurement's uncertainty or the
 // target itself), by a global NLopt pass followed by a local one from its best point (NLopt: Johnson, "The NLopt

@@ -1,5 +1,5 @@
 #pragma once
-// Metamodels on the unit cube (paper §5, DESIGN.md §7): one interface for polynomial response surfaces
+// Metamodels on the unit cube (paper §5): one interface for polynomial response surfaces
 // (sobol/rsm.hpp), radial-basis-function interpolation (sobol/rbf.hpp) and Gaussian-process regression
 // (sobol/gp.hpp). Inputs are rows of x on [0,1]^d (scale physical values with sobol/scaling.hpp first).
 //

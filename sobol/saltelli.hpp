@@ -1,5 +1,5 @@
 #pragma once
-// Sobol' indices from a Saltelli design, for any model (paper §6, DESIGN.md §7):
+// Sobol' indices from a Saltelli design, for any model (paper §6):
 //   S1 by Saltelli et al. 2010 (Comput. Phys. Commun. 181, eq. (b) of Table 2): V_i = mean(f(B) (f(AB_i) - f(A))),
 //   ST by Jansen 1999 (Saltelli 2010, Table 2 (f)): VT_i = mean((f(A) - f(AB_i))^2) / 2,
 //   S2 by Saltelli 2002 (Comput. Phys. Commun. 145): V_ij^closed = mean(f(BA_i) f(AB_j) - f(A) f(B)),

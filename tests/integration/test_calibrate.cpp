@@ -1,7 +1,7 @@
 // `demsa calibrate` and `demsa report` through the real binary, on a synthetic study folder (store written
 // directly, no LIGGGHTS): exit statuses, JSON output, error messages, files.
-#include "orchestrator/store.hpp"
-#include "orchestrator/study_config.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/store.hpp"
 #include "support/synthetic_study.hpp"
 #include "support/test_support.hpp"
 
@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include <random>
+
+using namespace demsa::study;
 
 namespace demsa::test {
 namespace {

@@ -1,4 +1,4 @@
-// The command line's contract (DESIGN.md §3): every subcommand is listed, the version names LIGGGHTS, usage
+// The command line's contract (README "Usage"): every subcommand is listed, the version names LIGGGHTS, usage
 // errors exit 2.
 #include "support/test_support.hpp"
 

@@ -1,5 +1,5 @@
 // `demsa design lhs|sobol|saltelli` through the real binary: files, metrics, and usage errors.
-#include "orchestrator/csv.hpp"
+#include "orchestrator/util/csv.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +10,8 @@
 #include <set>
 #include <string>
 #include <vector>
+
+using namespace demsa::util;
 
 namespace demsa::test {
 namespace {

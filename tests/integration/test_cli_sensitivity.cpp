@@ -1,6 +1,6 @@
 // `demsa sensitivity` through the real binary: Ishigami evaluated outside on a Saltelli design, metamodels on data
 // the user already has, and every bad-input path naming file, line, column and value.
-#include "orchestrator/csv.hpp"
+#include "orchestrator/util/csv.hpp"
 #include "support/test_support.hpp"
 
 #include <fmt/core.h>
@@ -11,6 +11,8 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+
+using namespace demsa::util;
 
 namespace demsa::test {
 namespace {

@@ -1,6 +1,6 @@
 // `demsa run` / `status` / `analyze` end to end against a fake LIGGGHTS (tests/integration/fake_liggghts): every
 // failure class, retries, the timeout, SIGINT, and resume after SIGKILL at random moments.
-#include "orchestrator/store.hpp"
+#include "orchestrator/study/store.hpp"
 
 #include "support/process.hpp"
 #include "support/test_support.hpp"
@@ -21,6 +21,8 @@
 #include <thread>
 
 namespace demsa {
+
+using namespace demsa::study;
 namespace {
 
 namespace fs = std::filesystem;

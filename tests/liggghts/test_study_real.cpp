@@ -1,7 +1,7 @@
 // A real LIGGGHTS study end to end: 6 tiny piles through `demsa run` (local executor, 1 rank each), then the
 // analysis. Checks that every case ran cleanly, that the measured angles are physical, and that the store and the
 // analysis files agree.
-#include "orchestrator/store.hpp"
+#include "orchestrator/study/store.hpp"
 
 #include "support/test_support.hpp"
 
@@ -12,6 +12,8 @@
 #include <filesystem>
 
 namespace demsa {
+
+using namespace demsa::study;
 namespace {
 
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 // The SLURM executor against a real local SLURM (scripts/start-local-slurm.sh; started here when none is
 // running, and stopped again afterwards). Cases are tiny run.sh scripts, so this checks SLURM's side: the batch
 // script, squeue's real output, sentinels, scancel of running and pending tasks, adopt after a "restart".
-#include "orchestrator/slurm_executor.hpp"
+#include "orchestrator/exec/slurm/executor.hpp"
 
 #include "support/test_support.hpp"
 
@@ -12,6 +12,10 @@
 #include <filesystem>
 
 namespace demsa {
+
+using namespace demsa::util;
+using namespace demsa::study;
+using namespace demsa::exec;
 namespace {
 namespace fs = std::filesystem;
 using std::chrono::milliseconds;

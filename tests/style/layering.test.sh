@@ -1,12 +1,45 @@
 #!/usr/bin/env bash
-# The one-way layering of ARCHITECTURE.md: sobol/ and postprocess/ never include orchestrator/, nor each other.
+# The one-way layering of ARCHITECTURE.md:
+#   sobol/ and postprocess/ never include orchestrator/, nor each other;
+#   inside orchestrator/, each folder includes only the folders below it:
+#     util <- study <- cases <- exec, cases <- driver, study <- analysis <- report, and cli on top;
+#   only orchestrator/driver/ includes LIGGGHTS (the one target that links it).
 set -euo pipefail
 cd "${DEMSA_SOURCE_DIR:?}"
 bad=$(grep -nE '#include[[:space:]]*[<"](orchestrator|postprocess)/' sobol/*.hpp sobol/*.cpp || true)
 bad+=$(grep -nE '#include[[:space:]]*[<"](orchestrator|sobol)/' postprocess/*.hpp postprocess/*.cpp || true)
-if [[ -n $bad ]]; then
-  echo "layering broken (sobol/ and postprocess/ must not include orchestrator/ or each other):"
+
+# folder -> the folders (inside orchestrator/ or beside it) it may include
+declare -A allowed=(
+  [util]="util"
+  [study]="util study sobol"
+  [cases]="util study cases sobol"
+  [driver]="util study cases driver"
+  [exec]="util study cases exec sobol postprocess"
+  [analysis]="util study analysis sobol"
+  [report]="util study analysis report sobol postprocess"
+  [cli]="util study cases driver exec analysis report cli sobol postprocess"
+)
+for folder in "${!allowed[@]}"; do
+  [[ -d orchestrator/$folder ]] || { bad+=$'\n'"orchestrator/$folder: missing (ARCHITECTURE.md names it)"; continue; }
+  while IFS= read -r hit; do
+    [[ -n $hit ]] || continue
+    target=$(sed -E 's/.*#include[[:space:]]*"(orchestrator\/)?([a-z_]+)\/.*/\2/' <<<"${hit#*:*:}")
+    if [[ " ${allowed[$folder]} " != *" $target "* ]]; then bad+=$'\n'"$hit"; fi
+  done < <(grep -rnE '#include[[:space:]]*"(orchestrator/[a-z_]+|sobol|postprocess)/' "orchestrator/$folder" || true)
+done
+# every folder of orchestrator/ is a layer of the table above
+for dir in orchestrator/*/; do
+  name=$(basename "$dir")
+  [[ -n ${allowed[$name]+set} ]] || bad+=$'\n'"$dir: a folder that is not a layer of tests/style/layering.test.sh"
+done
+liggghts=$(grep -rlnE '#include[[:space:]]*[<"](liggghts/|library\.h|lammps\.h)' orchestrator sobol postprocess |
+  grep -v '^orchestrator/driver/' || true)
+[[ -z $liggghts ]] || bad+=$'\n'"LIGGGHTS included outside orchestrator/driver/: $liggghts"
+
+if [[ -n ${bad//$'\n'/} ]]; then
+  echo "layering broken (ARCHITECTURE.md):"
   echo "$bad"
   exit 1
 fi
-echo "layering ok: sobol/ and postprocess/ include neither orchestrator/ nor each other"
+echo "layering ok: sobol/ and postprocess/ stand alone; orchestrator/ folders include only the layers below them"

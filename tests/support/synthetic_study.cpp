@@ -4,6 +4,8 @@
 
 #include <random>
 
+using namespace demsa::study;
+
 namespace demsa::test {
 
 SyntheticStudy start_synthetic_study(const std::filesystem::path& dir, const std::string& toml, unsigned seed) {

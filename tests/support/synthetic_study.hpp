@@ -2,8 +2,8 @@
 // Study folders made without running a case: the study file, its design at random points and the store, so that
 // analysis, calibration and report can be tested on observables that are known functions of the parameters.
 // Linked only by the test modules that link the orchestrator.
-#include "orchestrator/store.hpp"
-#include "orchestrator/study_config.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/store.hpp"
 
 #include <filesystem>
 #include <string>
@@ -12,9 +12,9 @@
 namespace demsa::test {
 
 struct SyntheticStudy {
-  StudyConfig config;              ///< the study file as loaded
-  std::vector<SampleRow> samples;  ///< `config.samples` rows at random points of the unit cube
-  Store store;                     ///< DIR/study.db, initialised with `samples`; no run recorded yet
+  study::StudyConfig config;              ///< the study file as loaded
+  std::vector<study::SampleRow> samples;  ///< `config.samples` rows at random points of the unit cube
+  study::Store store;                     ///< DIR/study.db, initialised with `samples`; no run recorded yet
 };
 
 /// Writes DIR/study.toml (`toml`), draws the design at uniform random points of the unit cube (std::mt19937(seed),

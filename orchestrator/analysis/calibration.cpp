@@ -1,0 +1,373 @@
+#include "orchestrator/analysis/calibration.hpp"
+
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/store.hpp"
+#include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "sobol/metamodel.hpp"
+#include "sobol/scaling.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+
+namespace demsa::analysis {
+
+using namespace demsa::util;
+using namespace demsa::study;
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using util::UserError;
+using util::write_file_atomically;
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto begin = s.find_first_not_of(" \t");
+  if (begin == std::string::npos) return "";
+  const auto end = s.find_last_not_of(" \t");
+  return s.substr(begin, end - begin + 1);
+}
+
+double parse_number(const std::string& option, const std::string& whole, const std::string& text) {
+  const std::string t = trim(text);
+  try {
+    size_t used = 0;
+    const double v = std::stod(t, &used);
+    if (used == t.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  throw UserError(fmt::format("{} '{}': '{}' is not a number", option, whole, t));
+}
+
+/// "NAME=V1,V2,..." -> (NAME, values).
+std::pair<std::string, std::vector<double>> parse_assignment(const std::string& option, const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || trim(text.substr(0, eq)).empty())
+    throw UserError(fmt::format("{} '{}': expected NAME=VALUE", option, text));
+  std::vector<double> values;
+  std::stringstream list(text.substr(eq + 1));
+  std::string item;
+  while (std::getline(list, item, ',')) values.push_back(parse_number(option, text, item));
+  if (values.empty()) throw UserError(fmt::format("{} '{}': no value after '='", option, text));
+  return {trim(text.substr(0, eq)), values};
+}
+
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+struct TargetSpec {
+  std::string name;
+  double value = 0.0;
+  double weight = 1.0;
+};
+
+/// Targets from the options, or the study's own ones.
+std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const StudyConfig& config,
+                                        const std::vector<std::string>& available) {
+  std::vector<TargetSpec> targets;
+  const auto known = [&](const std::string& name) {
+    return std::find(available.begin(), available.end(), name) != available.end();
+  };
+  for (const std::string& text : options.targets) {
+    const auto [name, values] = parse_assignment("--target", text);
+    if (name == "settlement" && !known("settlement")) {
+      // settlement=V1,V2,... -> settlement_1, settlement_2, ...
+      for (size_t i = 0; i < values.size(); ++i) {
+        const std::string n = fmt::format("settlement_{}", i + 1);
+        if (!known(n))
+          throw UserError(
+              fmt::format("--target '{}': the study has no observable {} (observables: {})", text, n, join(available)));
+        targets.push_back({n, values[i], 1.0});
+      }
+      continue;
+    }
+    if (!known(name))
+      throw UserError(
+          fmt::format("--target '{}': unknown observable '{}' (observables: {})", text, name, join(available)));
+    if (values.size() != 1) throw UserError(fmt::format("--target '{}': one value expected for {}", text, name));
+    targets.push_back({name, values[0], 1.0});
+  }
+  if (options.targets.empty()) {
+    if (config.experiment == Experiment::pile) {
+      targets.push_back({"angle", config.pile.target_angle, 1.0});
+    } else {
+      const std::vector<double>& measured = config.oedometer.measured_settlements;
+      if (measured.empty())
+        throw UserError(fmt::format(
+            "{}: no --target given and the study has no [oedometer] measured_settlements; give e.g. --target "
+            "settlement=0.5e-3,1.2e-3,1.9e-3",
+            config.file.string()));
+      // Either n-1 values (loads after the first) or n values starting with the first load's 0.
+      const size_t offset = measured.size() == config.oedometer.loads.size() ? 1 : 0;
+      for (size_t i = offset; i < measured.size(); ++i)
+        targets.push_back({fmt::format("settlement_{}", i + 1 - offset), measured[i], 1.0});
+    }
+    for (const TargetSpec& t : targets)
+      if (!known(t.name))
+        throw UserError(fmt::format("{}: the study's target {} has no measured values yet (observables: {})",
+                                    config.file.string(), t.name, join(available)));
+  }
+  std::set<std::string> seen;
+  for (const TargetSpec& t : targets)
+    if (!seen.insert(t.name).second) throw UserError(fmt::format("--target: {} is given twice", t.name));
+  for (const std::string& text : options.weights) {
+    const auto [name, values] = parse_assignment("--weight", text);
+    if (values.size() != 1 || values[0] < 0)
+      throw UserError(fmt::format("--weight '{}': one value >= 0 expected", text));
+    const auto it =
+        std::find_if(targets.begin(), targets.end(), [&name = name](const TargetSpec& t) { return t.name == name; });
+    if (it == targets.end()) throw UserError(fmt::format("--weight '{}': {} is not a target", text, name));
+    it->weight = values[0];
+  }
+  return targets;
+}
+
+}  // namespace
+
+void CalibrateOptions::validate() const {
+  if (dir.empty()) throw UserError("calibrate: a study folder is required");
+  if (global_evaluations < 1) throw UserError(fmt::format("--global-evaluations {}: must be >= 1", global_evaluations));
+  if (local_evaluations < 1) throw UserError(fmt::format("--local-evaluations {}: must be >= 1", local_evaluations));
+  try {
+    sobol::global_algorithm_from_string(global);
+    sobol::local_algorithm_from_string(local);
+    if (!model.empty()) sobol::metamodel_kind_from_string(model);
+  } catch (const sobol::InputError& e) {
+    throw UserError(e.what());
+  }
+}
+
+CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
+  options.validate();
+  const fs::path& dir = options.dir;
+  if (!fs::exists(dir / "study.toml") || !fs::exists(dir / "study.db"))
+    throw UserError(
+        fmt::format("{}: not a study folder (no study.toml and study.db); run `demsa run` first", dir.string()));
+  const StudyConfig config = load_study(dir / "study.toml");
+  const Store store = Store::open_read_only((dir / "study.db").string());
+  const std::vector<SampleRow> samples = store.samples();
+  const std::map<int, std::map<std::string, double>> observables = store.observables();
+
+  std::vector<std::string> available;
+  for (const auto& [sample, values] : observables)
+    for (const auto& [name, value] : values)
+      if (std::find(available.begin(), available.end(), name) == available.end()) available.push_back(name);
+  const std::vector<TargetSpec> specs = resolve_targets(options, config, available);
+
+  CalibrationOutcome outcome;
+  outcome.study = config.name;
+  for (const ParameterRange& p : config.parameters) {
+    outcome.parameters.push_back(p.name);
+    outcome.low.push_back(p.bounds.low);
+    outcome.high.push_back(p.bounds.high);
+  }
+  const size_t d = config.parameters.size();
+  const std::vector<std::string> candidates =
+      options.model.empty() ? config.analysis.metamodels : std::vector<std::string>{options.model};
+
+  // Fit the candidates per target observable; keep the best Q² (docs: README "Usage", `demsa calibrate`).
+  std::vector<std::unique_ptr<sobol::Metamodel>> models;
+  std::vector<sobol::CalibrationTarget> targets;
+  for (const TargetSpec& spec : specs) {
+    std::vector<const SampleRow*> rows;
+    for (const SampleRow& s : samples) {
+      const auto it = observables.find(s.sample);
+      if (it != observables.end() && it->second.count(spec.name)) rows.push_back(&s);
+    }
+    outcome.samples = std::max(outcome.samples, static_cast<int>(rows.size()));
+    if (rows.size() < 2)
+      throw UserError(
+          fmt::format("{}: {} done samples measure {}; calibration needs more", dir.string(), rows.size(), spec.name));
+    Eigen::MatrixXd x(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(d));
+    Eigen::VectorXd y(static_cast<Eigen::Index>(rows.size()));
+    for (size_t i = 0; i < rows.size(); ++i) {
+      for (size_t j = 0; j < d; ++j)
+        x(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = rows[i]->unit.at(j);
+      y(static_cast<Eigen::Index>(i)) = observables.at(rows[i]->sample).at(spec.name);
+    }
+    std::unique_ptr<sobol::Metamodel> best;
+    sobol::MetamodelSummary best_summary;
+    std::string errors;
+    for (const std::string& name : candidates) {
+      try {
+        std::unique_ptr<sobol::Metamodel> m = sobol::make_metamodel(name, config.analysis.metamodel_options());
+        m->fit(x, y);
+        const sobol::MetamodelSummary s = m->summary();
+        // A Q² that is not finite (as many terms as samples: no leave-one-out) ranks below every finite one.
+        const double q2 = std::isfinite(s.q2) ? s.q2 : -std::numeric_limits<double>::infinity();
+        const double best_q2 =
+            std::isfinite(best_summary.q2) ? best_summary.q2 : -std::numeric_limits<double>::infinity();
+        if (!best || q2 > best_q2) {
+          best = std::move(m);
+          best_summary = s;
+        }
+      } catch (const std::exception& e) {
+        errors += fmt::format("\n  {}: {}", name, e.what());
+      }
+    }
+    if (!best)
+      throw UserError(fmt::format("{}: no metamodel could be fitted to {}:{}", dir.string(), spec.name, errors));
+    CalibratedTarget t;
+    t.name = spec.name;
+    t.model = best->name();
+    t.q2 = best_summary.q2;
+    t.r2 = best_summary.r2;
+    t.target = spec.value;
+    t.weight = spec.weight;
+    t.scale = spec.value != 0.0 ? std::abs(spec.value) : (best_summary.sd > 0 ? best_summary.sd : 1.0);
+    outcome.targets.push_back(t);
+    models.push_back(std::move(best));
+    targets.push_back({t.name, models.back().get(), t.target, t.weight, t.scale});
+  }
+
+  sobol::CalibrationOptions nlopt;
+  nlopt.global = sobol::global_algorithm_from_string(options.global);
+  nlopt.local = sobol::local_algorithm_from_string(options.local);
+  nlopt.global_evaluations = options.global_evaluations;
+  nlopt.local_evaluations = options.local_evaluations;
+  nlopt.seed = config.seed;
+  const sobol::CalibrationResult result = sobol::calibrate(targets, nlopt);
+  outcome.unit = result.x;
+  for (size_t j = 0; j < d; ++j)
+    outcome.physical.push_back(sobol::to_physical(result.x[j], config.parameters[j].bounds));
+  for (size_t k = 0; k < outcome.targets.size(); ++k) outcome.targets[k].predicted = result.predictions[k];
+  outcome.misfit = result.misfit;
+  outcome.evaluations = result.evaluations;
+  outcome.global_algorithm = result.global_algorithm;
+  outcome.local_algorithm = result.local_algorithm;
+  outcome.seed = result.seed;
+
+  if (options.verify) {
+    if (!options.run_point) throw util::InternalError("calibrate: verification asked for, but no way to run a case");
+    const study::PointRun run = options.run_point(config, dir / "calibration" / "verify", outcome.unit);
+    outcome.verify_dir = run.folder;
+    outcome.verify_seconds = run.seconds;
+    outcome.verify_error = run.error;
+    outcome.verified = run.error.empty();
+    if (outcome.verified) {
+      for (CalibratedTarget& t : outcome.targets) {
+        const auto it = run.observables.find(t.name);
+        if (it != run.observables.end()) t.measured = it->second;
+      }
+    }
+  }
+
+  fs::create_directories(dir / "analysis");
+  write_file_atomically(dir / "analysis" / "calibration.json", calibration_to_json(outcome));
+  return outcome;
+}
+
+std::string calibration_to_json(const CalibrationOutcome& o) {
+  json j;
+  j["study"] = o.study;
+  json parameters = json::array();
+  for (size_t i = 0; i < o.parameters.size(); ++i)
+    parameters.push_back(json{{"name", o.parameters[i]},
+                              {"low", o.low[i]},
+                              {"high", o.high[i]},
+                              {"unit", o.unit[i]},
+                              {"value", o.physical[i]}});
+  j["parameters"] = parameters;
+  json targets = json::array();
+  for (const CalibratedTarget& t : o.targets) {
+    const auto finite = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+    json e{{"name", t.name},     {"model", t.model},   {"q2", finite(t.q2)}, {"r2", finite(t.r2)},
+           {"target", t.target}, {"weight", t.weight}, {"scale", t.scale},   {"predicted", t.predicted}};
+    e["measured"] = t.measured ? json(*t.measured) : json(nullptr);
+    targets.push_back(e);
+  }
+  j["targets"] = targets;
+  j["misfit"] = o.misfit;
+  j["samples"] = o.samples;
+  j["evaluations"] = o.evaluations;
+  j["global_algorithm"] = o.global_algorithm;
+  j["local_algorithm"] = o.local_algorithm;
+  j["seed"] = o.seed;
+  j["verification"] = json{{"verified", o.verified},
+                           {"dir", o.verify_dir.string()},
+                           {"error", o.verify_error},
+                           {"seconds", o.verify_seconds}};
+  return j.dump(2) + "\n";
+}
+
+CalibrationOutcome read_calibration(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw UserError(fmt::format("{}: cannot read", file.string()));
+  CalibrationOutcome o;
+  try {
+    const json j = json::parse(in);
+    o.study = j.at("study").get<std::string>();
+    for (const json& p : j.at("parameters")) {
+      o.parameters.push_back(p.at("name").get<std::string>());
+      o.low.push_back(p.at("low").get<double>());
+      o.high.push_back(p.at("high").get<double>());
+      o.unit.push_back(p.at("unit").get<double>());
+      o.physical.push_back(p.at("value").get<double>());
+    }
+    for (const json& e : j.at("targets")) {
+      CalibratedTarget t;
+      t.name = e.at("name").get<std::string>();
+      t.model = e.at("model").get<std::string>();
+      t.q2 = e.at("q2").is_number() ? e.at("q2").get<double>() : std::numeric_limits<double>::quiet_NaN();
+      t.r2 = e.at("r2").is_number() ? e.at("r2").get<double>() : std::numeric_limits<double>::quiet_NaN();
+      t.target = e.at("target").get<double>();
+      t.weight = e.at("weight").get<double>();
+      t.scale = e.at("scale").get<double>();
+      t.predicted = e.at("predicted").get<double>();
+      if (!e.at("measured").is_null()) t.measured = e.at("measured").get<double>();
+      o.targets.push_back(t);
+    }
+    o.misfit = j.at("misfit").get<double>();
+    o.samples = j.at("samples").get<int>();
+    o.evaluations = j.at("evaluations").get<int>();
+    o.global_algorithm = j.at("global_algorithm").get<std::string>();
+    o.local_algorithm = j.at("local_algorithm").get<std::string>();
+    o.seed = j.at("seed").get<std::uint64_t>();
+    const json& v = j.at("verification");
+    o.verified = v.at("verified").get<bool>();
+    o.verify_dir = v.at("dir").get<std::string>();
+    o.verify_error = v.at("error").get<std::string>();
+    o.verify_seconds = v.at("seconds").get<double>();
+  } catch (const json::exception& e) {
+    throw UserError(fmt::format("{}: not a calibration file: {}", file.string(), e.what()));
+  }
+  return o;
+}
+
+std::string calibration_text(const CalibrationOutcome& o) {
+  std::string text = fmt::format("calibration of {} on {} done samples ({} + {}, {} evaluations)\n", o.study, o.samples,
+                                 o.global_algorithm, o.local_algorithm, o.evaluations);
+  text += "optimum:\n";
+  for (size_t i = 0; i < o.parameters.size(); ++i)
+    text += fmt::format("  {:<8} = {:<12.6g} (range [{:g}, {:g}], position {:.4f})\n", o.parameters[i], o.physical[i],
+                        o.low[i], o.high[i], o.unit[i]);
+  text += fmt::format("  {:<14} {:<10} {:>8} {:>14} {:>14} {:>14}\n", "observable", "model", "Q2", "target",
+                      "predicted", o.verified ? "measured" : "");
+  for (const CalibratedTarget& t : o.targets)
+    text += fmt::format("  {:<14} {:<10} {:>8.4f} {:>14.6g} {:>14.6g} {:>14}\n", t.name, t.model, t.q2, t.target,
+                        t.predicted, t.measured ? fmt::format("{:.6g}", *t.measured) : "");
+  text += fmt::format("misfit J = {:.6g} (sum of weighted squared relative deviations)\n", o.misfit);
+  if (!o.verify_dir.empty()) {
+    text += o.verified
+                ? fmt::format("verified by a real run in {} ({:.1f} s)\n", o.verify_dir.string(), o.verify_seconds)
+                : fmt::format("verification failed: {}\n", o.verify_error);
+  }
+  return text;
+}
+
+}  // namespace demsa::analysis

@@ -1,0 +1,31 @@
+#pragma once
+// The one JSON form of Sobol' results and metamodel summaries, shared by `demsa sensitivity --json`, the study
+// analysis (analysis.json, sobol_<model>.json, metamodels.json) and the report that reads them back:
+//
+//   index estimate:  {"value": v, "lower": l, "upper": u}          (lower = upper = value without an interval)
+//   Sobol' result:   {"method", "dimension", "base", "evaluations", "mean", "variance",
+//                     "S1": {input: estimate, ...}, "ST": {input: estimate, ...},
+//                     "S2": [{"i": input, "j": input, "S2": estimate}, ...],      (i before j in input order)
+//                     "residual": estimate (1 - Σ S1), "bootstrap", "confidence", "seed",
+//                     "note": "..." (only when intervals were asked for but could not be computed)}
+//   metamodel:       {"name", "samples", "dimension", "terms", "r2", "adjusted_r2", "q2" (leave-one-out),
+//                     "rmse_loo", "mean", "sd", "parameters": {name: value, ...}}
+// Non-finite numbers are written as null.
+#include "sobol/metamodel.hpp"
+#include "sobol/saltelli.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace demsa::analysis {
+
+nlohmann::json index_estimate_json(const sobol::IndexEstimate& estimate);
+
+/// `inputs` names the result's inputs in order (at least `result.first.size()` names).
+nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::vector<std::string>& inputs);
+
+nlohmann::json metamodel_summary_json(const sobol::MetamodelSummary& summary);
+
+}  // namespace demsa::analysis

@@ -1,0 +1,253 @@
+#include "orchestrator/analysis/study_analysis.hpp"
+
+#include "orchestrator/analysis/sobol_json.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/observables.hpp"
+#include "orchestrator/study/store.hpp"
+#include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "sobol/metamodel_sobol.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+namespace demsa::analysis {
+
+using namespace demsa::util;
+using namespace demsa::study;
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string csv_number(double value) { return fmt::format("{:.10g}", value); }
+
+void write_text(const fs::path& path, const std::string& text) { write_file_atomically(path, text); }
+
+double mean_of(const Eigen::VectorXd& y) { return y.size() ? y.mean() : 0.0; }
+
+double sd_of(const Eigen::VectorXd& y) {
+  if (y.size() < 2) return 0.0;
+  const double m = y.mean();
+  return std::sqrt((y.array() - m).square().sum() / static_cast<double>(y.size() - 1));
+}
+
+}  // namespace
+
+void AnalyzeOptions::validate() const {
+  if (dir.empty()) throw std::invalid_argument("dir is empty: a study folder is required");
+  if (bootstrap < -1) throw std::invalid_argument(fmt::format("bootstrap = {}: must be >= 0 (or -1)", bootstrap));
+  if (base_samples != -1 && base_samples < 2)
+    throw std::invalid_argument(fmt::format("base_samples = {}: must be >= 2 (or -1)", base_samples));
+  if (second_order < -1 || second_order > 1)
+    throw std::invalid_argument(fmt::format("second_order = {}: must be -1, 0 or 1", second_order));
+}
+
+AnalysisSummary analyze_study(const AnalyzeOptions& options) {
+  options.validate();
+  const fs::path& dir = options.dir;
+  const fs::path study_file = dir / "study.toml";
+  const fs::path db = dir / "study.db";
+  if (!fs::exists(study_file) || !fs::exists(db))
+    throw UserError(
+        fmt::format("{}: not a study folder (no study.toml and study.db); run `demsa run` first", dir.string()));
+  const StudyConfig config = load_study(study_file);
+  const Store store = Store::open_read_only(db.string());
+  const std::vector<SampleRow> samples = store.samples();
+  const std::map<int, std::map<std::string, double>> observables = store.observables();
+
+  AnalysisSummary summary;
+  summary.out_dir = dir / "analysis";
+  for (const ParameterRange& p : config.parameters) summary.parameters.push_back(p.name);
+  summary.seed = config.seed;
+  summary.bootstrap = options.bootstrap >= 0 ? options.bootstrap : config.analysis.bootstrap;
+  summary.base_samples = options.base_samples >= 0 ? options.base_samples : config.analysis.base_samples;
+  summary.second_order = options.second_order >= 0 ? options.second_order == 1 : config.analysis.second_order;
+  const std::vector<std::string> models = options.metamodels.empty() ? config.analysis.metamodels : options.metamodels;
+  for (const std::string& m : models) sobol::metamodel_kind_from_string(m);  // unknown names: error up front
+
+  for (const SampleRow& s : samples) {
+    if (observables.count(s.sample))
+      summary.samples_used.push_back(s.sample);
+    else
+      summary.samples_left_out.push_back(s.sample);
+  }
+  if (summary.samples_used.size() < 2)
+    throw UserError(fmt::format("{}: {} of {} samples done; the analysis needs at least 2", dir.string(),
+                                summary.samples_used.size(), samples.size()));
+
+  fs::create_directories(summary.out_dir);
+  const std::size_t d = summary.parameters.size();
+
+  // observables.csv
+  std::vector<std::string> names = observable_names(config);
+  std::set<std::string> extra;
+  for (const auto& [sample, values] : observables)
+    for (const auto& [name, value] : values)
+      if (std::find(names.begin(), names.end(), name) == names.end()) extra.insert(name);
+  std::vector<std::string> columns = names;
+  columns.insert(columns.end(), extra.begin(), extra.end());
+  {
+    std::string text = "sample";
+    for (const std::string& p : summary.parameters) text += ",u_" + p;
+    for (const std::string& p : summary.parameters) text += "," + p;
+    for (const std::string& c : columns) text += "," + c;
+    text += "\n";
+    for (const SampleRow& s : samples) {
+      const auto it = observables.find(s.sample);
+      if (it == observables.end()) continue;
+      text += std::to_string(s.sample);
+      for (double u : s.unit) text += "," + csv_number(u);
+      for (double x : s.physical) text += "," + csv_number(x);
+      for (const std::string& c : columns) {
+        const auto v = it->second.find(c);
+        text += "," + (v == it->second.end() ? std::string{} : csv_number(v->second));
+      }
+      text += "\n";
+    }
+    write_text(summary.out_dir / "observables.csv", text);
+  }
+
+  sobol::MetamodelSobolOptions sobol_options;
+  sobol_options.base = summary.base_samples;
+  sobol_options.second_order = summary.second_order;
+  sobol_options.bootstrap = summary.bootstrap;
+  sobol_options.confidence = config.analysis.confidence;
+  sobol_options.seed = config.seed;
+
+  for (const std::string& name : names) {
+    ObservableAnalysis analysis;
+    analysis.name = name;
+    std::vector<const SampleRow*> rows;
+    for (const SampleRow& s : samples) {
+      const auto it = observables.find(s.sample);
+      if (it != observables.end() && it->second.count(name)) rows.push_back(&s);
+    }
+    analysis.samples = static_cast<int>(rows.size());
+    Eigen::MatrixXd x(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(d));
+    Eigen::VectorXd y(static_cast<Eigen::Index>(rows.size()));
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      for (std::size_t j = 0; j < d; ++j)
+        x(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = rows[i]->unit.at(j);
+      y(static_cast<Eigen::Index>(i)) = observables.at(rows[i]->sample).at(name);
+    }
+    analysis.mean = mean_of(y);
+    analysis.sd = sd_of(y);
+    for (const std::string& model_name : models) {
+      ModelAnalysis model;
+      model.model = model_name;
+      try {
+        std::unique_ptr<sobol::Metamodel> metamodel =
+            sobol::make_metamodel(model_name, config.analysis.metamodel_options());
+        metamodel->fit(x, y);
+        model.quality = metamodel->summary();
+        model.indices = sobol::metamodel_sobol(*metamodel, sobol_options);
+        model.ok = true;
+      } catch (const std::exception& e) {
+        // A model that cannot be fitted to this data (too few samples for an RSM of degree 3, a constant
+        // observable) is reported, not fatal: the others still give indices.
+        model.error = e.what();
+      }
+      analysis.models.push_back(std::move(model));
+    }
+    summary.observables.push_back(std::move(analysis));
+  }
+
+  // metamodels.json, sobol_<model>.{csv,json}, table_<observable>.csv, analysis.json
+  json all{{"study", config.name},
+           {"parameters", summary.parameters},
+           {"samples_used", summary.samples_used},
+           {"samples_left_out", summary.samples_left_out},
+           {"seed", summary.seed},
+           {"bootstrap", summary.bootstrap},
+           {"base_samples", summary.base_samples},
+           {"second_order", summary.second_order},
+           {"confidence", config.analysis.confidence}};
+  json metamodels_json = json::object();
+  json observables_json = json::array();
+  for (const ObservableAnalysis& o : summary.observables) {
+    json per_model = json::object();
+    json obs{{"name", o.name}, {"samples", o.samples}, {"mean", o.mean}, {"sd", o.sd}};
+    json model_list = json::array();
+    for (const ModelAnalysis& m : o.models) {
+      json entry{{"model", m.model}, {"ok", m.ok}};
+      if (m.ok) {
+        entry["quality"] = metamodel_summary_json(m.quality);
+        entry["sobol"] = sobol_result_json(m.indices, summary.parameters);
+      } else {
+        entry["error"] = m.error;
+      }
+      per_model[m.model] = m.ok ? metamodel_summary_json(m.quality) : json{{"error", m.error}};
+      model_list.push_back(entry);
+    }
+    metamodels_json[o.name] = per_model;
+    obs["models"] = model_list;
+    observables_json.push_back(obs);
+
+    std::string table = "model";
+    for (const std::string& p : summary.parameters) table += ",S1_" + p;
+    table += ",residual,r2,q2\n";
+    for (const ModelAnalysis& m : o.models) {
+      if (!m.ok) continue;
+      table += m.model;
+      for (const sobol::IndexEstimate& e : m.indices.first) table += "," + csv_number(e.value);
+      table += "," + csv_number(m.indices.residual.value) + "," + csv_number(m.quality.r2) + "," +
+               csv_number(m.quality.q2) + "\n";
+    }
+    write_text(summary.out_dir / fmt::format("table_{}.csv", o.name), table);
+  }
+  all["observables"] = observables_json;
+  write_text(summary.out_dir / "metamodels.json", metamodels_json.dump(2) + "\n");
+  write_text(summary.out_dir / "analysis.json", all.dump(2) + "\n");
+
+  for (const std::string& model_name : models) {
+    std::string csv = "observable,parameter,S1,S1_lower,S1_upper,ST,ST_lower,ST_upper\n";
+    json per_obs = json::object();
+    for (const ObservableAnalysis& o : summary.observables)
+      for (const ModelAnalysis& m : o.models) {
+        if (m.model != model_name || !m.ok) continue;
+        per_obs[o.name] = sobol_result_json(m.indices, summary.parameters);
+        for (std::size_t i = 0; i < d; ++i) {
+          const sobol::IndexEstimate& s1 = m.indices.first.at(i);
+          const sobol::IndexEstimate& st = m.indices.total.at(i);
+          csv += fmt::format("{},{},{},{},{},{},{},{}\n", o.name, summary.parameters[i], csv_number(s1.value),
+                             csv_number(s1.lower), csv_number(s1.upper), csv_number(st.value), csv_number(st.lower),
+                             csv_number(st.upper));
+        }
+        csv += fmt::format("{},residual,{},{},{},,,\n", o.name, csv_number(m.indices.residual.value),
+                           csv_number(m.indices.residual.lower), csv_number(m.indices.residual.upper));
+      }
+    write_text(summary.out_dir / fmt::format("sobol_{}.csv", model_name), csv);
+    write_text(summary.out_dir / fmt::format("sobol_{}.json", model_name), per_obs.dump(2) + "\n");
+  }
+  return summary;
+}
+
+std::string s1_table_text(const AnalysisSummary& summary, const ObservableAnalysis& observable) {
+  std::string text = fmt::format("Sobol' S1 of {} ({} samples", observable.name, observable.samples);
+  if (!summary.samples_left_out.empty()) text += fmt::format(", {} left out", summary.samples_left_out.size());
+  text += ")\n";
+  text += fmt::format("{:<10}", "model");
+  for (const std::string& p : summary.parameters) text += fmt::format(" {:>8}", p);
+  text += fmt::format(" {:>8} {:>7} {:>7}\n", "Res", "R2", "Q2");
+  for (const ModelAnalysis& m : observable.models) {
+    text += fmt::format("{:<10}", m.model);
+    if (!m.ok) {
+      text += fmt::format(" not fitted: {}\n", m.error);
+      continue;
+    }
+    for (const sobol::IndexEstimate& e : m.indices.first) text += fmt::format(" {:>8.3f}", e.value);
+    text += fmt::format(" {:>8.3f} {:>7.3f} {:>7.3f}\n", m.indices.residual.value, m.quality.r2, m.quality.q2);
+  }
+  for (const ModelAnalysis& m : observable.models)
+    if (m.ok && !m.indices.note.empty()) text += fmt::format("{}: {}\n", m.model, m.indices.note);
+  return text;
+}
+
+}  // namespace demsa::analysis

@@ -1,0 +1,71 @@
+#pragma once
+// One LIGGGHTS case folder per sample (README "A study" and "One case by hand"; paper §3–4): the experiment's input
+// script and its includes (embedded in demsa from liggghts_templates/), a generated params.liggghts with every physical
+// value, the geometry (pedestal / plate STL), the initial particles, run.sh and case.json. A person runs it with `cd
+// DIR && ./run.sh`.
+//
+// Files written by LIGGGHTS (or by `demsa drive-oedometer` for the trial-step oedometer) in the folder:
+//   log.liggghts, screen.txt, and pile_final.dump (pile) or oedometer_final.dump, plate_history.txt,
+//   plate_states.txt (oedometer). The names are the constants of study/folder.hpp.
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/folder.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace demsa::cases {
+
+/// The final dump a finished case of `experiment` leaves in its folder.
+std::string final_dump_name(study::Experiment experiment);
+
+/// What to write: one sample of a study (or a hand-set parameter tuple).
+struct CaseRequest {
+  int sample = 0;                          ///< sample index in the design (-1: values set by hand; null in case.json)
+  std::vector<double> unit_point;          ///< the sample in [0,1]^d, ordered as config.parameters
+  std::vector<double> physical;            ///< physical values, ordered as config.parameters
+  std::filesystem::path demsa_executable;  ///< absolute path of demsa (run.sh of a trial-step oedometer calls it)
+  std::string liggghts_version;            ///< recorded in case.json; empty: unknown
+};
+
+/// What was written (also recorded in case.json).
+struct CaseSummary {
+  std::filesystem::path dir;   ///< the case folder
+  study::Material material;    ///< the sample's contact parameters and density
+  double dt = 0.0;             ///< time step [s]
+  double rayleigh_time = 0.0;  ///< T_R of the smallest particle [s]
+  std::string dt_source;       ///< "rayleigh" (fraction * T_R) or "fixed"
+  int particles = 0;           ///< particles of the assembly
+  std::string final_dump;      ///< file name of the final dump
+};
+
+/// What write_case does with a case folder that already holds files (for example the dump and logs of an earlier
+/// ./run.sh, which would no longer match the new case.json).
+enum class ExistingCaseFiles {
+  rewrite,  ///< write the case's files over the folder's; files of other names stay. For callers that empty or
+            ///< remove the folder themselves before (demsa run's per-sample folders on every attempt).
+  refuse,   ///< throw util::UserError naming the folder and a few of its files when it is not empty (demsa case)
+  remove,   ///< remove everything in the folder first (demsa case --overwrite); refused when the folder holds
+            ///< the study file itself
+};
+
+/// Writes the case folder `dir` (created if missing; a folder that already holds files is handled as `existing`
+/// says). Deterministic: the same study and request give byte-identical input files. Throws util::UserError when the
+/// sample's settings break a LIGGGHTS limit (time step, servo speed, Young's modulus range), naming the limit and
+/// the values, and when `dir` is a file or (with `refuse`) a non-empty folder. Nothing is written or removed
+/// when it throws.
+CaseSummary write_case(const study::StudyConfig& config, const CaseRequest& request, const std::filesystem::path& dir,
+                       ExistingCaseFiles existing = ExistingCaseFiles::rewrite);
+
+/// A CaseRequest from explicit parameter values `name=value` (names from contact_parameter_names(); the varied
+/// parameters not named take the middle of their range, the others config.material). Throws util::UserError on an
+/// unknown name or a value outside a varied parameter's range.
+CaseRequest request_from_values(const study::StudyConfig& config,
+                                const std::vector<std::pair<std::string, double>>& values);
+
+/// A CaseRequest for a unit-cube point (ordered as config.parameters; each coordinate in [0,1]).
+CaseRequest request_from_unit_point(const study::StudyConfig& config, int sample,
+                                    const std::vector<double>& unit_point);
+
+}  // namespace demsa::cases

@@ -1,0 +1,74 @@
+#include "orchestrator/cases/physics.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+
+namespace demsa::cases {
+
+using namespace demsa::study;
+
+double shear_modulus(double E, double nu) { return E / (2.0 * (1.0 + nu)); }
+
+double rayleigh_time(double radius, double E, double nu, double density) {
+  assert(radius > 0 && E > 0 && density > 0);
+  // Li, Xu & Thornton (2005), Powder Technol. 160: T_R = π R sqrt(ρ/G) / (0.1631 ν + 0.8766).
+  return std::numbers::pi * radius * std::sqrt(density / shear_modulus(E, nu)) / (0.1631 * nu + 0.8766);
+}
+
+TimestepChoice choose_timestep(const TimestepSettings& settings, const Material& material, double r_min) {
+  TimestepChoice choice;
+  choice.mode = settings.mode;
+  choice.rayleigh_time = rayleigh_time(r_min, material.E, material.nu, material.density);
+  choice.dt = settings.mode == TimestepMode::rayleigh ? settings.fraction * choice.rayleigh_time : settings.value;
+  return choice;
+}
+
+std::vector<std::string> liggghts_limit_violations(const StudyConfig& config, const Material& material,
+                                                   const TimestepChoice& timestep) {
+  std::vector<std::string> problems;
+  const double ratio = timestep.fraction_of_rayleigh();
+  if (ratio > k_max_rayleigh_fraction) {
+    problems.push_back(fmt::format(
+        "time step {:.4g} s is {:.3f} Rayleigh times (T_R = {:.4g} s for the smallest radius at E = {:.4g} Pa, "
+        "nu = {:.4g}, density = {:.4g} kg/m^3); above {} T_R Hertz contacts are not resolved and the run blows "
+        "up: lower [timestep] value or use mode = \"rayleigh\"",
+        timestep.dt, ratio, timestep.rayleigh_time, material.E, material.nu, material.density,
+        k_max_rayleigh_fraction));
+  }
+  if (material.E < k_liggghts_min_E && !material.soft_particles) {
+    problems.push_back(
+        fmt::format("Young's modulus E = {:.4g} Pa is below {:.0e} Pa, which LIGGGHTS refuses in SI units: set "
+                    "[material] soft_particles = true to allow it",
+                    material.E, k_liggghts_min_E));
+  }
+  if (material.E > k_liggghts_max_E && !material.hard_particles) {
+    problems.push_back(
+        fmt::format("Young's modulus E = {:.4g} Pa is above {:.0e} Pa, which LIGGGHTS refuses in SI units: set "
+                    "[material] hard_particles = true to allow it",
+                    material.E, k_liggghts_max_E));
+  }
+  if (config.experiment == Experiment::oedometer && config.oedometer.plate_mode == PlateMode::servo) {
+    const double limit = config.timestep.skin / (2.0 * timestep.dt);
+    if (config.oedometer.servo_vel_max >= limit) {
+      problems.push_back(fmt::format(
+          "[oedometer] servo_vel_max = {:.4g} m/s reaches skin/(2 dt) = {:.4g} m/s (skin {:.4g} m, dt {:.4g} s): "
+          "a mesh moving more than half the neighbor skin per step misses contacts; lower servo_vel_max or raise "
+          "[timestep] skin",
+          config.oedometer.servo_vel_max, limit, config.timestep.skin, timestep.dt));
+    }
+  }
+  return problems;
+}
+
+double disc_append_interval(double r_upper, double gravity) { return std::sqrt(4.0 * r_upper / gravity); }
+
+long steps_for(double duration, double dt) {
+  assert(dt > 0);
+  return std::max(1L, std::lround(duration / dt));
+}
+
+}  // namespace demsa::cases

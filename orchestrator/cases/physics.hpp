@@ -1,0 +1,46 @@
+#pragma once
+// Physics of a case that demsa decides before LIGGGHTS runs (docs/study-file.md; paper §2–4): the Rayleigh time and the
+// time step, the pile's disc schedule, and the limits LIGGGHTS 3.8.0 enforces or silently needs.
+#include "orchestrator/study/config.hpp"
+
+#include <string>
+#include <vector>
+
+namespace demsa::cases {
+
+/// G = E / (2 (1 + ν)) [Pa].
+double shear_modulus(double E, double nu);
+
+/// Rayleigh time of a sphere of radius r [m]: T_R = π r sqrt(ρ/G) / (0.1631 ν + 0.8766) [s]
+/// (Li, Xu, Thornton 2005; the usual DEM critical time for Hertz contacts).
+double rayleigh_time(double radius, double E, double nu, double density);
+
+/// The time step of one sample.
+struct TimestepChoice {
+  double dt = 0.0;             ///< [s]
+  double rayleigh_time = 0.0;  ///< T_R of the smallest particle [s]
+  study::TimestepMode mode = study::TimestepMode::rayleigh;
+  double fraction_of_rayleigh() const { return dt / rayleigh_time; }
+};
+
+/// dt = fraction × T_R(r_min) (mode rayleigh) or the fixed value; T_R is always computed for the checks.
+TimestepChoice choose_timestep(const study::TimestepSettings& settings, const study::Material& material, double r_min);
+
+/// The largest dt / T_R that demsa accepts: above it Hertz contacts between the smallest particles are resolved
+/// in fewer than about ten steps and energy blows up.
+inline constexpr double k_max_rayleigh_fraction = 0.3;
+
+/// Every LIGGGHTS limit the sample breaks, each as one sentence that says which limit and why; empty when the
+/// case is runnable. Checks: dt ≤ 0.3 T_R; the Young's modulus range without the matching flag; for a servo
+/// plate, vel_max < skin / (2 dt) (a mesh that moves more than half the skin per step misses contacts).
+std::vector<std::string> liggghts_limit_violations(const study::StudyConfig& config, const study::Material& material,
+                                                   const TimestepChoice& timestep);
+
+/// Pile (paper §3.2): a new disc is appended every t = sqrt(4 r_U / |g|) — the time in which a disc released at
+/// rest falls 2 r_U, the vertical disc spacing.
+double disc_append_interval(double r_upper, double gravity);
+
+/// Number of steps of `duration` seconds at time step dt (at least 1).
+long steps_for(double duration, double dt);
+
+}  // namespace demsa::cases

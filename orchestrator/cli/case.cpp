@@ -1,0 +1,149 @@
+// `demsa case`: one LIGGGHTS case folder, runnable by hand; and the hidden `demsa drive-oedometer`, which
+// run.sh of a trial-step oedometer case starts under mpirun.
+#include "orchestrator/cases/case_writer.hpp"
+#include "orchestrator/cli/commands.hpp"
+#include "orchestrator/driver/oedometer_driver.hpp"
+#include "orchestrator/exec/liggghts_locator.hpp"
+#include "orchestrator/exec/runner.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/util/errors.hpp"
+
+#include <fmt/core.h>
+#include <mpi.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace demsa::cli {
+
+using namespace demsa::util;
+using namespace demsa::study;
+using namespace demsa::cases;
+using namespace demsa::driver;
+using namespace demsa::exec;
+
+namespace {
+
+struct CaseOptions {
+  std::string study;              ///< the study file
+  int sample = -1;                ///< --sample K (0-based design row)
+  std::vector<std::string> sets;  ///< --set name=value,...
+  std::string output;             ///< -o DIR
+  bool overwrite = false;         ///< --overwrite: empty a non-empty DIR first
+  bool json = false;
+};
+
+/// `name=value` items (comma separated, possibly over several --set options).
+std::vector<std::pair<std::string, double>> parse_sets(const std::vector<std::string>& sets) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const std::string& arg : sets) {
+    std::size_t start = 0;
+    while (start <= arg.size()) {
+      const std::size_t comma = arg.find(',', start);
+      const std::string item = arg.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      start = comma == std::string::npos ? arg.size() + 1 : comma + 1;
+      if (item.empty()) continue;
+      const std::size_t eq = item.find('=');
+      if (eq == std::string::npos || eq == 0) throw UserError(fmt::format("--set: '{}' is not name=value", item));
+      const std::string name = item.substr(0, eq), text = item.substr(eq + 1);
+      char* end = nullptr;
+      const double value = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !std::isfinite(value))
+        throw UserError(fmt::format("--set: {}: '{}' is not a number", name, text));
+      out.emplace_back(name, value);
+    }
+  }
+  return out;
+}
+
+std::filesystem::path self_executable() {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::filesystem::path("demsa") : self;
+}
+
+void run_case(const CaseOptions& o, CliState& state) {
+  const StudyConfig config = load_study(o.study);
+  CaseRequest request;
+  if (o.sample >= 0) {
+    if (o.sample >= config.samples)
+      throw UserError(
+          fmt::format("--sample {}: the study has {} samples (0 to {})", o.sample, config.samples, config.samples - 1));
+    // The study's design, drawn again from its seed exactly as `demsa run` draws it.
+    const std::vector<SampleRow> design = draw_design(config);
+    request = request_from_unit_point(config, o.sample, design.at(static_cast<std::size_t>(o.sample)).unit);
+  } else {
+    request = request_from_values(config, parse_sets(o.sets));
+  }
+  request.demsa_executable = self_executable();
+  if (const auto info = query_liggghts()) request.liggghts_version = info->version;
+  const std::filesystem::path dir =
+      o.output.empty() ? std::filesystem::path(o.sample >= 0 ? fmt::format("case-{:06d}", o.sample) : "case-set")
+                       : std::filesystem::path(o.output);
+  const CaseSummary summary =
+      write_case(config, request, dir, o.overwrite ? ExistingCaseFiles::remove : ExistingCaseFiles::refuse);
+  if (o.json) {
+    nlohmann::ordered_json j{
+        {"dir", summary.dir.string()},
+        {"sample", request.sample >= 0 ? nlohmann::ordered_json(request.sample) : nlohmann::ordered_json(nullptr)},
+        {"particles", summary.particles},
+        {"dt", summary.dt},
+        {"rayleigh_time", summary.rayleigh_time},
+        {"dt_source", summary.dt_source},
+        {"final_dump", summary.final_dump}};
+    fmt::print("{}\n", j.dump(2));
+  } else {
+    fmt::print("wrote {} ({} particles, dt = {:.4g} s = {:.3f} T_R); run it with: cd {} && ./run.sh\n",
+               summary.dir.string(), summary.particles, summary.dt, summary.dt / summary.rayleigh_time,
+               summary.dir.string());
+  }
+  state.exit_code = k_exit_ok;
+}
+
+}  // namespace
+
+void register_case_command(CLI::App& app, CliState& state) {
+  auto options = std::make_shared<CaseOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "case", "Write one LIGGGHTS case folder of a study, runnable by hand with `cd DIR && ./run.sh`");
+  sub->add_option("study", options->study, "Study file (TOML)")->required()->check(CLI::ExistingFile);
+  CLI::Option* sample =
+      sub->add_option("--sample", options->sample, "Design sample K (0-based)")->check(CLI::NonNegativeNumber);
+  CLI::Option* set = sub->add_option("--set", options->sets,
+                                     "Parameter values name=value[,name=value...]; varied parameters not named take "
+                                     "the middle of their range");
+  sample->excludes(set);
+  sub->add_option("-o,--output", options->output, "Case folder (default case-<K>); it must be empty or new");
+  sub->add_flag("--overwrite", options->overwrite,
+                "Empty the case folder first when it holds files (e.g. the outputs of an earlier ./run.sh); only a "
+                "folder that holds a case.json is emptied");
+  sub->add_flag("--json", options->json, "Print what was written as JSON");
+  sub->callback([options, sample, set, &state] {
+    if (sample->count() == 0 && set->count() == 0) throw UserError("demsa case: give --sample K or --set name=value");
+    run_case(*options, state);
+  });
+
+  auto driver_dir = std::make_shared<std::string>();
+  CLI::App* driver = app.add_subcommand("drive-oedometer", "Run a trial-step oedometer case in-process");
+  driver->group("");  // internal: run.sh calls it under mpirun
+  driver->add_option("case_dir", *driver_dir, "Case folder")->required()->check(CLI::ExistingDirectory);
+  driver->callback([driver_dir, &state] {
+    MPI_Init(nullptr, nullptr);
+    int status = k_exit_usage;
+    try {
+      status = drive_oedometer(*driver_dir);
+    } catch (...) {
+      MPI_Finalize();
+      throw;
+    }
+    MPI_Finalize();
+    state.exit_code = status;
+  });
+}
+
+}  // namespace demsa::cli

@@ -1,0 +1,183 @@
+// `demsa compare A B`: particles of two dumps (or of the `*_final.dump` files of two case folders) matched by id;
+// for piles also the angle of repose and h_P. Exit 0 within tolerance, 1 beyond it, 2 on an error.
+#include "orchestrator/cli/commands.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "postprocess/dump.hpp"
+#include "postprocess/dump_compare.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace demsa::cli {
+
+using namespace demsa::util;
+
+namespace fs = std::filesystem;
+namespace pp = demsa::postprocess;
+
+namespace {
+
+struct CompareArgs {
+  std::string a, b;
+  pp::CompareOptions options;
+  bool json = false;
+};
+
+struct ComparedPair {
+  fs::path a, b;
+  pp::DumpComparison result;
+};
+
+nlohmann::json to_json(const ComparedPair& c) {
+  const pp::DumpComparison& r = c.result;
+  nlohmann::json j = {{"a", c.a.string()},
+                      {"b", c.b.string()},
+                      {"particles_a", r.particles_a},
+                      {"particles_b", r.particles_b},
+                      {"common", r.common},
+                      {"missing", r.missing},
+                      {"extra", r.extra},
+                      {"missing_ids", r.missing_ids},
+                      {"extra_ids", r.extra_ids},
+                      {"max_displacement_m", r.max_displacement},
+                      {"max_displacement_id", r.max_displacement_id},
+                      {"rms_displacement_m", r.rms_displacement},
+                      {"radius_mismatches", r.radius_mismatches},
+                      {"radius_mismatch_ids", r.radius_mismatch_ids},
+                      {"max_radius_difference_m", r.max_radius_difference},
+                      {"tolerance",
+                       {{"position_m", r.options.position_tolerance},
+                        {"radius_m", r.options.radius_tolerance},
+                        {"angle_deg", r.options.angle_tolerance}}},
+                      {"within_tolerance", r.within_tolerance()},
+                      {"violations", r.violations}};
+  if (r.pile)
+    j["pile"] = {{"angle_a_deg", r.pile->angle_a},
+                 {"angle_b_deg", r.pile->angle_b},
+                 {"angle_difference_deg", r.pile->angle_difference},
+                 {"height_a_m", r.pile->height_a},
+                 {"height_b_m", r.pile->height_b},
+                 {"height_difference_m", r.pile->height_difference}};
+  else
+    j["pile"] = nullptr;
+  return j;
+}
+
+/// The `*_final.dump` files of a case folder, by name.
+std::vector<std::string> final_dumps(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (e.is_regular_file() && name.size() > 11 && name.compare(name.size() - 11, 11, "_final.dump") == 0)
+      names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+void print_text(const ComparedPair& c) {
+  const pp::DumpComparison& r = c.result;
+  fmt::print("A {}\nB {}\n", c.a.string(), c.b.string());
+  fmt::print("  particles            {} in A, {} in B, {} common, {} missing in B, {} extra in B\n", r.particles_a,
+             r.particles_b, r.common, r.missing, r.extra);
+  fmt::print("  max displacement     {:.6g} m (id {})\n", r.max_displacement, r.max_displacement_id);
+  fmt::print("  RMS displacement     {:.6g} m\n", r.rms_displacement);
+  fmt::print("  radius mismatches    {} (largest difference {:.6g} m)\n", r.radius_mismatches, r.max_radius_difference);
+  if (r.pile) {
+    fmt::print("  angle of repose      {:.4f} deg vs {:.4f} deg (difference {:+.4f})\n", r.pile->angle_a,
+               r.pile->angle_b, r.pile->angle_difference);
+    fmt::print("  pile height h_P      {:.6g} m vs {:.6g} m (difference {:+.6g})\n", r.pile->height_a, r.pile->height_b,
+               r.pile->height_difference);
+  }
+  if (r.within_tolerance())
+    fmt::print("  within tolerance\n");
+  else
+    for (const std::string& v : r.violations) fmt::print("  BEYOND TOLERANCE: {}\n", v);
+}
+
+int run_compare(const CompareArgs& args) {
+  const fs::path a(args.a), b(args.b);
+  std::error_code ec;
+  for (const fs::path& p : {a, b})
+    if (!fs::exists(p, ec)) throw UserError(p.string(), 0, "no such file or folder");
+  const bool dir_a = fs::is_directory(a, ec), dir_b = fs::is_directory(b, ec);
+  if (dir_a != dir_b)
+    throw UserError(
+        fmt::format("compare two dump files or two case folders, not one of each: {} and {}", args.a, args.b));
+
+  std::vector<std::pair<fs::path, fs::path>> pairs;
+  if (dir_a) {
+    const std::vector<std::string> names = final_dumps(a);
+    if (names.empty()) throw UserError(args.a, 0, "case folder has no *_final.dump");
+    for (const std::string& name : names) {
+      if (!fs::exists(b / name, ec)) throw UserError(args.b, 0, fmt::format("case folder has no {} (A has it)", name));
+      pairs.emplace_back(a / name, b / name);
+    }
+  } else {
+    pairs.emplace_back(a, b);
+  }
+
+  std::vector<ComparedPair> compared;
+  for (const auto& [pa, pb] : pairs) {
+    pp::CompareOptions options = args.options;
+    if (pa.filename() == "pile_final.dump") options.pile = true;
+    const pp::Particles particles_a = pp::read_particles(pa);
+    const pp::Particles particles_b = pp::read_particles(pb);
+    try {
+      compared.push_back({pa, pb, pp::compare_particles(particles_a, particles_b, options, pa.string(), pb.string())});
+    } catch (const pp::InputError& e) {
+      throw UserError(e.what());
+    }
+  }
+  bool within = true;
+  for (const ComparedPair& c : compared) within = within && c.result.within_tolerance();
+  if (args.json) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const ComparedPair& c : compared) j.push_back(to_json(c));
+    const nlohmann::json out = {{"within_tolerance", within}, {"comparisons", j}};
+    fmt::print("{}\n", out.dump(2));
+  } else {
+    for (const ComparedPair& c : compared) print_text(c);
+  }
+  return within ? k_exit_ok : k_exit_check_failed;
+}
+
+}  // namespace
+
+void register_compare_command(CLI::App& app, CliState& state) {
+  auto args = std::make_shared<CompareArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "compare",
+      "Compare two dumps or case folders (particles by id; piles also by angle and h_P); exit 1 beyond "
+      "tolerance");
+  sub->add_option("A", args->a, "Reference dump file or case folder")->required();
+  sub->add_option("B", args->b, "Dump file or case folder compared with A")->required();
+  sub->add_option("--tol-pos", args->options.position_tolerance,
+                  "Largest accepted displacement of a particle, and of h_P [m]")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sub->add_option("--tol-angle", args->options.angle_tolerance, "Largest accepted angle-of-repose difference [deg]")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sub->add_option("--tol-radius", args->options.radius_tolerance, "Radius difference that counts as a mismatch [m]")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sub->add_flag("--pile", args->options.pile,
+                "Also compare the angle of repose and h_P (automatic for pile_final.dump)");
+  sub->add_option("--pedestal-radius", args->options.pile_options.pedestal_radius, "Pedestal radius for piles [m]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  sub->add_option("--pedestal-top", args->options.pile_options.pedestal_top, "z of the pedestal top for piles [m]")
+      ->capture_default_str();
+  sub->add_flag("--json", args->json, "Print the comparison as JSON");
+  sub->callback([args, &state] { state.exit_code = run_compare(*args); });
+}
+
+}  // namespace demsa::cli

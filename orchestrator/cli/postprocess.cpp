@@ -1,0 +1,315 @@
+// `demsa postprocess pile DUMP` and `demsa postprocess oedometer PLATEFILE...`: the observables of one case
+// (paper §3.3 angle of repose, §4 settlements), as text or JSON.
+#include "orchestrator/cli/commands.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "postprocess/dump.hpp"
+#include "postprocess/oedometer.hpp"
+#include "postprocess/pile_angle.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demsa::cli {
+
+using namespace demsa::util;
+
+namespace fs = std::filesystem;
+namespace pp = demsa::postprocess;
+
+namespace {
+
+nlohmann::json to_json(const pp::PileAngleResult& r, const std::string& dump) {
+  nlohmann::json j;
+  j["dump"] = dump;
+  j["options"] = {{"pedestal_radius_m", r.options.pedestal_radius},
+                  {"pedestal_top_m", r.options.pedestal_top},
+                  {"axis_x_m", r.options.axis_x},
+                  {"axis_y_m", r.options.axis_y},
+                  {"particle_type", r.options.particle_type},
+                  {"directions", r.options.directions},
+                  {"levels", r.options.levels},
+                  {"level_low", r.options.level_low},
+                  {"level_high", r.options.level_high},
+                  {"min_points", r.options.min_points},
+                  {"point", pp::to_string(r.options.point)},
+                  {"target_angle_deg", r.options.target_angle}};
+  j["particles_total"] = r.particles_total;
+  j["particles_on_pedestal"] = r.particles_on_pedestal;
+  j["pile_height_m"] = r.pile_height;
+  j["level_heights_m"] = r.level_heights;
+  j["directions_used"] = r.directions_used;
+  j["angle_deg"] = r.angle_mean;
+  j["angle_sd_deg"] = r.angle_sd;
+  j["angle_min_deg"] = r.angle_min;
+  j["angle_max_deg"] = r.angle_max;
+  j["angle_error_deg2"] = r.angle_error;
+  nlohmann::json lines = nlohmann::json::array();
+  for (const pp::DirectionLine& l : r.lines)
+    lines.push_back({{"direction", l.direction},
+                     {"phi_deg", l.phi},
+                     {"ex", l.ex},
+                     {"ey", l.ey},
+                     {"points", l.points},
+                     {"used", l.used},
+                     {"angle_deg", l.angle},
+                     {"rms_distance_m", l.rms_distance},
+                     {"radial_low_m", l.radial_low},
+                     {"height_low_m", l.height_low},
+                     {"radial_high_m", l.radial_high},
+                     {"height_high_m", l.height_high}});
+  j["lines"] = std::move(lines);
+  nlohmann::json boundary = nlohmann::json::array();
+  for (const pp::BoundaryParticle& b : r.boundary)
+    boundary.push_back({{"direction", b.direction},
+                        {"level", b.level},
+                        {"id", b.id},
+                        {"x_m", b.x},
+                        {"y_m", b.y},
+                        {"z_m", b.z},
+                        {"radius_m", b.radius},
+                        {"radial_m", b.radial},
+                        {"height_m", b.height}});
+  j["boundary"] = std::move(boundary);
+  return j;
+}
+
+nlohmann::json to_json(const pp::OedometerResult& r) {
+  nlohmann::json j;
+  j["options"] = {{"box_side_m", r.options.box_side},
+                  {"floor_z_m", r.options.floor_z},
+                  {"solid_volume_m3", r.options.solid_volume},
+                  {"measured_settlements_m", r.options.measured_settlements}};
+  nlohmann::json steps = nlohmann::json::array();
+  for (const pp::OedometerStep& s : r.steps) {
+    nlohmann::json step = {{"load_N", s.load_N},       {"plate_z_m", s.plate_z_m},       {"force_N", s.force_N},
+                           {"converged", s.converged}, {"settlement_m", s.settlement_m}, {"stress_Pa", s.stress_Pa}};
+    step["void_ratio"] = s.void_ratio ? nlohmann::json(*s.void_ratio) : nlohmann::json(nullptr);
+    steps.push_back(std::move(step));
+  }
+  j["steps"] = std::move(steps);
+  j["settlements_m"] = r.settlements;
+  j["settlement_error_m"] = r.settlement_error ? nlohmann::json(*r.settlement_error) : nlohmann::json(nullptr);
+  j["all_converged"] = r.all_converged;
+  if (r.history) {
+    const pp::PlateHistory& h = *r.history;
+    nlohmann::json history = {{"file", h.file},     {"columns", h.columns},     {"step", h.step},
+                              {"load_N", h.load_N}, {"plate_z_m", h.plate_z_m}, {"force_N", h.force_N}};
+    if (!h.trial.empty()) history["trial"] = h.trial;
+    if (!h.delta_m.empty()) history["delta_m"] = h.delta_m;
+    if (!h.accepted.empty()) history["accepted"] = h.accepted;
+    j["history"] = std::move(history);
+    j["trials_accepted"] = r.trials_accepted;
+    j["trials_rejected"] = r.trials_rejected;
+  } else {
+    j["history"] = nullptr;
+  }
+  return j;
+}
+
+/// A dump given directly, or the `pile_final.dump` of a case folder.
+fs::path resolve_dump(const std::string& arg, const char* final_name) {
+  const fs::path p(arg);
+  std::error_code ec;
+  if (fs::is_directory(p, ec)) {
+    const fs::path dump = p / final_name;
+    if (!fs::exists(dump, ec)) throw UserError(arg, 0, fmt::format("case folder has no {}", final_name));
+    return dump;
+  }
+  if (!fs::exists(p, ec)) throw UserError(arg, 0, "no such file or folder");
+  return p;
+}
+
+struct PileArgs {
+  std::string dump;
+  pp::PileAngleOptions options;
+  std::string point = "centre";
+  bool json = false;
+};
+
+void run_pile(const PileArgs& a) {
+  pp::PileAngleOptions options = a.options;
+  options.point = pp::boundary_point_kind_from_string(a.point);
+  const fs::path dump = resolve_dump(a.dump, "pile_final.dump");
+  const pp::Particles particles = pp::read_particles(dump);
+  pp::PileAngleResult r;
+  try {
+    r = pp::measure_pile_angle(particles, options);
+  } catch (const pp::InputError& e) {
+    throw UserError(dump.string(), 0, e.what());
+  }
+  if (a.json) {
+    fmt::print("{}\n", to_json(r, dump.string()).dump(2));
+    return;
+  }
+  fmt::print("dump                   {}\n", dump.string());
+  fmt::print("particles on pedestal  {} of {}\n", r.particles_on_pedestal, r.particles_total);
+  fmt::print("pile height h_P        {:.6g} m\n", r.pile_height);
+  fmt::print("levels                 {} between {:.4g} m and {:.4g} m above the pedestal top\n", r.level_heights.size(),
+             r.level_heights.front(), r.level_heights.back());
+  fmt::print("directions used        {} of {}\n", r.directions_used, options.directions);
+  fmt::print("angle of repose        {:.3f} deg (sd {:.3f}, range {:.3f} .. {:.3f})\n", r.angle_mean, r.angle_sd,
+             r.angle_min, r.angle_max);
+  fmt::print("E_phi vs {:.4g} deg     {:.4f} deg^2\n", options.target_angle, r.angle_error);
+}
+
+struct OedometerArgs {
+  std::vector<std::string> files;
+  std::vector<double> measured;
+  pp::OedometerOptions options;
+  std::string dump;
+  double load_tolerance = 0.03;
+  bool json = false;
+};
+
+/// True when the file's column header is the `# step ...` of a plate history.
+bool looks_like_history(const fs::path& path) {
+  const std::string name = path.filename().string();
+  if (name.find("history") != std::string::npos) return true;
+  if (name.find("states") != std::string::npos) return false;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) return false;
+  char line[4096];
+  bool history = false;
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    std::string s(line);
+    if (s.rfind("#", 0) != 0) break;
+    const std::size_t k = s.find_first_not_of("# \t");
+    if (k != std::string::npos && s.compare(k, 5, "step ") == 0) history = true;
+  }
+  std::fclose(f);
+  return history;
+}
+
+void run_oedometer(const OedometerArgs& a) {
+  std::optional<fs::path> states_file, history_file, dump_file;
+  if (!a.dump.empty()) dump_file = resolve_dump(a.dump, "oedometer_final.dump");
+  for (const std::string& arg : a.files) {
+    const fs::path p(arg);
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {  // a case folder: its plate files and final dump
+      if (fs::exists(p / "plate_states.txt", ec)) states_file = p / "plate_states.txt";
+      if (fs::exists(p / "plate_history.txt", ec)) history_file = p / "plate_history.txt";
+      if (!dump_file && fs::exists(p / "oedometer_final.dump", ec)) dump_file = p / "oedometer_final.dump";
+      if (!states_file && !history_file)
+        throw UserError(arg, 0, "case folder has neither plate_states.txt nor plate_history.txt");
+      continue;
+    }
+    if (!fs::exists(p, ec)) throw UserError(arg, 0, "no such file or folder");
+    (looks_like_history(p) ? history_file : states_file) = p;
+  }
+  std::optional<pp::PlateHistory> history;
+  if (history_file) history = pp::read_plate_history(*history_file);
+  std::vector<pp::PlateState> states;
+  if (states_file)
+    states = pp::read_plate_states(*states_file);
+  else
+    states = pp::states_from_history(*history, a.load_tolerance);
+
+  pp::OedometerOptions options = a.options;
+  options.measured_settlements = a.measured;
+  if (dump_file) options.solid_volume = pp::solid_volume(pp::read_particles(*dump_file, 1));
+  const std::string source = (states_file ? *states_file : *history_file).string();
+  pp::OedometerResult r;
+  try {
+    r = pp::measure_oedometer(states, options, std::move(history));
+  } catch (const pp::InputError& e) {
+    throw UserError(source, 0, e.what());
+  }
+  if (a.json) {
+    nlohmann::json j = to_json(r);
+    j["states_file"] = states_file ? nlohmann::json(states_file->string()) : nlohmann::json(nullptr);
+    j["dump"] = dump_file ? nlohmann::json(dump_file->string()) : nlohmann::json(nullptr);
+    fmt::print("{}\n", j.dump(2));
+    return;
+  }
+  fmt::print("load states from {}\n", source);
+  fmt::print("{:>10} {:>14} {:>12} {:>14} {:>12} {:>10} {}\n", "load_N", "plate_z_m", "force_N", "settlement_m",
+             "stress_Pa", "void_ratio", "converged");
+  for (const pp::OedometerStep& s : r.steps)
+    fmt::print("{:>10.6g} {:>14.8g} {:>12.6g} {:>14.6g} {:>12.6g} {:>10} {}\n", s.load_N, s.plate_z_m, s.force_N,
+               s.settlement_m, s.stress_Pa, s.void_ratio ? fmt::format("{:.4f}", *s.void_ratio) : std::string("-"),
+               s.converged ? "yes" : "NO");
+  if (r.settlement_error) fmt::print("E_0 = {:.6g} m\n", *r.settlement_error);
+  if (r.history && !r.history->accepted.empty())
+    fmt::print("trial steps: {} accepted, {} rejected\n", r.trials_accepted, r.trials_rejected);
+  if (!r.all_converged) fmt::print("warning: not every load step converged\n");
+}
+
+}  // namespace
+
+void register_postprocess_command(CLI::App& app, CliState& state) {
+  (void)state;
+  CLI::App* sub = app.add_subcommand("postprocess",
+                                     "Observable (pile angle, oedometer settlements) from a dump or "
+                                     "plate log");
+  sub->require_subcommand(1);
+
+  auto pile = std::make_shared<PileArgs>();
+  CLI::App* p = sub->add_subcommand("pile", "Angle of repose and pile height of a pile dump (paper §3.3)");
+  p->add_option("DUMP", pile->dump, "Final pile dump, or a case folder holding pile_final.dump")->required();
+  p->add_option("--pedestal-radius", pile->options.pedestal_radius, "Pedestal radius r_cy [m]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  p->add_option("--pedestal-top", pile->options.pedestal_top, "z of the pedestal top [m]")->capture_default_str();
+  p->add_option("--axis-x", pile->options.axis_x, "x of the pile axis [m]")->capture_default_str();
+  p->add_option("--axis-y", pile->options.axis_y, "y of the pile axis [m]")->capture_default_str();
+  p->add_option("--type", pile->options.particle_type, "Atom type of the particles (0 = all atoms)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  p->add_option("--directions", pile->options.directions, "Number of directions phi_N")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  p->add_option("--levels", pile->options.levels, "Number of height levels between --level-low and --level-high")
+      ->check(CLI::Range(2, 100000))
+      ->capture_default_str();
+  p->add_option("--level-low", pile->options.level_low, "Lowest level as a fraction of h_P")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  p->add_option("--level-high", pile->options.level_high, "Highest level as a fraction of h_P")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  p->add_option("--min-points", pile->options.min_points, "Directions with fewer boundary points are skipped")
+      ->check(CLI::Range(2, 100000))
+      ->capture_default_str();
+  p->add_option("--point", pile->point, "Fitted point of a boundary particle: centre or surface")
+      ->check(CLI::IsMember({"surface", "centre", "center"}))
+      ->capture_default_str();
+  p->add_option("--target-angle", pile->options.target_angle, "Target angle for E_phi [deg]")->capture_default_str();
+  p->add_flag("--json", pile->json, "Print the whole result (lines and boundary particles included) as JSON");
+  p->callback([pile] {
+    try {
+      pile->options.validate();
+    } catch (const std::invalid_argument& e) {
+      throw UserError(e.what());
+    }
+    run_pile(*pile);
+  });
+
+  auto oedo = std::make_shared<OedometerArgs>();
+  CLI::App* o =
+      sub->add_subcommand("oedometer", "Settlements, stress, void ratio and E_0 from the plate files (paper §4)");
+  o->add_option("PLATEFILE", oedo->files, "plate_states.txt and/or plate_history.txt, or a case folder holding them")
+      ->required();
+  o->add_option("--measured", oedo->measured,
+                "Measured settlements [m] for the loads after the first (comma- or space-separated)")
+      ->delimiter(',');
+  o->add_option("--box-side", oedo->options.box_side, "Inner side of the square box [m]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  o->add_option("--floor-z", oedo->options.floor_z, "z of the box floor [m]")->capture_default_str();
+  o->add_option("--dump", oedo->dump, "Dump whose type-1 particles give the solid volume for the void ratio");
+  o->add_option("--load-tolerance", oedo->load_tolerance,
+                "Without plate_states.txt: |force - load| that counts as converged [N]")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  o->add_flag("--json", oedo->json, "Print the result (with the plate history) as JSON");
+  o->callback([oedo] { run_oedometer(*oedo); });
+}
+
+}  // namespace demsa::cli

@@ -1,0 +1,433 @@
+// `demsa sensitivity`: Sobol' indices for any simulator (README "Usage"; paper §5–6), either
+//   --saltelli DESIGN.csv --responses Y.csv   outputs evaluated outside on a `demsa design saltelli` design, or
+//   --data DATA.csv --inputs ... --output ... samples the user already has: metamodels fitted on the unit cube
+//                                             (scaled by --bounds or by the data's range), indices of each.
+// Every input error names the user's file, line, column and value.
+#include "orchestrator/analysis/sobol_json.hpp"
+#include "orchestrator/cli/commands.hpp"
+#include "orchestrator/util/csv.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "sobol/error.hpp"
+#include "sobol/metamodel.hpp"
+#include "sobol/metamodel_sobol.hpp"
+#include "sobol/saltelli.hpp"
+#include "sobol/scaling.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace demsa::cli {
+
+using namespace demsa::util;
+using namespace demsa::analysis;
+
+namespace {
+
+constexpr int k_mode_default = std::numeric_limits<int>::min();
+
+struct SensitivityArgs {
+  std::string saltelli;
+  std::string responses;
+  std::string data;
+  std::string inputs;
+  std::string outputs;
+  std::string bounds;
+  std::string metamodels = "rsm2,rsm3,rbf-cubic,rbf-tps,gp";
+  bool second_order = false;
+  int bootstrap = k_mode_default;  ///< k_mode_default: 200 resamples for --saltelli, 100 refits for --data
+  double confidence = 0.95;
+  int base = 16384;
+  std::uint64_t seed = 12345;
+  std::string json;  ///< file, or "-" for standard output
+  std::string gp_kernel = "squared-exponential";
+  std::string gp_trend = "constant";
+  bool gp_nugget = false;
+};
+
+/// The numeric options, checked here so that a message names the option as the user typed it.
+void check_numeric_options(const SensitivityArgs& args) {
+  if (args.bootstrap != k_mode_default && args.bootstrap < 0)
+    throw UserError(fmt::format("--bootstrap {}: must be >= 0 (0: no intervals)", args.bootstrap));
+  if (!(args.confidence > 0.0 && args.confidence < 1.0))
+    throw UserError(fmt::format("--confidence {}: must be strictly between 0 and 1 (e.g. 0.95)", args.confidence));
+  if (args.base < 16)
+    throw UserError(
+        fmt::format("--base {}: must be at least 16 (a power of two, e.g. 16384, balances best)", args.base));
+}
+
+std::string interval_text(const sobol::IndexEstimate& e) {
+  if (e.lower == e.value && e.upper == e.value) return fmt::format("{:8.4f}", e.value);
+  return fmt::format("{:8.4f} [{:7.4f}, {:7.4f}]", e.value, e.lower, e.upper);
+}
+
+void print_indices(const sobol::SobolResult& r, const std::vector<std::string>& names) {
+  std::size_t width = 5;
+  for (const std::string& n : names) width = std::max(width, n.size());
+  fmt::print("  {:<{}}  {:<27}  {:<27}\n", "input", width, "S1", "ST");
+  for (std::size_t k = 0; k < names.size(); ++k)
+    fmt::print("  {:<{}}  {:<27}  {:<27}\n", names[k], width, interval_text(r.first[k]), interval_text(r.total[k]));
+  fmt::print("  residual 1 - sum S1: {}\n", interval_text(r.residual));
+  for (const sobol::SecondOrderIndex& s : r.second)
+    fmt::print("  S2 {},{}: {}\n", names[static_cast<std::size_t>(s.i)], names[static_cast<std::size_t>(s.j)],
+               interval_text(s.s));
+  if (r.bootstrap > 0) fmt::print("  ({:g}% intervals from {} bootstrap resamples)\n", 100 * r.confidence, r.bootstrap);
+  if (!r.note.empty()) fmt::print("  ({})\n", r.note);
+}
+
+void write_json(const std::string& target, const nlohmann::json& j) {
+  if (target.empty()) return;
+  if (target == "-") {
+    fmt::print("{}\n", j.dump(2));
+    return;
+  }
+  std::ofstream out(target, std::ios::trunc);
+  if (!out) throw UserError(target, 0, "cannot write the file");
+  out << j.dump(2) << '\n';
+  if (!out.flush()) throw UserError(target, 0, "write failed");
+}
+
+// ---------------------------------------------------------------- --saltelli DESIGN.csv --responses Y.csv
+
+void run_saltelli(const SensitivityArgs& args) {
+  if (args.responses.empty()) throw UserError("--saltelli needs --responses Y.csv (the outputs of every design row)");
+  const CsvTable design = read_csv(args.saltelli);
+  const int block_column = design.column_index("block");
+  std::vector<std::string> names;
+  std::vector<int> parameter_columns;  // column of names[k] in the file
+  for (int k = 0; k < static_cast<int>(design.columns.size()); ++k)
+    if (k != block_column) {
+      names.push_back(design.columns[static_cast<std::size_t>(k)]);
+      parameter_columns.push_back(k);
+    }
+  const int d = static_cast<int>(names.size());
+  if (d < 1) design.fail(-1, -1, "no parameter column besides 'block'");
+  std::vector<int> codes(static_cast<std::size_t>(design.rows()));
+  for (int r = 0; r < design.rows(); ++r) {
+    const double c = design.values(r, block_column);
+    if (c != std::floor(c) || c < 0 || c > 2 * d + 1)
+      design.fail(
+          r, block_column,
+          fmt::format("'{}' is not a block code 0..{} (0 = A, 1 = B, 1+i = AB_i, 1+{}+i = BA_i)", c, 2 * d + 1, d));
+    codes[static_cast<std::size_t>(r)] = static_cast<int>(c);
+  }
+  // The parameter values must form a Saltelli design (AB_i from A and B, A and B independent): indices computed
+  // from anything else are wrong without any sign in the numbers.
+  Eigen::MatrixXd x(design.rows(), d);
+  for (int k = 0; k < d; ++k) x.col(k) = design.values.col(parameter_columns[static_cast<std::size_t>(k)]);
+  try {
+    sobol::check_saltelli_inputs(x, codes, d);
+  } catch (const sobol::DataError& e) {
+    design.fail(e.row(), e.column() >= 0 ? parameter_columns[static_cast<std::size_t>(e.column())] : block_column,
+                e.detail());
+  } catch (const sobol::InputError& e) {
+    throw UserError(args.saltelli, 0, e.what());
+  }
+
+  const CsvTable y = read_csv(args.responses);
+  if (y.rows() != design.rows())
+    throw UserError(args.responses, 0,
+                    fmt::format("{} rows, but the design {} has {}: give one output row per design row, in order",
+                                y.rows(), args.saltelli, design.rows()));
+  const std::vector<std::string> outputs = args.outputs.empty() ? y.columns : split_list(args.outputs);
+
+  sobol::SobolOptions options;
+  options.second_order = args.second_order;
+  options.bootstrap = args.bootstrap == k_mode_default ? 200 : args.bootstrap;
+  options.confidence = args.confidence;
+  options.seed = args.seed;
+  try {
+    options.validate();
+  } catch (const sobol::InputError& e) {
+    throw UserError(e.what());
+  }
+
+  nlohmann::json results = nlohmann::json::array();
+  for (const std::string& name : outputs) {
+    const int column = y.column_index(name);
+    sobol::SaltelliResponses split;
+    try {
+      split = sobol::group_responses(y.values.col(column), codes, d);
+    } catch (const sobol::DataError& e) {
+      // Block structure problems belong to the design file, value problems to the responses file.
+      if (e.detail().rfind("response", 0) == 0) y.fail(e.row(), column, e.detail());
+      design.fail(e.row(), block_column, e.detail());
+    } catch (const sobol::InputError& e) {
+      throw UserError(args.saltelli, 0, e.what());
+    }
+    sobol::SobolResult r;
+    try {
+      r = sobol::sobol_indices(split, options);
+    } catch (const sobol::InputError& e) {
+      throw UserError(args.saltelli, 0, e.what());
+    } catch (const sobol::NumericalError& e) {
+      throw UserError(args.responses, 0, fmt::format("column '{}': {}", name, e.what()));
+    }
+    if (args.json != "-") {
+      fmt::print("{}: Sobol' indices from a Saltelli design, N = {}, {} evaluations\n", name, r.base, r.evaluations);
+      print_indices(r, names);
+    }
+    nlohmann::json j = sobol_result_json(r, names);
+    j["output"] = name;
+    results.push_back(j);
+  }
+  write_json(args.json,
+             {{"design", args.saltelli}, {"responses", args.responses}, {"inputs", names}, {"outputs", results}});
+}
+
+// ---------------------------------------------------------------- --data DATA.csv: metamodels, then indices
+
+/// "name=low:high[:log],..." -> bounds per input (inputs without an entry: the data's range).
+std::vector<sobol::Bounds> parse_bounds(const std::string& text, const std::vector<std::string>& inputs,
+                                        const CsvTable& data, const std::vector<int>& columns) {
+  std::vector<sobol::Bounds> bounds(inputs.size());
+  std::vector<bool> given(inputs.size(), false);
+  for (const std::string& item : split_list(text)) {
+    const std::size_t eq = item.find('=');
+    const std::string name = eq == std::string::npos ? "" : item.substr(0, eq);
+    std::size_t k = 0;
+    while (k < inputs.size() && inputs[k] != name) ++k;
+    if (eq == std::string::npos || k == inputs.size())
+      throw UserError(fmt::format("--bounds '{}': expected NAME=LOW:HIGH[:log] with NAME one of --inputs", item));
+    std::vector<std::string> parts;
+    std::string rest = item.substr(eq + 1);
+    for (std::size_t c = rest.find(':'); c != std::string::npos; c = rest.find(':')) {
+      parts.push_back(rest.substr(0, c));
+      rest = rest.substr(c + 1);
+    }
+    parts.push_back(rest);
+    if (parts.size() < 2 || parts.size() > 3)
+      throw UserError(fmt::format("--bounds '{}': expected NAME=LOW:HIGH[:log]", item));
+    auto number = [&](const std::string& s) {
+      char* end = nullptr;
+      const double v = std::strtod(s.c_str(), &end);
+      if (s.empty() || *end != '\0') throw UserError(fmt::format("--bounds '{}': '{}' is not a number", item, s));
+      return v;
+    };
+    bounds[k].low = number(parts[0]);
+    bounds[k].high = number(parts[1]);
+    if (parts.size() == 3) {
+      try {
+        bounds[k].scale = sobol::scale_from_string(parts[2]);
+      } catch (const sobol::InputError& e) {
+        throw UserError(fmt::format("--bounds '{}': {}", item, e.what()));
+      }
+    }
+    if (given[k]) throw UserError(fmt::format("--bounds: '{}' is given twice", name));
+    given[k] = true;
+  }
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    if (given[k]) continue;
+    const Eigen::VectorXd col = data.values.col(columns[k]);
+    bounds[k].low = col.minCoeff();
+    bounds[k].high = col.maxCoeff();
+    if (bounds[k].low == bounds[k].high)
+      throw UserError(data.file, 0,
+                      fmt::format("column '{}': constant input (every sample is {}): it carries no information; "
+                                  "drop it from --inputs",
+                                  inputs[k], bounds[k].low));
+  }
+  try {
+    sobol::validate_bounds(bounds, inputs);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--bounds: {}", e.what()));
+  }
+  return bounds;
+}
+
+/// Two inputs in an exact linear relation (a copy, a unit conversion) make every metamodel singular; say which.
+void check_collinear_inputs(const CsvTable& data, const std::vector<std::string>& inputs,
+                            const std::vector<int>& columns) {
+  Eigen::MatrixXd centred(data.rows(), static_cast<Eigen::Index>(inputs.size()));
+  for (std::size_t k = 0; k < inputs.size(); ++k)
+    centred.col(static_cast<Eigen::Index>(k)) =
+        data.values.col(columns[k]).array() - data.values.col(columns[k]).mean();
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    for (std::size_t j = i + 1; j < inputs.size(); ++j) {
+      const auto a = centred.col(static_cast<Eigen::Index>(i));
+      const auto b = centred.col(static_cast<Eigen::Index>(j));
+      const double denominator = std::sqrt(a.squaredNorm() * b.squaredNorm());
+      if (!(denominator > 0.0)) continue;  // a constant column is reported with its bounds
+      const double r = a.dot(b) / denominator;
+      if (std::abs(r) < 1.0 - 1e-12) continue;
+      const double slope = a.dot(b) / a.squaredNorm();
+      double intercept = data.values.col(columns[j]).mean() - slope * data.values.col(columns[i]).mean();
+      if (std::abs(intercept) <= 1e-9 * data.values.col(columns[j]).cwiseAbs().maxCoeff()) intercept = 0.0;
+      throw UserError(data.file, 0,
+                      fmt::format("columns '{}' and '{}' are collinear ({} = {:.6g} * {} + {:.6g} in every sample): "
+                                  "no metamodel can tell their effects apart; keep one of them in --inputs",
+                                  inputs[i], inputs[j], inputs[j], slope, inputs[i], intercept));
+    }
+}
+
+void run_data(const SensitivityArgs& args) {
+  const std::vector<std::string> inputs = split_list(args.inputs);
+  const std::vector<std::string> outputs = split_list(args.outputs);
+  if (inputs.empty()) throw UserError("--data needs --inputs NAME,... (the input columns)");
+  if (outputs.empty()) throw UserError("--data needs --output NAME[,...] (the output columns)");
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    for (std::size_t j = i + 1; j < inputs.size(); ++j)
+      if (inputs[i] == inputs[j]) throw UserError(fmt::format("--inputs: '{}' is listed twice", inputs[i]));
+  for (const std::string& output : outputs)
+    for (const std::string& input : inputs)
+      if (output == input)
+        throw UserError(fmt::format("'{}' is both an input (--inputs) and an output (--output)", output));
+  CsvReadOptions read_options;
+  read_options.numeric_columns = inputs;
+  read_options.numeric_columns.insert(read_options.numeric_columns.end(), outputs.begin(), outputs.end());
+  const CsvTable data = read_csv(args.data, read_options);
+  std::vector<int> columns;
+  for (const std::string& n : inputs) columns.push_back(data.column_index(n));
+  for (const std::string& n : outputs) data.column_index(n);
+  const std::vector<sobol::Bounds> bounds = parse_bounds(args.bounds, inputs, data, columns);
+  check_collinear_inputs(data, inputs, columns);
+
+  // Inputs to the unit cube; a value outside its bounds is the user's to fix.
+  Eigen::MatrixXd x(data.rows(), static_cast<Eigen::Index>(inputs.size()));
+  for (int r = 0; r < data.rows(); ++r)
+    for (std::size_t k = 0; k < inputs.size(); ++k) {
+      const double v = data.values(r, columns[k]);
+      const sobol::Bounds& b = bounds[k];
+      if (v < b.low || v > b.high || (b.scale == sobol::Scale::log_uniform && v <= 0.0))
+        data.fail(r, columns[k], fmt::format("{} is outside the bounds [{}, {}]", v, b.low, b.high));
+      x(r, static_cast<Eigen::Index>(k)) = sobol::to_unit(v, b);
+    }
+
+  std::vector<sobol::MetamodelKind> kinds;
+  for (const std::string& name : split_list(args.metamodels)) {
+    try {
+      kinds.push_back(sobol::metamodel_kind_from_string(name));
+    } catch (const sobol::InputError& e) {
+      throw UserError(fmt::format("--metamodels: {}", e.what()));
+    }
+  }
+  if (kinds.empty()) throw UserError("--metamodels: no metamodel named");
+
+  sobol::MetamodelSobolOptions options;
+  options.base = args.base;
+  options.second_order = args.second_order;
+  options.bootstrap = args.bootstrap == k_mode_default ? 100 : args.bootstrap;
+  options.confidence = args.confidence;
+  options.seed = args.seed;
+  try {
+    options.validate();
+  } catch (const sobol::InputError& e) {
+    throw UserError(e.what());
+  }
+  sobol::MetamodelOptions model_options;
+  model_options.gp.seed = args.seed;
+  model_options.gp.nugget = args.gp_nugget;
+  try {
+    model_options.gp.kernel = sobol::gp_kernel_from_string(args.gp_kernel);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--gp-kernel: {}", e.what()));
+  }
+  try {
+    model_options.gp.trend = sobol::gp_trend_from_string(args.gp_trend);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--gp-trend: {}", e.what()));
+  }
+
+  nlohmann::json results = nlohmann::json::array();
+  for (const std::string& output : outputs) {
+    const Eigen::VectorXd y = data.column(output);
+    nlohmann::json models = nlohmann::json::array();
+    for (const sobol::MetamodelKind kind : kinds) {
+      const std::string model_name = sobol::to_string(kind);
+      std::unique_ptr<sobol::Metamodel> model = sobol::make_metamodel(kind, model_options);
+      sobol::MetamodelSummary summary;
+      sobol::SobolResult indices;
+      try {
+        model->fit(x, y);
+        summary = model->summary();
+        indices = sobol::metamodel_sobol(*model, options);
+      } catch (const sobol::DataError& e) {
+        const int column = e.column() >= 0 ? columns[static_cast<std::size_t>(e.column())] : -1;
+        std::string other;
+        if (e.other_row() >= 0) {
+          const std::size_t first = static_cast<std::size_t>(e.other_row());
+          std::string point;
+          for (std::size_t k = 0; k < inputs.size(); ++k)
+            point += fmt::format("{}{} = {}", k ? ", " : "", inputs[k],
+                                 data.values(static_cast<Eigen::Index>(first), columns[k]));
+          other = fmt::format(" (sample {} is line {}: {})", first + 1, data.lines[first], point);
+        }
+        data.fail(e.row(), column,
+                  fmt::format("{}{} (metamodel {}, output '{}')", e.detail(), other, model_name, output));
+      } catch (const sobol::InputError& e) {
+        throw UserError(data.file, 0, fmt::format("output '{}': {}", output, e.what()));
+      } catch (const sobol::NumericalError& e) {
+        throw UserError(data.file, 0, fmt::format("output '{}': {}", output, e.what()));
+      }
+      if (args.json != "-") {
+        fmt::print("{} ~ {}: R2 {:.4f}, adjusted R2 {:.4f}, Q2_LOO {:.4f} ({} samples)\n", output, model_name,
+                   summary.r2, summary.adjusted_r2, summary.q2, summary.samples);
+        print_indices(indices, inputs);
+      }
+      models.push_back({{"metamodel", model_name},
+                        {"quality", metamodel_summary_json(summary)},
+                        {"sobol", sobol_result_json(indices, inputs)}});
+    }
+    results.push_back({{"output", output}, {"metamodels", models}});
+  }
+  nlohmann::json bounds_json = nlohmann::json::array();
+  for (std::size_t k = 0; k < inputs.size(); ++k)
+    bounds_json.push_back({{"input", inputs[k]},
+                           {"low", bounds[k].low},
+                           {"high", bounds[k].high},
+                           {"scale", sobol::to_string(bounds[k].scale)}});
+  write_json(args.json, {{"data", args.data},
+                         {"samples", data.rows()},
+                         {"inputs", inputs},
+                         {"bounds", bounds_json},
+                         {"outputs", results}});
+}
+
+}  // namespace
+
+void register_sensitivity_command(CLI::App& app, CliState& state) {
+  auto args = std::make_shared<SensitivityArgs>();
+  CLI::App* sub =
+      app.add_subcommand("sensitivity", "Metamodels and Sobol' indices from a CSV of samples and responses");
+  sub->add_option("--saltelli", args->saltelli, "Saltelli design written by `demsa design saltelli`");
+  sub->add_option("--responses", args->responses, "CSV of outputs, one row per design row (with --saltelli)");
+  sub->add_option("--data", args->data, "CSV of samples: input and output columns");
+  sub->add_option("--inputs", args->inputs, "Input columns of --data, comma-separated");
+  sub->add_option("--output", args->outputs, "Output column(s), comma-separated (default with --saltelli: all)");
+  sub->add_option("--bounds", args->bounds, "NAME=LOW:HIGH[:log],... bounds of inputs (default: the data's range)");
+  sub->add_option("--metamodels", args->metamodels, "rsm1, rsm2, rsm3, rbf-cubic, rbf-tps, gp (comma-separated)")
+      ->capture_default_str();
+  sub->add_flag("--second-order", args->second_order, "Also compute second-order indices S2");
+  sub->add_option("--bootstrap", args->bootstrap,
+                  "Bootstrap resamples (default 200 for --saltelli, 100 design refits for --data)");
+  sub->add_option("--confidence", args->confidence, "Confidence level of the intervals")->capture_default_str();
+  sub->add_option("--base", args->base, "QMC base sample size N for metamodel indices")->capture_default_str();
+  sub->add_option("--seed", args->seed, "Seed of the QMC design and of the bootstrap")->capture_default_str();
+  sub->add_option("--json", args->json, "Write the results as JSON to this file ('-': standard output only)");
+  sub->add_option("--gp-kernel", args->gp_kernel, "Correlation of the gp metamodel: squared-exponential, matern52")
+      ->capture_default_str();
+  sub->add_option("--gp-trend", args->gp_trend, "Trend of the gp metamodel: constant, linear")->capture_default_str();
+  sub->add_flag("--gp-nugget", args->gp_nugget,
+                "Estimate a nugget in the gp metamodel (noisy simulators such as DEM: it then smooths, not "
+                "interpolates)");
+  sub->callback([args, &state] {
+    if (!args->saltelli.empty() == !args->data.empty())
+      throw UserError("give exactly one of --saltelli DESIGN.csv (with --responses) or --data DATA.csv");
+    check_numeric_options(*args);
+    if (!args->saltelli.empty())
+      run_saltelli(*args);
+    else
+      run_data(*args);
+    state.exit_code = k_exit_ok;
+  });
+}
+
+}  // namespace demsa::cli

@@ -1,0 +1,45 @@
+#include "orchestrator/exec/measure.hpp"
+
+#include "orchestrator/study/folder.hpp"
+#include "postprocess/dump.hpp"
+#include "postprocess/oedometer.hpp"
+#include "postprocess/pile_angle.hpp"
+
+#include <fmt/core.h>
+
+namespace demsa::exec {
+
+using namespace demsa::util;
+using namespace demsa::study;
+
+namespace fs = std::filesystem;
+
+std::map<std::string, double> measure_case(const StudyConfig& config, const fs::path& folder) {
+  std::map<std::string, double> values;
+  if (config.experiment == Experiment::pile) {
+    const postprocess::Particles particles = postprocess::read_particles(folder / k_pile_final_dump, 1);
+    postprocess::PileAngleOptions options;
+    options.pedestal_radius = config.pile.pedestal_radius;
+    options.pedestal_top = config.pile.pedestal_height;
+    options.directions = config.pile.directions;
+    options.levels = config.pile.levels;
+    options.target_angle = config.pile.target_angle;
+    const postprocess::PileAngleResult result = postprocess::measure_pile_angle(particles, options);
+    values["angle"] = result.angle_mean;
+    values["pile_height"] = result.pile_height;
+    values["angle_sd"] = result.angle_sd;
+    values["particles_on_pedestal"] = static_cast<double>(result.particles_on_pedestal);
+    return values;
+  }
+  const std::vector<postprocess::PlateState> states = postprocess::read_plate_states(folder / k_plate_states);
+  postprocess::OedometerOptions options;
+  options.box_side = config.oedometer.box_side;
+  options.measured_settlements = config.oedometer.measured_settlements;
+  const postprocess::OedometerResult result = postprocess::measure_oedometer(states, options);
+  for (std::size_t i = 0; i < result.settlements.size(); ++i)
+    values[fmt::format("settlement_{}", i + 1)] = result.settlements[i];
+  if (result.settlement_error) values["settlement_error"] = *result.settlement_error;
+  return values;
+}
+
+}  // namespace demsa::exec

@@ -1,0 +1,852 @@
+#include "orchestrator/report/report.hpp"
+
+#include "orchestrator/analysis/calibration.hpp"
+#include "orchestrator/analysis/study_analysis.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/store.hpp"
+#include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "postprocess/dump.hpp"
+#include "postprocess/oedometer.hpp"
+#include "postprocess/pile_angle.hpp"
+#include "sobol/metamodel.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+
+namespace demsa::report {
+
+using namespace demsa::util;
+using namespace demsa::study;
+using namespace demsa::analysis;
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// ------------------------------------------------------------------------------------------- rendering
+
+std::string base64_encode(const std::string& bytes) {
+  static constexpr char k_alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const unsigned v = static_cast<unsigned char>(bytes[i]) << 16 | static_cast<unsigned char>(bytes[i + 1]) << 8 |
+                       static_cast<unsigned char>(bytes[i + 2]);
+    out += k_alphabet[(v >> 18) & 63];
+    out += k_alphabet[(v >> 12) & 63];
+    out += k_alphabet[(v >> 6) & 63];
+    out += k_alphabet[v & 63];
+  }
+  if (i + 1 == bytes.size()) {
+    const unsigned v = static_cast<unsigned char>(bytes[i]) << 16;
+    out += k_alphabet[(v >> 18) & 63];
+    out += k_alphabet[(v >> 12) & 63];
+    out += "==";
+  } else if (i + 2 == bytes.size()) {
+    const unsigned v = static_cast<unsigned char>(bytes[i]) << 16 | static_cast<unsigned char>(bytes[i + 1]) << 8;
+    out += k_alphabet[(v >> 18) & 63];
+    out += k_alphabet[(v >> 12) & 63];
+    out += k_alphabet[(v >> 6) & 63];
+    out += '=';
+  }
+  return out;
+}
+
+namespace {
+
+/// A number with 3 significant digits, small ones in scientific notation (as the paper's tables: 3.7E-5).
+std::string short_number(double v) {
+  if (!std::isfinite(v)) return "n/a";
+  // Below 1e-6 an index is round-off of a zero (exact RSM indices come out as 1e-31).
+  if (std::abs(v) < 1e-6) return "0";
+  if (std::abs(v) < 1e-3 || std::abs(v) >= 1e5) return fmt::format("{:.2e}", v);
+  return fmt::format("{:.3g}", v);
+}
+
+}  // namespace
+
+std::string format_interval(double value, double low, double high) {
+  std::string text = short_number(value);
+  // An interval that rounds onto the value (exact indices) is left out.
+  const bool has =
+      std::isfinite(low) && std::isfinite(high) && !(short_number(low) == text && short_number(high) == text);
+  if (has) text += fmt::format(" [{}, {}]", short_number(low), short_number(high));
+  return text;
+}
+
+namespace {
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+/// Inline Markdown `code` and *emphasis* as HTML (after escaping).
+std::string html_inline(const std::string& text) {
+  const std::string escaped = html_escape(text);
+  std::string out;
+  bool code = false;
+  bool em = false;
+  for (char c : escaped) {
+    if (c == '`') {
+      out += code ? "</code>" : "<code>";
+      code = !code;
+    } else if (c == '*' && !code) {
+      out += em ? "</em>" : "<em>";
+      em = !em;
+    } else {
+      out += c;
+    }
+  }
+  if (code) out += "</code>";
+  if (em) out += "</em>";
+  return out;
+}
+
+std::string md_cell(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|') out += "\\";
+    out += c;
+  }
+  return out;
+}
+
+std::string read_binary(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot read", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+std::string render_markdown(const ReportDocument& document, const fs::path& folder) {
+  std::string md = fmt::format("# {}\n", document.title);
+  for (const ReportSection& s : document.sections) {
+    md += fmt::format("\n{} {}\n", std::string(static_cast<size_t>(std::clamp(s.level, 2, 4)), '#'), s.heading);
+    for (const std::string& p : s.paragraphs) md += fmt::format("\n{}\n", p);
+    for (const ReportTable& t : s.tables) {
+      if (!t.caption.empty()) md += fmt::format("\n*{}*\n", t.caption);
+      md += "\n|";
+      for (const std::string& h : t.header) md += fmt::format(" {} |", md_cell(h));
+      md += "\n|";
+      for (size_t i = 0; i < t.header.size(); ++i) md += i == 0 ? " :--- |" : " ---: |";
+      md += "\n";
+      for (const std::vector<std::string>& row : t.rows) {
+        md += "|";
+        for (const std::string& c : row) md += fmt::format(" {} |", md_cell(c));
+        md += "\n";
+      }
+    }
+    for (const ReportFigure& f : s.figures) {
+      const std::string png = fs::relative(f.files.png, folder).generic_string();
+      const std::string svg = fs::relative(f.files.svg, folder).generic_string();
+      const std::string gp = fs::relative(f.files.script, folder).generic_string();
+      md += fmt::format("\n![{}]({})\n\n*{}* ([SVG]({}), [gnuplot script]({}))\n", f.caption, png, f.caption, svg, gp);
+    }
+  }
+  return md;
+}
+
+std::string render_html(const ReportDocument& document) {
+  std::string html =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + html_escape(document.title) +
+      "</title>\n<style>\n"
+      "body { font-family: 'DejaVu Sans', Helvetica, Arial, sans-serif; max-width: 1100px; margin: 2em auto; "
+      "padding: 0 1em; color: #222; line-height: 1.45; }\n"
+      "table { border-collapse: collapse; margin: 0.6em 0 1.2em; font-size: 0.92em; }\n"
+      "th, td { border: 1px solid #bbb; padding: 0.25em 0.6em; text-align: right; }\n"
+      "th:first-child, td:first-child { text-align: left; }\n"
+      "th { background: #eef1f6; }\n caption { caption-side: top; font-style: italic; text-align: left; "
+      "padding-bottom: 0.3em; }\n"
+      "figure { margin: 1.2em 0; } figure img { max-width: 100%; border: 1px solid #ddd; }\n"
+      "figcaption { font-style: italic; }\n code { background: #f3f3f3; padding: 0 0.2em; }\n"
+      "</style>\n</head>\n<body>\n";
+  html += "<h1>" + html_escape(document.title) + "</h1>\n";
+  for (const ReportSection& s : document.sections) {
+    const int level = std::clamp(s.level, 2, 4);
+    html += fmt::format("<h{0}>{1}</h{0}>\n", level, html_escape(s.heading));
+    for (const std::string& p : s.paragraphs) html += "<p>" + html_inline(p) + "</p>\n";
+    for (const ReportTable& t : s.tables) {
+      html += "<table>\n";
+      if (!t.caption.empty()) html += "<caption>" + html_inline(t.caption) + "</caption>\n";
+      html += "<tr>";
+      for (const std::string& h : t.header) html += "<th>" + html_escape(h) + "</th>";
+      html += "</tr>\n";
+      for (const std::vector<std::string>& row : t.rows) {
+        html += "<tr>";
+        for (const std::string& c : row) html += "<td>" + html_escape(c) + "</td>";
+        html += "</tr>\n";
+      }
+      html += "</table>\n";
+    }
+    for (const ReportFigure& f : s.figures) {
+      html += "<figure><img alt=\"" + html_escape(f.caption) + "\" src=\"data:image/png;base64," +
+              base64_encode(read_binary(f.files.png)) + "\">\n<figcaption>" + html_escape(f.caption) +
+              "</figcaption></figure>\n";
+    }
+  }
+  html += "</body>\n</html>\n";
+  return html;
+}
+
+void ReportOptions::validate() const {
+  if (dir.empty()) throw UserError("report: a study folder is required");
+  if (sample < -1) throw UserError(fmt::format("--sample {}: must be a sample index >= 0", sample));
+  plot.validate();
+}
+
+// ------------------------------------------------------------------------------------------ the study report
+
+namespace {
+
+constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+
+struct ParameterLabel {
+  std::string plain;     ///< for tables: "μ_R,PP"
+  std::string enhanced;  ///< for gnuplot: "μ_{R,PP}"
+  std::string unit;      ///< "Pa", "-"
+};
+
+ParameterLabel parameter_label(const std::string& name) {
+  static const std::map<std::string, ParameterLabel> labels{
+      {"E", {"E", "E", "Pa"}},
+      {"nu", {"ν", "ν", "-"}},
+      {"mu_pp", {"μ_PP", "μ_{PP}", "-"}},
+      {"mu_pw", {"μ_PW", "μ_{PW}", "-"}},
+      {"e_r", {"e_r", "e_r", "-"}},
+      {"mu_r_pp", {"μ_R,PP", "μ_{R,PP}", "-"}},
+      {"mu_r_pw", {"μ_R,PW", "μ_{R,PW}", "-"}},
+  };
+  const auto it = labels.find(name);
+  if (it != labels.end()) return it->second;
+  return {name, name, "-"};
+}
+
+struct ObservableLabel {
+  std::string text;   ///< "angle of repose"
+  std::string unit;   ///< "°"
+  double factor = 1;  ///< shown value = stored value × factor (m -> mm)
+};
+
+ObservableLabel observable_label(const std::string& name) {
+  if (name == "angle") return {"angle of repose", "°", 1};
+  if (name == "angle_sd") return {"spread of the angle over directions", "°", 1};
+  if (name == "pile_height") return {"pile height", "mm", 1e3};
+  if (name == "settlement_error") return {"settlement error E_0", "mm", 1e3};
+  if (name.rfind("settlement_", 0) == 0) return {"settlement s_" + name.substr(11), "mm", 1e3};
+  return {name, "", 1};
+}
+
+std::string axis_label(const std::string& observable) {
+  const ObservableLabel l = observable_label(observable);
+  return l.unit.empty() ? l.text : fmt::format("{} [{}]", l.text, l.unit);
+}
+
+std::string model_title(const std::string& model) {
+  static const std::map<std::string, std::string> titles{{"rsm1", "RSM linear"},     {"rsm2", "RSM quad."},
+                                                         {"rsm3", "RSM cub."},       {"rbf-cubic", "RBF cub."},
+                                                         {"rbf-tps", "RBF th. pl."}, {"gp", "Gaussian process"}};
+  const auto it = titles.find(model);
+  return it == titles.end() ? model : it->second;
+}
+
+std::string hours(double seconds) {
+  return seconds >= 3600 * 10 ? fmt::format("{:.1f} h", seconds / 3600) : fmt::format("{:.3f} h", seconds / 3600);
+}
+
+/// A number of analysis.json; null (how JSON writes NaN, e.g. Q² of a model with as many terms as samples) is NaN.
+double number(const json& value) { return value.is_number() ? value.get<double>() : k_nan; }
+
+/// "0.9871", or "n/a" for NaN.
+std::string fixed4(double v) { return std::isfinite(v) ? fmt::format("{:.4f}", v) : "n/a"; }
+
+IntervalValue interval(const json& e) { return {number(e.at("value")), number(e.at("lower")), number(e.at("upper"))}; }
+
+std::string interval_text(const IntervalValue& v) { return format_interval(v.value, v.low, v.high); }
+
+struct StudyData {
+  StudyConfig config;
+  std::vector<SampleRow> samples;
+  std::map<int, std::map<std::string, double>> observables;
+  std::vector<RunRow> runs;
+  StoreCounts counts;
+};
+
+/// Training data of one observable: unit-cube x, physical x, y (samples that measured it).
+struct ObservableData {
+  Eigen::MatrixXd unit;
+  Eigen::MatrixXd physical;
+  Eigen::VectorXd y;
+};
+
+ObservableData observable_data(const StudyData& s, const std::string& name) {
+  std::vector<const SampleRow*> rows;
+  for (const SampleRow& r : s.samples) {
+    const auto it = s.observables.find(r.sample);
+    if (it != s.observables.end() && it->second.count(name)) rows.push_back(&r);
+  }
+  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index d = static_cast<Eigen::Index>(s.config.parameters.size());
+  ObservableData data{Eigen::MatrixXd(n, d), Eigen::MatrixXd(n, d), Eigen::VectorXd(n)};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < d; ++j) {
+      data.unit(i, j) = rows[static_cast<size_t>(i)]->unit.at(static_cast<size_t>(j));
+      data.physical(i, j) = rows[static_cast<size_t>(i)]->physical.at(static_cast<size_t>(j));
+    }
+    data.y(i) = s.observables.at(rows[static_cast<size_t>(i)]->sample).at(name);
+  }
+  return data;
+}
+
+ReportSection summary_section(const StudyData& s) {
+  ReportSection section;
+  section.heading = "Study";
+  const StudyConfig& c = s.config;
+  const std::string experiment =
+      c.experiment == Experiment::pile ? "pile (angle of repose, paper §3)" : "oedometer (settlements, paper §4)";
+  section.paragraphs.push_back(fmt::format("Study `{}`: {} experiment, design `{}` of {} samples, seed {}.", c.name,
+                                           experiment, c.design, c.samples, c.seed));
+  double cpu = 0;
+  double wall = 0;
+  std::map<std::string, int> failed_attempts;
+  std::map<int, std::string> last_failure;
+  std::map<int, bool> done;
+  for (const RunRow& r : s.runs) {
+    cpu += r.cpu_seconds;
+    wall += r.wall_seconds;
+    if (r.state == RunState::done) done[r.sample] = true;
+    if (r.state == RunState::failed) {
+      ++failed_attempts[r.failure.empty() ? "unclassified" : r.failure];
+      last_failure[r.sample] = r.failure.empty() ? "unclassified" : r.failure;
+    }
+  }
+  std::map<std::string, int> failed_samples;
+  for (const auto& [sample, cls] : last_failure)
+    if (!done.count(sample)) ++failed_samples[cls];
+  section.paragraphs.push_back(
+      fmt::format("Samples: {} in the design, {} done, {} failed, {} running, {} pending; {} run attempts in all. "
+                  "CPU time of all attempts: {} (wall time {}, mean {:.1f} s per done case).",
+                  s.counts.samples, s.counts.done, s.counts.failed, s.counts.running, s.counts.pending,
+                  s.counts.attempts, hours(cpu), hours(wall), s.counts.mean_done_wall));
+
+  ReportTable parameters;
+  parameters.caption = "Varied parameters (paper Table 3)";
+  parameters.header = {"parameter", "symbol", "low", "high", "scale", "unit"};
+  for (const ParameterRange& p : c.parameters) {
+    const ParameterLabel l = parameter_label(p.name);
+    parameters.rows.push_back({p.name, l.plain, fmt::format("{:g}", p.bounds.low), fmt::format("{:g}", p.bounds.high),
+                               sobol::to_string(p.bounds.scale), l.unit});
+  }
+  section.tables.push_back(parameters);
+
+  ReportTable failures;
+  failures.caption = "Failures by class (samples not done whose last attempt failed; all failed attempts)";
+  failures.header = {"failure class", "samples", "attempts"};
+  for (const auto& [cls, n] : failed_attempts)
+    failures.rows.push_back(
+        {cls, std::to_string(failed_samples.count(cls) ? failed_samples.at(cls) : 0), std::to_string(n)});
+  if (failures.rows.empty())
+    section.paragraphs.push_back("No failed attempts.");
+  else
+    section.tables.push_back(failures);
+  return section;
+}
+
+struct ModelEntry {
+  std::string name;
+  bool ok = false;
+  std::string error;
+  json quality;
+  json sobol;
+};
+
+std::vector<ModelEntry> model_entries(const json& observable) {
+  std::vector<ModelEntry> models;
+  for (const json& m : observable.at("models")) {
+    ModelEntry e;
+    e.name = m.at("model").get<std::string>();
+    e.ok = m.at("ok").get<bool>();
+    if (e.ok) {
+      e.quality = m.at("quality");
+      e.sobol = m.at("sobol");
+    } else {
+      e.error = m.value("error", std::string());
+    }
+    models.push_back(std::move(e));
+  }
+  return models;
+}
+
+/// Tables and plots of one observable.
+ReportSection observable_section(const StudyData& s, const json& observable, const std::vector<std::string>& names,
+                                 const Plotter& plotter, const fs::path& out, ReportSummary& summary) {
+  const std::string name = observable.at("name").get<std::string>();
+  const ObservableLabel label = observable_label(name);
+  ReportSection section;
+  section.heading = fmt::format("Observable `{}`: {}", name, label.text);
+  section.paragraphs.push_back(fmt::format("{} samples; mean {} {}, standard deviation {} {}.",
+                                           observable.at("samples").get<int>(),
+                                           short_number(number(observable.at("mean")) * label.factor), label.unit,
+                                           short_number(number(observable.at("sd")) * label.factor), label.unit));
+  const ObservableData data = observable_data(s, name);
+  if (data.y.size() < 2) {
+    section.paragraphs.push_back("Too few done samples measure it: no tables and no plots.");
+    return section;
+  }
+  const std::vector<ModelEntry> models = model_entries(observable);
+  std::vector<std::string> symbols;
+  for (const std::string& p : names) symbols.push_back(parameter_label(p).plain);
+
+  ReportTable quality;
+  quality.caption = "Metamodel quality: R² on the samples, adjusted R², leave-one-out Q² and RMSE";
+  quality.header = {"metamodel", "terms", "R²", "adj. R²", "Q²", "RMSE_LOO"};
+  for (const ModelEntry& m : models) {
+    if (!m.ok) {
+      quality.rows.push_back({model_title(m.name), "", "", "", "", "not fitted: " + m.error});
+      continue;
+    }
+    quality.rows.push_back({model_title(m.name), std::to_string(m.quality.at("terms").get<int>()),
+                            fixed4(number(m.quality.at("r2"))), fixed4(number(m.quality.at("adjusted_r2"))),
+                            fixed4(number(m.quality.at("q2"))),
+                            short_number(number(m.quality.at("rmse_loo")) * label.factor)});
+  }
+  section.tables.push_back(quality);
+
+  ReportTable first;
+  ReportTable total;
+  first.caption =
+      "First-order Sobol' indices S1 and residual 1 − ΣS1 (the layout of the paper's Tables 4–7), with "
+      "confidence intervals";
+  total.caption = "Total-effect Sobol' indices ST, with confidence intervals";
+  first.header = {"metamodel"};
+  total.header = {"metamodel"};
+  for (const std::string& sym : symbols) {
+    first.header.push_back(sym);
+    total.header.push_back(sym);
+  }
+  first.header.push_back("Res");
+  std::vector<ReportTable> second_tables;
+  for (const ModelEntry& m : models) {
+    if (!m.ok) continue;
+    std::vector<std::string> row1{model_title(m.name)};
+    std::vector<std::string> rowt{model_title(m.name)};
+    SobolBarChart chart;
+    chart.title = fmt::format("{}, {}: Sobol' indices ({})", label.text, model_title(m.name),
+                              m.sobol.at("method").get<std::string>());
+    for (const std::string& p : names) {
+      const IntervalValue s1 = interval(m.sobol.at("S1").at(p));
+      const IntervalValue st = interval(m.sobol.at("ST").at(p));
+      row1.push_back(interval_text(s1));
+      rowt.push_back(interval_text(st));
+      chart.parameters.push_back(parameter_label(p).enhanced);
+      chart.first_order.push_back(s1);
+      chart.total_effect.push_back(st);
+    }
+    row1.push_back(interval_text(interval(m.sobol.at("residual"))));
+    first.rows.push_back(row1);
+    if (m.sobol.contains("note"))
+      section.paragraphs.push_back(fmt::format("{}: {}.", model_title(m.name), m.sobol.at("note").get<std::string>()));
+    total.rows.push_back(rowt);
+    if (!m.sobol.at("S2").empty()) {
+      ReportTable s2;
+      s2.caption =
+          fmt::format("Second-order indices S2 ({}): row parameter with column parameter", model_title(m.name));
+      s2.header = {""};
+      for (size_t j = 1; j < names.size(); ++j) s2.header.push_back(symbols[j]);
+      std::map<std::pair<std::string, std::string>, std::string> cells;
+      for (const json& e : m.sobol.at("S2"))
+        cells[{e.at("i").get<std::string>(), e.at("j").get<std::string>()}] = interval_text(interval(e.at("S2")));
+      for (size_t i = 0; i + 1 < names.size(); ++i) {
+        std::vector<std::string> row{symbols[i]};
+        for (size_t j = 1; j < names.size(); ++j) {
+          const auto it = cells.find({names[i], names[j]});
+          row.push_back(j > i && it != cells.end() ? it->second : "");
+        }
+        s2.rows.push_back(row);
+      }
+      second_tables.push_back(s2);
+    }
+    const std::string stem = fmt::format("sobol_{}_{}", name, m.name);
+    section.figures.push_back({fmt::format("Sobol' indices of {} from the {} metamodel; whiskers: confidence "
+                                           "interval",
+                                           label.text, model_title(m.name)),
+                               plot_sobol_bars(plotter, chart, out / stem)});
+    summary.images.push_back(section.figures.back().files.png);
+  }
+  section.tables.push_back(first);
+  section.tables.push_back(total);
+  for (const ReportTable& t : second_tables) section.tables.push_back(t);
+
+  // Leave-one-out predictions: the metamodels are refitted to the same samples as the analysis.
+  for (const ModelEntry& m : models) {
+    if (!m.ok) continue;
+    try {
+      std::unique_ptr<sobol::Metamodel> model = sobol::make_metamodel(m.name, s.config.analysis.metamodel_options());
+      model->fit(data.unit, data.y);
+      const Eigen::VectorXd residuals = model->loo_residuals();
+      PredictedVsObserved p;
+      p.title = fmt::format("{}, {}: leave-one-out prediction", label.text, model_title(m.name));
+      p.response_label = label.unit.empty() ? "" : fmt::format("[{}]", label.unit);
+      for (Eigen::Index i = 0; i < data.y.size(); ++i) {
+        p.observed.push_back(data.y(i) * label.factor);
+        p.predicted.push_back((data.y(i) - residuals(i)) * label.factor);
+      }
+      p.r2 = number(m.quality.at("r2"));
+      p.q2 = number(m.quality.at("q2"));
+      const std::string stem = fmt::format("loo_{}_{}", name, m.name);
+      section.figures.push_back({fmt::format("{}: each sample predicted by the {} metamodel fitted without it",
+                                             label.text, model_title(m.name)),
+                                 plot_predicted_vs_observed(plotter, p, out / stem)});
+      summary.images.push_back(section.figures.back().files.png);
+    } catch (const std::exception& e) {
+      summary.notes.push_back(fmt::format("{} / {}: no leave-one-out plot: {}", name, m.name, e.what()));
+    }
+  }
+
+  ResponseScatter scatter;
+  scatter.title = fmt::format("{} against each parameter", label.text);
+  scatter.response_label = axis_label(name);
+  scatter.physical = data.physical;
+  for (Eigen::Index i = 0; i < data.y.size(); ++i) scatter.response.push_back(data.y(i) * label.factor);
+  for (const ParameterRange& p : s.config.parameters) {
+    const ParameterLabel l = parameter_label(p.name);
+    scatter.parameter_labels.push_back(fmt::format("{} [{}]", l.enhanced, l.unit));
+    scatter.log_scale.push_back(p.bounds.scale == sobol::Scale::log_uniform);
+  }
+  section.figures.push_back({fmt::format("{} of every done sample against each varied parameter", label.text),
+                             plot_response_scatter(plotter, scatter, out / fmt::format("response_{}", name))});
+  summary.images.push_back(section.figures.back().files.png);
+  return section;
+}
+
+/// The done sample shown in the figures of one case.
+int choose_sample(const StudyData& s, int requested) {
+  if (requested >= 0) {
+    if (!s.observables.count(requested))
+      throw UserError(fmt::format("--sample {}: not a done sample of this study", requested));
+    return requested;
+  }
+  if (s.observables.empty()) return -1;
+  const StudyConfig& c = s.config;
+  std::string key;
+  double goal = 0;
+  if (c.experiment == Experiment::pile) {
+    key = "angle";
+    goal = c.pile.target_angle;
+  } else if (!c.oedometer.measured_settlements.empty()) {
+    key = "settlement_error";
+    goal = 0;
+  } else {
+    key = fmt::format("settlement_{}", c.oedometer.loads.size() - 1);
+    std::vector<double> values;
+    for (const auto& [sample, v] : s.observables)
+      if (v.count(key)) values.push_back(v.at(key));
+    if (values.empty()) return s.observables.begin()->first;
+    std::nth_element(values.begin(), values.begin() + static_cast<long>(values.size() / 2), values.end());
+    goal = values[values.size() / 2];
+  }
+  int best = s.observables.begin()->first;
+  double distance = std::numeric_limits<double>::infinity();
+  for (const auto& [sample, v] : s.observables) {
+    const auto it = v.find(key);
+    if (it == v.end()) continue;
+    if (std::abs(it->second - goal) < distance) {
+      distance = std::abs(it->second - goal);
+      best = sample;
+    }
+  }
+  return best;
+}
+
+ReportSection pile_section(const StudyData& s, int sample, const Plotter& plotter, const fs::path& out,
+                           const fs::path& dir, ReportSummary& summary) {
+  ReportSection section;
+  section.heading = fmt::format("Sample {}: the pile (paper Fig. 4)", sample);
+  const fs::path folder = case_dir(dir, sample);
+  const postprocess::Particles particles = postprocess::read_particles(folder / k_pile_final_dump, 1);
+  postprocess::PileAngleOptions options;
+  options.pedestal_radius = s.config.pile.pedestal_radius;
+  options.pedestal_top = s.config.pile.pedestal_height;
+  options.directions = s.config.pile.directions;
+  options.levels = s.config.pile.levels;
+  options.target_angle = s.config.pile.target_angle;
+  const postprocess::PileAngleResult r = postprocess::measure_pile_angle(particles, options);
+  PileSideView view;
+  view.title = fmt::format("sample {}", sample);
+  view.directions = options.directions;
+  view.angle_deg = r.angle_mean;
+  view.height = r.pile_height;
+  view.pedestal_radius = options.pedestal_radius;
+  view.pedestal_height = options.pedestal_top;
+  std::vector<int> direction(particles.size(), -1);
+  for (const postprocess::BoundaryParticle& b : r.boundary) direction[b.index] = b.direction;
+  for (size_t i : postprocess::pedestal_particles(particles, options))
+    view.particles.push_back({particles.x[i], particles.y[i], particles.z[i], particles.radius[i], direction[i]});
+  // The fitted lines live in the (radial, height above the pedestal top) plane; the plot wants z.
+  for (const postprocess::DirectionLine& l : r.lines) {
+    if (!l.used) continue;
+    view.lines.push_back({l.direction, l.phi, l.angle, l.radial_low, l.height_low + options.pedestal_top, l.radial_high,
+                          l.height_high + options.pedestal_top});
+  }
+  section.paragraphs.push_back(fmt::format(
+      "Case `{}`: {} particles on the pedestal, pile height h_P = {:.1f} mm, angle of repose φ = {:.2f}° "
+      "(standard deviation {:.2f}° over {} of {} directions, range {:.2f}°–{:.2f}°), E_φ = {:.3g} deg² against "
+      "φ̂ = {:g}°.",
+      fs::relative(folder, dir).generic_string(), r.particles_on_pedestal, r.pile_height * 1e3, r.angle_mean,
+      r.angle_sd, r.directions_used, options.directions, r.angle_min, r.angle_max, r.angle_error,
+      options.target_angle));
+  section.figures.push_back({fmt::format("The pile of sample {} from the side: a cross section with its boundary "
+                                         "particles (coloured by direction) and fitted lines, and every "
+                                         "direction's boundary particles and line unrolled onto one plane",
+                                         sample),
+                             plot_pile_side(plotter, view, out / "pile_side")});
+  summary.images.push_back(section.figures.back().files.png);
+  return section;
+}
+
+ReportSection oedometer_section(const StudyData& s, int sample, const Plotter& plotter, const fs::path& out,
+                                const fs::path& dir, ReportSummary& summary) {
+  ReportSection section;
+  section.heading = fmt::format("Sample {}: the oedometer (paper Figs. 5 and 6b)", sample);
+  const fs::path folder = case_dir(dir, sample);
+  const std::vector<postprocess::PlateState> states = postprocess::read_plate_states(folder / k_plate_states);
+  postprocess::OedometerOptions options;
+  options.box_side = s.config.oedometer.box_side;
+  options.measured_settlements = s.config.oedometer.measured_settlements;
+  const postprocess::OedometerResult r = postprocess::measure_oedometer(states, options);
+
+  SettlementCurve curve;
+  curve.title = fmt::format("sample {}: settlement against vertical stress", sample);
+  curve.area = options.box_side * options.box_side;
+  for (const postprocess::OedometerStep& step : r.steps) {
+    curve.loads.push_back(step.load_N);
+    curve.simulated.push_back(step.settlement_m);
+  }
+  const std::vector<double>& measured = s.config.oedometer.measured_settlements;
+  if (!measured.empty()) {
+    curve.measured.assign(curve.loads.size(), k_nan);
+    const size_t offset = measured.size() == s.config.oedometer.loads.size() ? 0 : 1;
+    if (!curve.measured.empty()) curve.measured[0] = 0.0;
+    for (size_t i = 0; i < measured.size() && i + offset < curve.measured.size(); ++i)
+      curve.measured[i + offset] = measured[i];
+  }
+  ReportTable table;
+  table.caption = "Load steps: plate force and settlement relative to the first load";
+  table.header = {"load L_n [N]", "stress [kPa]",      "plate force [N]",
+                  "converged",    "settlement s [mm]", "measured s̃ [mm]"};
+  for (size_t i = 0; i < r.steps.size(); ++i) {
+    const postprocess::OedometerStep& st = r.steps[i];
+    table.rows.push_back(
+        {fmt::format("{:g}", st.load_N), fmt::format("{:.1f}", st.stress_Pa * 1e-3), fmt::format("{:.3f}", st.force_N),
+         st.converged ? "yes" : "no", fmt::format("{:.4f}", st.settlement_m * 1e3),
+         curve.measured.empty() || !std::isfinite(curve.measured[i]) ? ""
+                                                                     : fmt::format("{:.4f}", curve.measured[i] * 1e3)});
+  }
+  section.tables.push_back(table);
+  if (r.settlement_error)
+    section.paragraphs.push_back(fmt::format("Settlement error E_0 = {:.4f} mm.", *r.settlement_error * 1e3));
+  section.figures.push_back({fmt::format("Settlement of sample {} against the vertical stress, with the measured "
+                                         "settlements; dashed: the load steps",
+                                         sample),
+                             plot_settlement_curve(plotter, curve, out / "settlement_curve")});
+  summary.images.push_back(section.figures.back().files.png);
+
+  const fs::path history_file = folder / k_plate_history;
+  if (fs::exists(history_file)) {
+    const postprocess::PlateHistory h = postprocess::read_plate_history(history_file);
+    if (h.size() > 0) {
+      PlateHistoryPlot plot;
+      plot.title = fmt::format("sample {}: plate iteration", sample);
+      for (size_t i = 0; i < h.size(); ++i) {
+        plot.step.push_back(static_cast<double>(h.step[i]));
+        plot.load.push_back(h.load_N[i]);
+        plot.force.push_back(h.force_N[i]);
+        plot.plate_z.push_back(h.plate_z_m[i]);
+      }
+      section.figures.push_back({fmt::format("Force of the particles on the plate and plate height over the "
+                                             "iteration of sample {}; dashed: the load step being applied",
+                                             sample),
+                                 plot_plate_history(plotter, plot, out / "plate_history")});
+      summary.images.push_back(section.figures.back().files.png);
+    } else {
+      summary.notes.push_back(fmt::format("{}: no rows, no plate history plot", history_file.string()));
+    }
+  } else {
+    summary.notes.push_back(fmt::format("{}: missing, no plate history plot", history_file.string()));
+  }
+  return section;
+}
+
+ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& plotter, const fs::path& out,
+                                  ReportSummary& summary) {
+  ReportSection section;
+  section.heading = "Calibration";
+  section.paragraphs.push_back(fmt::format(
+      "NLopt ({} then {}, {} evaluations) on the metamodel with the best Q² per observable, fitted to {} done "
+      "samples; misfit J = Σ w_k ((m_k − t_k)/s_k)² = {:.4g}.",
+      c.global_algorithm, c.local_algorithm, c.evaluations, c.samples, c.misfit));
+  ReportTable optimum;
+  optimum.caption = "Optimum";
+  optimum.header = {"parameter", "value", "low", "high", "position in range"};
+  CalibrationPlot plot;
+  plot.title = "calibration";
+  for (size_t i = 0; i < c.parameters.size(); ++i) {
+    const ParameterLabel l = parameter_label(c.parameters[i]);
+    optimum.rows.push_back({l.plain, fmt::format("{:.6g}", c.physical[i]), fmt::format("{:g}", c.low[i]),
+                            fmt::format("{:g}", c.high[i]), fmt::format("{:.3f}", c.unit[i])});
+    plot.parameter_labels.push_back(fmt::format("{} [{}]", l.enhanced, l.unit));
+    plot.optimum_unit.push_back(c.unit[i]);
+    plot.optimum_physical.push_back(c.physical[i]);
+  }
+  section.tables.push_back(optimum);
+  ReportTable targets;
+  targets.caption = "Targets";
+  targets.header = {"observable", "metamodel", "Q²", "target", "predicted", "measured (verification)"};
+  bool any_measured = false;
+  for (const CalibratedTarget& t : c.targets) {
+    const ObservableLabel l = observable_label(t.name);
+    targets.rows.push_back({t.name, model_title(t.model), fixed4(t.q2),
+                            fmt::format("{:.5g} {}", t.target * l.factor, l.unit),
+                            fmt::format("{:.5g} {}", t.predicted * l.factor, l.unit),
+                            t.measured ? fmt::format("{:.5g} {}", *t.measured * l.factor, l.unit) : ""});
+    plot.observable_labels.push_back(axis_label(t.name));
+    plot.target.push_back(t.target * l.factor);
+    plot.predicted.push_back(t.predicted * l.factor);
+    plot.measured.push_back(t.measured ? *t.measured * l.factor : k_nan);
+    any_measured = any_measured || t.measured.has_value();
+  }
+  if (!any_measured) plot.measured.clear();
+  section.tables.push_back(targets);
+  if (!c.verify_dir.empty())
+    section.paragraphs.push_back(
+        c.verified ? fmt::format("Verified by a real run at the optimum ({:.0f} s).", c.verify_seconds)
+                   : fmt::format("The verification run failed: {}", c.verify_error));
+  section.figures.push_back(
+      {"The calibrated parameters in their ranges, and target against predicted (and "
+       "measured) values",
+       plot_calibration(plotter, plot, out / "calibration")});
+  summary.images.push_back(section.figures.back().files.png);
+  return section;
+}
+
+}  // namespace
+
+ReportSummary write_study_report(const ReportOptions& options) {
+  options.validate();
+  const fs::path& dir = options.dir;
+  if (!fs::exists(dir / "study.toml") || !fs::exists(dir / "study.db"))
+    throw UserError(
+        fmt::format("{}: not a study folder (no study.toml and study.db); run `demsa run` first", dir.string()));
+  StudyData s;
+  s.config = load_study(dir / "study.toml");
+  {
+    const Store store = Store::open_read_only((dir / "study.db").string());
+    s.samples = store.samples();
+    s.observables = store.observables();
+    s.runs = store.runs();
+    s.counts = store.counts();
+  }
+  const fs::path analysis_file = dir / "analysis" / "analysis.json";
+  if (!fs::exists(analysis_file)) {
+    AnalyzeOptions analyze;
+    analyze.dir = dir;
+    analyze_study(analyze);
+  }
+  json analysis;
+  {
+    std::ifstream in(analysis_file);
+    try {
+      analysis = json::parse(in);
+    } catch (const json::exception& e) {
+      throw UserError(fmt::format("{}: not an analysis file ({}); run `demsa analyze {}` again", analysis_file.string(),
+                                  e.what(), dir.string()));
+    }
+  }
+
+  ReportSummary summary;
+  summary.sample_shown = choose_sample(s, options.sample);
+  summary.out_dir = options.out.empty() ? dir / "report" : options.out;
+  fs::create_directories(summary.out_dir);
+  const Plotter plotter(options.plot);
+
+  ReportDocument doc;
+  doc.title = fmt::format("demsa report: {}", s.config.name);
+  doc.sections.push_back(summary_section(s));
+  try {
+    const std::vector<std::string> names = analysis.at("parameters").get<std::vector<std::string>>();
+    doc.sections.back().paragraphs.push_back(fmt::format(
+        "Analysis: {} samples used, {} left out; Sobol' intervals at {:.0f}% from {} bootstrap resamples; QMC base "
+        "N = {}.",
+        analysis.at("samples_used").size(), analysis.at("samples_left_out").size(),
+        number(analysis.at("confidence")) * 100, analysis.at("bootstrap").get<int>(),
+        analysis.at("base_samples").get<int>()));
+    for (const json& observable : analysis.at("observables"))
+      doc.sections.push_back(observable_section(s, observable, names, plotter, summary.out_dir, summary));
+  } catch (const json::exception& e) {
+    throw UserError(fmt::format("{}: unexpected content ({}); run `demsa analyze {}` again", analysis_file.string(),
+                                e.what(), dir.string()));
+  }
+
+  if (summary.sample_shown >= 0) {
+    try {
+      doc.sections.push_back(s.config.experiment == Experiment::pile
+                                 ? pile_section(s, summary.sample_shown, plotter, summary.out_dir, dir, summary)
+                                 : oedometer_section(s, summary.sample_shown, plotter, summary.out_dir, dir, summary));
+    } catch (const std::exception& e) {
+      summary.notes.push_back(fmt::format("sample {}: no case figures: {}", summary.sample_shown, e.what()));
+    }
+  }
+
+  const fs::path calibration_file = dir / "analysis" / "calibration.json";
+  if (fs::exists(calibration_file))
+    doc.sections.push_back(calibration_section(read_calibration(calibration_file), plotter, summary.out_dir, summary));
+  else
+    doc.sections.back().paragraphs.push_back(
+        fmt::format("No calibration yet: `demsa calibrate {}` adds one to this report.", dir.string()));
+
+  if (!summary.notes.empty()) {
+    ReportSection notes;
+    notes.heading = "Notes";
+    notes.paragraphs = summary.notes;
+    doc.sections.push_back(notes);
+  }
+  summary.markdown = summary.out_dir / "report.md";
+  write_file_atomically(summary.markdown, render_markdown(doc, summary.out_dir));
+  if (options.html) {
+    summary.html = summary.out_dir / "report.html";
+    write_file_atomically(summary.html, render_html(doc));
+  }
+  return summary;
+}
+
+}  // namespace demsa::report

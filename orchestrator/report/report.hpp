@@ -1,0 +1,91 @@
+#pragma once
+// `demsa report DIR`: the report of a study as DIR/report/report.md and a self-contained DIR/report/report.html
+// (images inlined as base64 data URIs), with every plot as PNG and SVG and its gnuplot script next to it.
+//
+// Contents (the paper's Tables 4–7 and Figs. 4, 5, 6b, and what a DEM engineer needs around them):
+//   - study summary: experiment, varied parameters and ranges, samples done / failed / pending, failed samples by
+//     failure class, CPU hours of all attempts;
+//   - per observable: metamodel quality (R², adjusted R², leave-one-out Q², RMSE_LOO); S1 per parameter and the
+//     residual 1 − ΣS1 per metamodel (the paper's table layout), ST, and the S2 matrix, each with its confidence
+//     interval; Sobol' bars with interval whiskers per metamodel; leave-one-out predicted against simulated per
+//     metamodel; the response against each parameter;
+//   - one sample seen closely: the pile from the side with its boundary particles and fitted lines (Fig. 4), or the
+//     oedometer's settlement–stress curve against the measured settlements (Fig. 5) and its plate iteration
+//     history (Fig. 6b);
+//   - the calibration (DIR/analysis/calibration.json, from `demsa calibrate`), when there is one.
+//
+// Inputs: DIR/study.toml, DIR/study.db, DIR/analysis/analysis.json (made by `demsa analyze` when missing), the
+// case folder of the sample shown, DIR/analysis/calibration.json.
+//
+// The document model below (ReportDocument) is plain data: the study-specific part builds it, render_markdown()
+// and render_html() only lay it out.
+#include "orchestrator/report/plot.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace demsa::report {
+
+struct ReportTable {
+  std::string caption;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;  ///< each as long as the header
+};
+
+struct ReportFigure {
+  std::string caption;
+  PlotFiles files;
+};
+
+struct ReportSection {
+  std::string heading;
+  int level = 2;                        ///< 2: "##", 3: "###"
+  std::vector<std::string> paragraphs;  ///< plain text (Markdown inline syntax allowed: `code`, *emphasis*)
+  std::vector<ReportTable> tables;
+  std::vector<ReportFigure> figures;
+};
+
+struct ReportDocument {
+  std::string title;
+  std::vector<ReportSection> sections;
+};
+
+/// Markdown with images referenced relative to `folder` (where report.md is written), each linked to its SVG.
+std::string render_markdown(const ReportDocument& document, const std::filesystem::path& folder);
+
+/// One HTML page with inline CSS and every PNG inlined as a base64 data URI (no other file needed to view it).
+/// Throws std::runtime_error when an image cannot be read.
+std::string render_html(const ReportDocument& document);
+
+/// RFC 4648 base64 of `bytes` (with padding).
+std::string base64_encode(const std::string& bytes);
+
+/// "0.530 [0.512, 0.551]"; the interval is left out when it is NaN or collapsed onto the value.
+std::string format_interval(double value, double low, double high);
+
+struct ReportOptions {
+  std::filesystem::path dir;  ///< study folder
+  std::filesystem::path out;  ///< output folder; empty: DIR/report
+  PlotOptions plot;           ///< gnuplot and image size
+  /// Sample shown in the pile / oedometer figures; -1: the done sample whose observable is closest to the target
+  /// (pile: the target angle; oedometer: smallest E_0, else the median settlement). >= -1.
+  int sample = -1;
+  bool html = true;  ///< also write report.html
+  /// Throws util::UserError naming the field, value and rule.
+  void validate() const;
+};
+
+struct ReportSummary {
+  std::filesystem::path out_dir;
+  std::filesystem::path markdown;             ///< report.md
+  std::filesystem::path html;                 ///< report.html (empty when not written)
+  std::vector<std::filesystem::path> images;  ///< every PNG written
+  std::vector<std::string> notes;             ///< what could not be drawn, and why
+  int sample_shown = -1;                      ///< the sample of the pile / oedometer figures (-1: none)
+};
+
+/// Writes the report of a study. Throws util::UserError when DIR is not a study or has fewer than two done samples.
+ReportSummary write_study_report(const ReportOptions& options);
+
+}  // namespace demsa::report

@@ -1,0 +1,188 @@
+#pragma once
+// The study file (TOML): what a study varies, how it samples, what it simulates, where it runs and how it is
+// analysed. Every field has a default and a comment (meaning, unit, valid range); validate() names the field,
+// its value and the broken rule. Keys, units and defaults for users: docs/study-file.md.
+//
+// Units are SI throughout (m, s, kg, Pa, N). The paper's mg-mm-ms values are converted in docs/study-file.md.
+#include "orchestrator/study/parameters.hpp"
+#include "sobol/metamodel.hpp"
+#include "sobol/scaling.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demsa::study {
+
+enum class Experiment { pile, oedometer };
+enum class PlateMode { servo, trial_step };
+enum class TimestepMode { rayleigh, fixed };
+enum class ExecutorKind { local, slurm };
+
+/// LIGGGHTS (units si) refuses youngsModulus outside [5e6, 1e9] Pa unless `soft_particles yes` /
+/// `hard_particles yes` is given (Material::soft_particles / hard_particles).
+inline constexpr double k_liggghts_min_E = 5e6;
+inline constexpr double k_liggghts_max_E = 1e9;
+
+/// One varied parameter: a name from contact_parameter_names() and its range.
+struct ParameterRange {
+  std::string name;
+  sobol::Bounds bounds;  ///< low < high; log scale needs low > 0
+  int line = 0;          ///< line in the study file (for messages)
+};
+
+/// Material values: the fixed value of every contact parameter that is not varied, and the density.
+struct Material {
+  double E = 1e8;               ///< Young's modulus [Pa]; LIGGGHTS (units si) checks 5e6 <= E <= 1e9
+  double nu = 0.3;              ///< Poisson ratio, (0, 0.5)
+  double mu_pp = 1.0;           ///< particle-particle Coulomb friction, >= 0
+  double mu_pw = 1.0;           ///< particle-wall Coulomb friction, >= 0
+  double e_r = 0.4;             ///< coefficient of restitution, (0, 1]
+  double mu_r_pp = 0.1;         ///< particle-particle rolling friction (LIGGGHTS `cdt`, dimensionless), >= 0
+  double mu_r_pw = 0.1;         ///< particle-wall rolling friction (`cdt`), >= 0
+  double density = 2500;        ///< particle density [kg/m^3], > 0 (not in the paper)
+  double gravity = 9.81;        ///< |g| [m/s^2], > 0
+  bool soft_particles = false;  ///< allow E < 5e6 Pa (LIGGGHTS `soft_particles yes`)
+  bool hard_particles = false;  ///< allow E > 1e9 Pa (LIGGGHTS `hard_particles yes`)
+};
+
+/// Radii of a particle set: truncated normal N(mean, sd) restricted to [r_min, r_max] (paper Table 2).
+struct RadiusDistribution {
+  double r_min = 1.0e-3;  ///< [m]
+  double r_max = 3.5e-3;  ///< [m]
+  double mean = 2.0e-3;   ///< [m]
+  double sd = 0.5e-3;     ///< [m]
+};
+
+/// Pile experiment (paper §3). Defaults: particle set 1 of Table 2 scaled to `particles`.
+struct PileSettings {
+  std::string preset;    ///< "", "set1" or "set2" (paper Table 2); fills radii and particles
+  int particles = 6000;  ///< number of particles
+  RadiusDistribution radii;
+  double disc_radius = 0.020;       ///< r_fu: radius of the filling discs [m]
+  double fill_height = 0.100;       ///< h_fu: discs below it are present at start [m]
+  double pedestal_radius = 0.050;   ///< r_cy [m]
+  double pedestal_height = 0.005;   ///< h_cy [m]
+  double settle_time = 0.6;         ///< settling after the last disc [s]
+  double ke_stop = 0.0;             ///< stop settling early once kinetic energy < ke_stop [J]; 0 = never
+  double target_angle = 33.5;       ///< φ̂ for E_φ [deg]
+  int directions = 180;             ///< φ_N (paper §3.3)
+  int levels = 10;                  ///< height levels between 0.2 h_P and 0.75 h_P
+  double settle_check_time = 0.02;  ///< with ke_stop > 0: kinetic energy checked every this long [s]
+  double domain_half_width = 0.15;  ///< simulation box half width in x and y [m]; particles leaving it are lost
+};
+
+/// Radii of the paper's oedometer assembly one (§4; derivation in apply_oedometer_preset): the `paper` preset and the
+/// default.
+inline constexpr RadiusDistribution k_paper_oedometer_radii{2.0e-3, 3.0e-3, 2.466e-3, 0.25e-3};
+
+/// Oedometer experiment (paper §4).
+struct OedometerSettings {
+  int particles = 4642;
+  std::string preset;  ///< "" or "paper" (assembly one of §4: 4642 particles)
+  RadiusDistribution radii = k_paper_oedometer_radii;
+  double box_side = 0.10;                                   ///< [m]
+  double box_height = 0.10;                                 ///< [m]
+  double fill_time = 0.5;                                   ///< pouring and settling before loading [s]
+  std::vector<double> loads{100.0, 400.0, 1100.0, 2700.0};  ///< L_n [N], increasing
+  std::vector<double> measured_settlements;                 ///< s̃_i for loads 1..n-1 relative to load 0 [m]
+  PlateMode plate_mode = PlateMode::servo;
+  // servo mode
+  double servo_vel_max = 0.05;  ///< [m/s]; must be < skin/(2 dt)
+  double servo_kp = 0.5;
+  double servo_ki = 0.0;
+  double servo_kd = 0.0;
+  double load_tolerance = 0.03;   ///< |F - L| that counts as reached [N] (paper R_pr = 0.03 N)
+  long servo_max_steps = 400000;  ///< give up on a load after this many steps
+  long servo_check_steps = 2000;  ///< servo: force averaged and the load checked every this many steps
+  double rest_velocity = 1e-3;    ///< servo: the plate is at rest when its mean speed over a check is below [m/s]
+  double plate_gap = 0.5e-3;      ///< the plate starts this far above the settled packing [m]
+  // trial-step mode (paper §4 constants)
+  long trial_steps = 15000;        ///< n_s
+  long relax_steps = 80000;        ///< n_L
+  double trial_reduction = 0.95;   ///< m_T
+  double trial_step0 = 0.0075e-3;  ///< δ_T0 [m]
+  double trial_floor = 0.05;       ///< minimum trial step as a fraction of δ_T0
+  int max_trials = 2000;           ///< per load
+};
+
+struct TimestepSettings {
+  TimestepMode mode = TimestepMode::rayleigh;
+  double fraction = 0.15;  ///< dt = fraction * T_R(r_min, E, ν, ρ); (0, 0.3]
+  double value = 0.0;      ///< fixed dt [s] (mode fixed)
+  double skin = 1e-3;      ///< neighbor list skin [m]; a moving mesh may travel at most skin/2 per step
+};
+
+struct SlurmSettings {
+  std::string partition;  ///< empty: the cluster's default
+  std::string account;
+  std::string time_limit = "01:00:00";      ///< per case, sbatch --time
+  int throttle = 0;                         ///< %N array throttle; 0 = none
+  std::vector<std::string> sbatch_options;  ///< extra sbatch options, verbatim
+  std::string prologue;                     ///< shell lines before mpirun (module load ...)
+  double poll_interval = 5.0;               ///< [s]
+};
+
+struct RunSettings {
+  ExecutorKind executor = ExecutorKind::local;
+  int ranks = 1;                      ///< MPI ranks per case (identical for every case: results depend on it)
+  int parallel = 0;                   ///< cases at once (local); 0 = cores / ranks
+  bool oversubscribe = false;         ///< allow parallel * ranks > cores
+  double timeout = 0.0;               ///< per case [s]; 0 = none
+  int retries = 1;                    ///< extra attempts after a failure
+  double lost_fraction = 0.01;        ///< lost particles above this fraction fail the case
+  std::string liggghts = "liggghts";  ///< executable (name on PATH or path)
+  std::string mpirun = "mpirun";
+  SlurmSettings slurm;
+};
+
+struct AnalysisSettings {
+  std::vector<std::string> metamodels{"rsm2", "rsm3", "rbf-cubic", "rbf-tps", "gp"};
+  bool second_order = true;
+  int bootstrap = 200;  ///< bootstrap resamples for confidence intervals
+  double confidence = 0.95;
+  int base_samples = 16384;  ///< QMC base N for metamodel-based indices
+  /// The gp metamodel: kernel, trend and an estimated nugget (DEM responses are noisy: a nugget lets the GP smooth
+  /// rather than interpolate). Used alike by analyze, report and calibrate.
+  sobol::GpKernel gp_kernel = sobol::GpKernel::squared_exponential;
+  sobol::GpTrend gp_trend = sobol::GpTrend::constant;
+  bool gp_nugget = false;
+  /// The metamodel options these settings give.
+  sobol::MetamodelOptions metamodel_options() const;
+};
+
+struct StudyConfig {
+  std::filesystem::path file;  ///< the study file it was read from
+  std::string name;            ///< study name
+  Experiment experiment = Experiment::pile;
+  std::uint64_t seed = 12345;          ///< one seed for the design, the radii and the initial positions
+  std::string design = "lhs-maximin";  ///< lhs | lhs-centred | lhs-maximin | lhs-cl2 | sobol
+  int samples = 16;
+  std::vector<ParameterRange> parameters;  ///< the varied parameters, in the paper's order
+  Material material;
+  PileSettings pile;
+  OedometerSettings oedometer;
+  TimestepSettings timestep;
+  RunSettings run;
+  AnalysisSettings analysis;
+};
+
+/// Reads and validates a study file. Throws util::UserError "study.toml:LINE: ..." for unknown keys, wrong types and
+/// impossible values.
+StudyConfig load_study(const std::filesystem::path& file);
+
+/// Parses study text (for tests); `file` is the name used in messages.
+StudyConfig parse_study(const std::string& text, const std::filesystem::path& file);
+
+/// A stable hash of the settings that define the design and the cases (everything but [run] and [analysis],
+/// except run.ranks: a result depends on the rank count).
+std::string design_hash(const StudyConfig& config);
+
+/// Material values for one sample: config.material with the varied parameters set from `physical`
+/// (ordered as config.parameters).
+Material material_for(const StudyConfig& config, const std::vector<double>& physical);
+
+}  // namespace demsa::study

@@ -1,0 +1,58 @@
+#pragma once
+// The names of everything in a study folder and in a case folder (README "A study"): every file name has this one
+// home. Files written by LIGGGHTS (or by `demsa drive-oedometer` for the trial-step oedometer) in a case folder:
+// log.liggghts, screen.txt, and pile_final.dump (pile) or oedometer_final.dump, plate_history.txt,
+// plate_states.txt (oedometer).
+#include "orchestrator/util/file_lock.hpp"
+
+#include <filesystem>
+#include <string>
+
+namespace demsa::study {
+
+// ---------------------------------------------------------------- the study folder
+inline constexpr const char* k_frozen_study = "study.toml";   ///< frozen copy of the study file
+inline constexpr const char* k_store_file = "study.db";       ///< SQLite store (store.hpp)
+inline constexpr const char* k_design_file = "design.csv";    ///< unit-cube and physical values per sample
+inline constexpr const char* k_cases_folder = "cases";        ///< one folder per sample, case_dir()
+inline constexpr const char* k_analysis_folder = "analysis";  ///< analysis/ output
+inline constexpr const char* k_report_folder = "report";      ///< report/ output
+inline constexpr const char* k_lock_file = ".demsa.lock";     ///< held by the demsa that runs the study
+
+// ---------------------------------------------------------------- a case folder
+inline constexpr const char* k_case_input = "in.liggghts";                     ///< main LIGGGHTS script
+inline constexpr const char* k_case_params = "params.liggghts";                ///< generated variables
+inline constexpr const char* k_case_run_script = "run.sh";                     ///< runs the case from its folder
+inline constexpr const char* k_case_json = "case.json";                        ///< what the case is (write_case)
+inline constexpr const char* k_case_log = "log.liggghts";                      ///< LIGGGHTS log
+inline constexpr const char* k_case_screen = "screen.txt";                     ///< LIGGGHTS screen output
+inline constexpr const char* k_run_output_file = "run.out";                    ///< stdout + stderr of ./run.sh
+inline constexpr const char* k_result_file = "result.json";                    ///< the committed observables
+inline constexpr const char* k_pile_final_dump = "pile_final.dump";            ///< id type x y z radius vx vy vz
+inline constexpr const char* k_oedometer_final_dump = "oedometer_final.dump";  ///< same columns
+inline constexpr const char* k_plate_history = "plate_history.txt";            ///< step load_N plate_z_m force_N ...
+inline constexpr const char* k_plate_states = "plate_states.txt";              ///< load_N plate_z_m force_N converged
+
+/// The default study folder for a study file: the file's path without ".toml".
+inline std::filesystem::path default_study_dir(const std::filesystem::path& study_file) {
+  std::filesystem::path dir = study_file;
+  dir.replace_extension();
+  return dir;
+}
+
+/// Folder of a sample's case: DIR/cases/NNNNNN.
+std::filesystem::path case_dir(const std::filesystem::path& study_dir, int sample);
+
+/// Process-wide lock on a study folder (DIR/.demsa.lock, util::FileLock): one demsa at a time writes a study.
+class StudyLock {
+ public:
+  /// Throws util::UserError naming the folder and the holder's pid when another process holds it.
+  explicit StudyLock(const std::filesystem::path& dir) : m_lock(dir / k_lock_file) {}
+  /// PID of the process that holds the lock on `dir`, or 0 when none does.
+  static long holder(const std::filesystem::path& dir) { return util::FileLock::holder(dir / k_lock_file); }
+
+ private:
+  util::FileLock m_lock;
+};
+
+}  // namespace demsa::study

@@ -1,0 +1,388 @@
+#include "orchestrator/study/store.hpp"
+
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <chrono>
+#include <filesystem>
+#include <stdexcept>
+#include <utility>
+
+namespace demsa::study {
+
+namespace {
+
+constexpr int k_busy_timeout_ms = 30000;
+constexpr int k_schema_version = 1;
+
+constexpr std::array<std::pair<RunState, const char*>, 4> k_state_names{{
+    {RunState::submitted, "submitted"},
+    {RunState::done, "done"},
+    {RunState::failed, "failed"},
+    {RunState::requeued, "requeued"},
+}};
+
+// Runs and observables are append-mostly; the partial unique index makes "done twice" impossible.
+constexpr const char* k_schema = R"sql(
+CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS samples (
+  sample INTEGER PRIMARY KEY,
+  unit TEXT NOT NULL,
+  physical TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS runs (
+  id INTEGER PRIMARY KEY AUTOINCREMENT,
+  sample INTEGER NOT NULL REFERENCES samples(sample),
+  attempt INTEGER NOT NULL,
+  state TEXT NOT NULL CHECK (state IN ('submitted', 'done', 'failed', 'requeued')),
+  job_id TEXT NOT NULL DEFAULT '',
+  exit_code INTEGER NOT NULL DEFAULT -1,
+  signal INTEGER NOT NULL DEFAULT 0,
+  failure TEXT NOT NULL DEFAULT '',
+  message TEXT NOT NULL DEFAULT '',
+  wall_seconds REAL NOT NULL DEFAULT 0,
+  cpu_seconds REAL NOT NULL DEFAULT 0,
+  host TEXT NOT NULL DEFAULT '',
+  log_tail TEXT NOT NULL DEFAULT '',
+  submitted_at REAL NOT NULL,
+  finished_at REAL NOT NULL DEFAULT 0);
+CREATE UNIQUE INDEX IF NOT EXISTS runs_one_done ON runs(sample) WHERE state = 'done';
+CREATE INDEX IF NOT EXISTS runs_by_sample ON runs(sample);
+CREATE TABLE IF NOT EXISTS observables (
+  sample INTEGER NOT NULL REFERENCES samples(sample),
+  name TEXT NOT NULL,
+  value REAL NOT NULL,
+  run INTEGER NOT NULL REFERENCES runs(id),
+  PRIMARY KEY (sample, name));
+CREATE TABLE IF NOT EXISTS events (
+  id INTEGER PRIMARY KEY AUTOINCREMENT,
+  time REAL NOT NULL,
+  kind TEXT NOT NULL,
+  sample INTEGER NOT NULL DEFAULT -1,
+  message TEXT NOT NULL);
+)sql";
+
+std::string to_json(const std::vector<double>& values) { return nlohmann::json(values).dump(); }
+
+std::vector<double> from_json(const std::string& text) {
+  return nlohmann::json::parse(text).get<std::vector<double>>();
+}
+
+RunRow read_run(SQLite::Statement& q) {
+  RunRow row;
+  row.id = q.getColumn(0).getInt64();
+  row.sample = q.getColumn(1).getInt();
+  row.attempt = q.getColumn(2).getInt();
+  row.state = run_state_from_string(q.getColumn(3).getString());
+  row.job_id = q.getColumn(4).getString();
+  row.exit_code = q.getColumn(5).getInt();
+  row.signal = q.getColumn(6).getInt();
+  row.failure = q.getColumn(7).getString();
+  row.message = q.getColumn(8).getString();
+  row.wall_seconds = q.getColumn(9).getDouble();
+  row.cpu_seconds = q.getColumn(10).getDouble();
+  row.host = q.getColumn(11).getString();
+  row.log_tail = q.getColumn(12).getString();
+  row.submitted_at = q.getColumn(13).getDouble();
+  row.finished_at = q.getColumn(14).getDouble();
+  return row;
+}
+
+constexpr const char* k_run_columns =
+    "id, sample, attempt, state, job_id, exit_code, signal, failure, message, wall_seconds, cpu_seconds, host, "
+    "log_tail, submitted_at, finished_at";
+
+void bind_outcome(SQLite::Statement& q, const RunOutcome& o) {
+  q.bind(":exit_code", o.exit_code);
+  q.bind(":signal", o.signal);
+  q.bind(":failure", o.failure);
+  q.bind(":message", o.message);
+  q.bind(":wall", o.wall_seconds);
+  q.bind(":cpu", o.cpu_seconds);
+  q.bind(":host", o.host);
+  q.bind(":tail", o.log_tail);
+  q.bind(":finished", unix_now());
+}
+
+constexpr const char* k_update_outcome =
+    "UPDATE runs SET state = :state, exit_code = :exit_code, signal = :signal, failure = :failure, "
+    "message = :message, wall_seconds = :wall, cpu_seconds = :cpu, host = :host, log_tail = :tail, "
+    "finished_at = :finished WHERE id = :id AND state = 'submitted'";
+
+}  // namespace
+
+std::string to_string(RunState state) {
+  for (const auto& [s, name] : k_state_names)
+    if (s == state) return name;
+  return "unknown";
+}
+
+RunState run_state_from_string(const std::string& name) {
+  for (const auto& [s, text] : k_state_names)
+    if (name == text) return s;
+  throw std::invalid_argument(fmt::format("unknown run state '{}' (valid: submitted, done, failed, requeued)", name));
+}
+
+double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+Store::Store(const std::string& path)
+    : m_db(std::make_unique<SQLite::Database>(path, SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE, k_busy_timeout_ms)) {
+  m_db->exec("PRAGMA journal_mode = WAL");
+  // FULL: a transaction that returned is on disk, also after a power cut (SIGKILL alone would need only NORMAL).
+  m_db->exec("PRAGMA synchronous = FULL");
+  m_db->exec("PRAGMA foreign_keys = ON");
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  m_db->exec(k_schema);
+  SQLite::Statement q(*m_db, "INSERT OR IGNORE INTO meta(key, value) VALUES ('schema_version', ?)");
+  q.bind(1, std::to_string(k_schema_version));
+  q.exec();
+  tx.commit();
+}
+
+Store::Store(std::unique_ptr<SQLite::Database> db) : m_db(std::move(db)) {}
+
+Store Store::open_read_only(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw std::runtime_error(fmt::format("{}: no study store here", path));
+  return Store(std::make_unique<SQLite::Database>(path, SQLite::OPEN_READONLY, k_busy_timeout_ms));
+}
+
+Store::~Store() = default;
+Store::Store(Store&&) noexcept = default;
+Store& Store::operator=(Store&&) noexcept = default;
+
+std::optional<std::string> Store::design_hash() const {
+  SQLite::Statement q(*m_db, "SELECT value FROM meta WHERE key = 'design_hash'");
+  if (q.executeStep()) return q.getColumn(0).getString();
+  return std::nullopt;
+}
+
+std::string Store::study_name() const {
+  SQLite::Statement q(*m_db, "SELECT value FROM meta WHERE key = 'study_name'");
+  return q.executeStep() ? q.getColumn(0).getString() : std::string{};
+}
+
+void Store::initialize(const std::string& hash, const std::string& study_name, const std::vector<SampleRow>& samples) {
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  {
+    SQLite::Statement check(*m_db, "SELECT count(*) FROM samples");
+    check.executeStep();
+    if (check.getColumn(0).getInt() != 0) throw std::logic_error("Store::initialize on a store that has samples");
+  }
+  SQLite::Statement meta(*m_db, "INSERT OR REPLACE INTO meta(key, value) VALUES (?, ?)");
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"design_hash", hash},
+                                   {"study_name", study_name},
+                                   {"created_at", fmt::format("{:.3f}", unix_now())}}) {
+    meta.bind(1, key);
+    meta.bind(2, value);
+    meta.exec();
+    meta.reset();
+  }
+  SQLite::Statement insert(*m_db, "INSERT INTO samples(sample, unit, physical) VALUES (?, ?, ?)");
+  for (const SampleRow& s : samples) {
+    insert.bind(1, s.sample);
+    insert.bind(2, to_json(s.unit));
+    insert.bind(3, to_json(s.physical));
+    insert.exec();
+    insert.reset();
+  }
+  tx.commit();
+}
+
+std::vector<SampleRow> Store::samples() const {
+  std::vector<SampleRow> rows;
+  SQLite::Statement q(*m_db, "SELECT sample, unit, physical FROM samples ORDER BY sample");
+  while (q.executeStep())
+    rows.push_back(
+        {q.getColumn(0).getInt(), from_json(q.getColumn(1).getString()), from_json(q.getColumn(2).getString())});
+  return rows;
+}
+
+long Store::add_run(int sample, int attempt) {
+  SQLite::Statement q(*m_db, "INSERT INTO runs(sample, attempt, state, submitted_at) VALUES (?, ?, 'submitted', ?)");
+  q.bind(1, sample);
+  q.bind(2, attempt);
+  q.bind(3, unix_now());
+  q.exec();
+  return static_cast<long>(m_db->getLastInsertRowid());
+}
+
+std::vector<long> Store::add_runs(const std::vector<NewRun>& runs) {
+  std::vector<long> ids;
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  SQLite::Statement q(
+      *m_db, "INSERT INTO runs(sample, attempt, state, job_id, submitted_at) VALUES (?, ?, 'submitted', ?, ?)");
+  const double now = unix_now();
+  for (const NewRun& r : runs) {
+    q.bind(1, r.sample);
+    q.bind(2, r.attempt);
+    q.bind(3, r.job_id);
+    q.bind(4, now);
+    q.exec();
+    q.reset();
+    ids.push_back(static_cast<long>(m_db->getLastInsertRowid()));
+  }
+  tx.commit();
+  return ids;
+}
+
+void Store::set_job_ids(const std::vector<std::pair<long, std::string>>& ids) {
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  SQLite::Statement q(*m_db, "UPDATE runs SET job_id = ? WHERE id = ?");
+  for (const auto& [run, job_id] : ids) {
+    q.bind(1, job_id);
+    q.bind(2, static_cast<std::int64_t>(run));
+    q.exec();
+    q.reset();
+  }
+  tx.commit();
+}
+
+void Store::set_job_id(long run, const std::string& job_id) {
+  SQLite::Statement q(*m_db, "UPDATE runs SET job_id = ? WHERE id = ?");
+  q.bind(1, job_id);
+  q.bind(2, static_cast<std::int64_t>(run));
+  q.exec();
+}
+
+void Store::record_done(long run, const RunOutcome& outcome, const std::map<std::string, double>& observables) {
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  int sample = -1;
+  {
+    SQLite::Statement q(*m_db, "SELECT sample FROM runs WHERE id = ? AND state = 'submitted'");
+    q.bind(1, static_cast<std::int64_t>(run));
+    if (!q.executeStep()) throw std::logic_error(fmt::format("record_done: run {} is not in state submitted", run));
+    sample = q.getColumn(0).getInt();
+  }
+  SQLite::Statement update(*m_db, k_update_outcome);
+  update.bind(":state", "done");
+  bind_outcome(update, outcome);
+  update.bind(":id", static_cast<std::int64_t>(run));
+  update.exec();  // the unique index throws if the sample is already done
+  SQLite::Statement insert(*m_db, "INSERT OR REPLACE INTO observables(sample, name, value, run) VALUES (?, ?, ?, ?)");
+  for (const auto& [name, value] : observables) {
+    insert.bind(1, sample);
+    insert.bind(2, name);
+    insert.bind(3, value);
+    insert.bind(4, static_cast<std::int64_t>(run));
+    insert.exec();
+    insert.reset();
+  }
+  SQLite::Statement event(*m_db, "INSERT INTO events(time, kind, sample, message) VALUES (?, 'done', ?, ?)");
+  event.bind(1, unix_now());
+  event.bind(2, sample);
+  event.bind(3, fmt::format("run {} done in {:.1f} s", run, outcome.wall_seconds));
+  event.exec();
+  tx.commit();
+}
+
+void Store::record_failed(long run, const RunOutcome& outcome) {
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  SQLite::Statement update(*m_db, k_update_outcome);
+  update.bind(":state", "failed");
+  bind_outcome(update, outcome);
+  update.bind(":id", static_cast<std::int64_t>(run));
+  if (update.exec() != 1) throw std::logic_error(fmt::format("record_failed: run {} is not in state submitted", run));
+  SQLite::Statement event(*m_db,
+                          "INSERT INTO events(time, kind, sample, message) "
+                          "SELECT ?, 'failed', sample, ? FROM runs WHERE id = ?");
+  event.bind(1, unix_now());
+  event.bind(2, fmt::format("run {}: {}: {}", run, outcome.failure, outcome.message));
+  event.bind(3, static_cast<std::int64_t>(run));
+  event.exec();
+  tx.commit();
+}
+
+void Store::record_requeued(long run, const std::string& message) {
+  SQLite::Statement q(*m_db,
+                      "UPDATE runs SET state = 'requeued', message = ?, finished_at = ? "
+                      "WHERE id = ? AND state = 'submitted'");
+  q.bind(1, message);
+  q.bind(2, unix_now());
+  q.bind(3, static_cast<std::int64_t>(run));
+  q.exec();
+}
+
+std::vector<RunRow> Store::runs() const {
+  std::vector<RunRow> rows;
+  SQLite::Statement q(*m_db, fmt::format("SELECT {} FROM runs ORDER BY id", k_run_columns));
+  while (q.executeStep()) rows.push_back(read_run(q));
+  return rows;
+}
+
+std::vector<RunRow> Store::runs_in_state(RunState state) const {
+  std::vector<RunRow> rows;
+  SQLite::Statement q(*m_db, fmt::format("SELECT {} FROM runs WHERE state = ? ORDER BY id", k_run_columns));
+  q.bind(1, to_string(state));
+  while (q.executeStep()) rows.push_back(read_run(q));
+  return rows;
+}
+
+std::optional<RunRow> Store::run(long id) const {
+  SQLite::Statement q(*m_db, fmt::format("SELECT {} FROM runs WHERE id = ?", k_run_columns));
+  q.bind(1, static_cast<std::int64_t>(id));
+  if (q.executeStep()) return read_run(q);
+  return std::nullopt;
+}
+
+std::map<int, std::map<std::string, double>> Store::observables() const {
+  std::map<int, std::map<std::string, double>> values;
+  SQLite::Statement q(*m_db, "SELECT sample, name, value FROM observables ORDER BY sample, name");
+  while (q.executeStep()) values[q.getColumn(0).getInt()][q.getColumn(1).getString()] = q.getColumn(2).getDouble();
+  return values;
+}
+
+StoreCounts Store::counts() const {
+  StoreCounts c;
+  // The state of a sample is the state of its latest run (a done run is always the latest: nothing runs after it).
+  SQLite::Statement q(*m_db,
+                      "SELECT s.sample, (SELECT state FROM runs r WHERE r.sample = s.sample ORDER BY id DESC LIMIT 1) "
+                      "FROM samples s");
+  while (q.executeStep()) {
+    ++c.samples;
+    const std::string state = q.getColumn(1).isNull() ? std::string{} : q.getColumn(1).getString();
+    if (state == "done")
+      ++c.done;
+    else if (state == "submitted")
+      ++c.running;
+    else if (state == "failed")
+      ++c.failed;
+    else
+      ++c.pending;
+  }
+  SQLite::Statement a(*m_db, "SELECT count(*), (SELECT avg(wall_seconds) FROM runs WHERE state = 'done') FROM runs");
+  a.executeStep();
+  c.attempts = a.getColumn(0).getInt();
+  c.mean_done_wall = a.getColumn(1).isNull() ? 0.0 : a.getColumn(1).getDouble();
+  return c;
+}
+
+void Store::add_event(const std::string& kind, const std::string& message, int sample) {
+  SQLite::Statement q(*m_db, "INSERT INTO events(time, kind, sample, message) VALUES (?, ?, ?, ?)");
+  q.bind(1, unix_now());
+  q.bind(2, kind);
+  q.bind(3, sample);
+  q.bind(4, message);
+  q.exec();
+}
+
+std::vector<EventRow> Store::events() const {
+  std::vector<EventRow> rows;
+  SQLite::Statement q(*m_db, "SELECT time, kind, sample, message FROM events ORDER BY id");
+  while (q.executeStep())
+    rows.push_back(
+        {q.getColumn(0).getDouble(), q.getColumn(1).getString(), q.getColumn(2).getInt(), q.getColumn(3).getString()});
+  return rows;
+}
+
+std::string Store::integrity_check() const {
+  SQLite::Statement q(*m_db, "PRAGMA integrity_check");
+  std::string result;
+  while (q.executeStep()) {
+    if (!result.empty()) result += '\n';
+    result += q.getColumn(0).getString();
+  }
+  return result;
+}
+
+}  // namespace demsa::study

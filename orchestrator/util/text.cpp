@@ -1,0 +1,63 @@
+#include "orchestrator/util/text.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace demsa::util {
+
+namespace {
+constexpr std::string_view k_blanks = " \t\r\n";
+}
+
+std::string trim(std::string_view text) {
+  const std::size_t begin = text.find_first_not_of(k_blanks);
+  if (begin == std::string_view::npos) return {};
+  const std::size_t end = text.find_last_not_of(k_blanks);
+  return std::string(text.substr(begin, end - begin + 1));
+}
+
+std::string join(const std::vector<std::string>& items, std::string_view separator) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out += separator;
+    out += items[i];
+  }
+  return out;
+}
+
+std::optional<double> parse_number(std::string_view text) {
+  const std::string t = trim(text);
+  if (t.empty()) return std::nullopt;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(t.c_str(), &end);
+  if (end != t.c_str() + t.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<long> parse_long(std::string_view text) {
+  const std::string t = trim(text);
+  if (t.empty()) return std::nullopt;
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(t.c_str(), &end, 10);
+  if (end != t.c_str() + t.size() || errno == ERANGE) return std::nullopt;
+  return v;
+}
+
+std::vector<std::string> split(std::string_view text, char separator) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t at = text.find(separator, start);
+    if (at == std::string_view::npos) {
+      fields.emplace_back(text.substr(start));
+      return fields;
+    }
+    fields.emplace_back(text.substr(start, at - start));
+    start = at + 1;
+  }
+}
+
+}  // namespace demsa::util

@@ -1,0 +1,27 @@
+#pragma once
+// Small text helpers: the one trim, join and strict number parser of the orchestrator. (postprocess/text.hpp has
+// its own for the file readers, since postprocess/ cannot use orchestrator/.)
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace demsa::util {
+
+/// `text` without leading and trailing blanks (space, tab, CR, LF).
+std::string trim(std::string_view text);
+
+/// The items joined by `separator` ("a, b, c" by default).
+std::string join(const std::vector<std::string>& items, std::string_view separator = ", ");
+
+/// The whole of `text` (blanks around it allowed) as a finite double; nullopt when it is empty, has trailing
+/// characters, or is infinite or NaN.
+std::optional<double> parse_number(std::string_view text);
+
+/// The whole of `text` (blanks around it allowed) as a long; nullopt when it is not one or out of range.
+std::optional<long> parse_long(std::string_view text);
+
+/// `text` split at every `separator` (an empty text gives one empty field; a trailing separator an empty last one).
+std::vector<std::string> split(std::string_view text, char separator);
+
+}  // namespace demsa::util
