@@ -32,6 +32,7 @@ done
 for dir in orchestrator/*/; do
   name=$(basename "$dir")
   [[ -n ${allowed[$name]+set} ]] || bad+=$'\n'"$dir: a folder that is not a layer of tests/style/layering.test.sh"
+  grep -qE "^\| \`orchestrator/$name/\` \|" ARCHITECTURE.md || bad+=$'\n'"$dir: no line of its own in ARCHITECTURE.md"
 done
 liggghts=$(grep -rlnE '#include[[:space:]]*[<"](liggghts/|library\.h|lammps\.h)' orchestrator sobol postprocess |
   grep -v '^orchestrator/driver/' || true)
