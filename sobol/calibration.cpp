@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 #include <nlopt.hpp>
+#include "sobol/enum_names.hpp"
 
 #include <cassert>
 #include <cmath>
@@ -74,55 +75,39 @@ struct Objective {
 
 }  // namespace
 
-GlobalAlgorithm global_algorithm_from_string(const std::string& name) {
-  if (name == "direct-l") return GlobalAlgorithm::direct_l;
-  if (name == "crs2") return GlobalAlgorithm::crs2;
-  if (name == "isres") return GlobalAlgorithm::isres;
-  if (name == "mlsl-lds") return GlobalAlgorithm::mlsl_lds;
-  if (name == "none") return GlobalAlgorithm::none;
-  throw InputError(fmt::format("unknown global algorithm '{}' (valid: direct-l, crs2, isres, mlsl-lds, none)", name));
+namespace {
+
+const EnumNames<GlobalAlgorithm>& global_algorithm_names() {
+  static const EnumNames<GlobalAlgorithm> names{"global algorithm",
+                                                {{GlobalAlgorithm::direct_l, "direct-l"},
+                                                 {GlobalAlgorithm::crs2, "crs2"},
+                                                 {GlobalAlgorithm::isres, "isres"},
+                                                 {GlobalAlgorithm::mlsl_lds, "mlsl-lds"},
+                                                 {GlobalAlgorithm::none, "none"}}};
+  return names;
 }
 
-std::string to_string(GlobalAlgorithm algorithm) {
-  switch (algorithm) {
-    case GlobalAlgorithm::direct_l:
-      return "direct-l";
-    case GlobalAlgorithm::crs2:
-      return "crs2";
-    case GlobalAlgorithm::isres:
-      return "isres";
-    case GlobalAlgorithm::mlsl_lds:
-      return "mlsl-lds";
-    case GlobalAlgorithm::none:
-      return "none";
-  }
-  return {};
+const EnumNames<LocalAlgorithm>& local_algorithm_names() {
+  static const EnumNames<LocalAlgorithm> names{"local algorithm",
+                                               {{LocalAlgorithm::bobyqa, "bobyqa"},
+                                                {LocalAlgorithm::nelder_mead, "nelder-mead"},
+                                                {LocalAlgorithm::sbplx, "sbplx"},
+                                                {LocalAlgorithm::cobyla, "cobyla"},
+                                                {LocalAlgorithm::none, "none"}}};
+  return names;
 }
+
+}  // namespace
+
+GlobalAlgorithm global_algorithm_from_string(const std::string& name) {
+  return global_algorithm_names().from_string(name);
+}
+std::string to_string(GlobalAlgorithm algorithm) { return global_algorithm_names().to_string(algorithm); }
 
 LocalAlgorithm local_algorithm_from_string(const std::string& name) {
-  if (name == "bobyqa") return LocalAlgorithm::bobyqa;
-  if (name == "nelder-mead") return LocalAlgorithm::nelder_mead;
-  if (name == "sbplx") return LocalAlgorithm::sbplx;
-  if (name == "cobyla") return LocalAlgorithm::cobyla;
-  if (name == "none") return LocalAlgorithm::none;
-  throw InputError(fmt::format("unknown local algorithm '{}' (valid: bobyqa, nelder-mead, sbplx, cobyla, none)", name));
+  return local_algorithm_names().from_string(name);
 }
-
-std::string to_string(LocalAlgorithm algorithm) {
-  switch (algorithm) {
-    case LocalAlgorithm::bobyqa:
-      return "bobyqa";
-    case LocalAlgorithm::nelder_mead:
-      return "nelder-mead";
-    case LocalAlgorithm::sbplx:
-      return "sbplx";
-    case LocalAlgorithm::cobyla:
-      return "cobyla";
-    case LocalAlgorithm::none:
-      return "none";
-  }
-  return {};
-}
+std::string to_string(LocalAlgorithm algorithm) { return local_algorithm_names().to_string(algorithm); }
 
 void CalibrationOptions::validate(int dimension) const {
   for (const auto* v : {&lower, &upper}) {

@@ -1,5 +1,6 @@
 #include "sobol/metamodel.hpp"
 
+#include "sobol/enum_names.hpp"
 #include "sobol/gp.hpp"
 #include "sobol/rbf.hpp"
 #include "sobol/rsm.hpp"
@@ -15,54 +16,45 @@
 
 namespace demsa::sobol {
 
-MetamodelKind metamodel_kind_from_string(const std::string& name) {
-  if (name == "rsm1") return MetamodelKind::rsm1;
-  if (name == "rsm2") return MetamodelKind::rsm2;
-  if (name == "rsm3") return MetamodelKind::rsm3;
-  if (name == "rbf-cubic") return MetamodelKind::rbf_cubic;
-  if (name == "rbf-tps") return MetamodelKind::rbf_tps;
-  if (name == "gp") return MetamodelKind::gp;
-  throw InputError(fmt::format("unknown metamodel '{}' (valid: rsm1, rsm2, rsm3, rbf-cubic, rbf-tps, gp)", name));
+namespace {
+
+const EnumNames<MetamodelKind>& metamodel_kind_names() {
+  static const EnumNames<MetamodelKind> names{"metamodel",
+                                              {{MetamodelKind::rsm1, "rsm1"},
+                                               {MetamodelKind::rsm2, "rsm2"},
+                                               {MetamodelKind::rsm3, "rsm3"},
+                                               {MetamodelKind::rbf_cubic, "rbf-cubic"},
+                                               {MetamodelKind::rbf_tps, "rbf-tps"},
+                                               {MetamodelKind::gp, "gp"}}};
+  return names;
 }
 
-std::string to_string(MetamodelKind kind) {
-  switch (kind) {
-    case MetamodelKind::rsm1:
-      return "rsm1";
-    case MetamodelKind::rsm2:
-      return "rsm2";
-    case MetamodelKind::rsm3:
-      return "rsm3";
-    case MetamodelKind::rbf_cubic:
-      return "rbf-cubic";
-    case MetamodelKind::rbf_tps:
-      return "rbf-tps";
-    case MetamodelKind::gp:
-      return "gp";
-  }
-  assert(false && "unhandled MetamodelKind");
-  return {};
+const EnumNames<GpKernel>& gp_kernel_names() {
+  static const EnumNames<GpKernel> names{
+      "GP kernel",
+      {{GpKernel::squared_exponential, "squared-exponential"}, {GpKernel::matern52, "matern52"}},
+      {{"se", GpKernel::squared_exponential},
+       {"gaussian", GpKernel::squared_exponential},
+       {"matern-5/2", GpKernel::matern52}}};
+  return names;
 }
 
-std::vector<std::string> metamodel_names() { return {"rsm1", "rsm2", "rsm3", "rbf-cubic", "rbf-tps", "gp"}; }
-
-GpKernel gp_kernel_from_string(const std::string& name) {
-  if (name == "squared-exponential" || name == "se" || name == "gaussian") return GpKernel::squared_exponential;
-  if (name == "matern52" || name == "matern-5/2") return GpKernel::matern52;
-  throw InputError(fmt::format("unknown GP kernel '{}' (valid: squared-exponential, matern52)", name));
+const EnumNames<GpTrend>& gp_trend_names() {
+  static const EnumNames<GpTrend> names{"GP trend", {{GpTrend::constant, "constant"}, {GpTrend::linear, "linear"}}};
+  return names;
 }
 
-std::string to_string(GpKernel kernel) {
-  return kernel == GpKernel::squared_exponential ? "squared-exponential" : "matern52";
-}
+}  // namespace
 
-GpTrend gp_trend_from_string(const std::string& name) {
-  if (name == "constant") return GpTrend::constant;
-  if (name == "linear") return GpTrend::linear;
-  throw InputError(fmt::format("unknown GP trend '{}' (valid: constant, linear)", name));
-}
+MetamodelKind metamodel_kind_from_string(const std::string& name) { return metamodel_kind_names().from_string(name); }
+std::string to_string(MetamodelKind kind) { return metamodel_kind_names().to_string(kind); }
+std::vector<std::string> metamodel_names() { return metamodel_kind_names().names(); }
 
-std::string to_string(GpTrend trend) { return trend == GpTrend::constant ? "constant" : "linear"; }
+GpKernel gp_kernel_from_string(const std::string& name) { return gp_kernel_names().from_string(name); }
+std::string to_string(GpKernel kernel) { return gp_kernel_names().to_string(kernel); }
+
+GpTrend gp_trend_from_string(const std::string& name) { return gp_trend_names().from_string(name); }
+std::string to_string(GpTrend trend) { return gp_trend_names().to_string(trend); }
 
 void GpOptions::validate() const {
   if (!(min_length > 0.0)) throw InputError(fmt::format("gp min_length = {}: must be > 0", min_length));

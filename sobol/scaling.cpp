@@ -1,5 +1,6 @@
 #include "sobol/scaling.hpp"
 
+#include "sobol/enum_names.hpp"
 #include "sobol/error.hpp"
 
 #include <fmt/core.h>
@@ -9,13 +10,20 @@
 
 namespace demsa::sobol {
 
-Scale scale_from_string(const std::string& name) {
-  if (name == "uniform" || name == "linear") return Scale::uniform;
-  if (name == "log" || name == "log-uniform" || name == "log_uniform") return Scale::log_uniform;
-  throw InputError(fmt::format("unknown scale '{}' (valid: uniform, log)", name));
+namespace {
+
+const EnumNames<Scale>& scale_names() {
+  static const EnumNames<Scale> names{
+      "scale",
+      {{Scale::uniform, "uniform"}, {Scale::log_uniform, "log"}},
+      {{"linear", Scale::uniform}, {"log-uniform", Scale::log_uniform}, {"log_uniform", Scale::log_uniform}}};
+  return names;
 }
 
-std::string to_string(Scale scale) { return scale == Scale::uniform ? "uniform" : "log"; }
+}  // namespace
+
+Scale scale_from_string(const std::string& name) { return scale_names().from_string(name); }
+std::string to_string(Scale scale) { return scale_names().to_string(scale); }
 
 void validate_bounds(const std::vector<Bounds>& bounds, const std::vector<std::string>& names) {
   for (std::size_t j = 0; j < bounds.size(); ++j) {
