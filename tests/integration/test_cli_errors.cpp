@@ -17,13 +17,11 @@ namespace fs = std::filesystem;
 
 /// A study folder with every sample done: angle and pile height are smooth functions of the two parameters.
 void write_done_study(const fs::path& dir) {
-  SyntheticStudy study = start_synthetic_study(
-      dir,
-      StudyToml{.name = "cli-errors",
-                .samples = 12,
-                .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 0\nbase_samples = 64\n"}
-          .text(),
-      5);
+  const std::string toml = StudyToml{.name = "cli-errors",
+                                     .samples = 12,
+                                     .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 0\nbase_samples = 64\n"}
+                               .text();
+  SyntheticStudy study = start_synthetic_study(dir, toml, 5);
   for (const SampleRow& row : study.samples) {
     RunOutcome done;
     done.exit_code = 0;

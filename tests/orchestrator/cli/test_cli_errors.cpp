@@ -29,7 +29,7 @@ Reported report(const E& error) {
   return {status, testing::internal::GetCapturedStderr()};
 }
 
-TEST(CliErrors, UserErrorsExit2WithTheirMessage) {
+TEST(CliReportError, UserErrorsExit2WithTheirMessage) {
   const Reported user = report(util::UserError("study.toml", 14, "mu_pw: low > high"));
   EXPECT_EQ(user.status, util::k_exit_usage);
   EXPECT_EQ(user.err, "demsa: error: study.toml:14: mu_pw: low > high\n");
@@ -51,13 +51,13 @@ TEST(CliErrors, UserErrorsExit2WithTheirMessage) {
   EXPECT_EQ(pp_input.err, "demsa: error: no particle of type 1 on the pedestal\n");
 }
 
-TEST(CliErrors, MetamodelThatCannotBeFittedIsTheDatasToFix) {
+TEST(CliReportError, MetamodelThatCannotBeFittedIsTheDatasToFix) {
   const Reported r = report(sobol::NumericalError("the design matrix is singular"));
   EXPECT_EQ(r.status, util::k_exit_usage);
   EXPECT_EQ(r.err, "demsa: error: the design matrix is singular\n");
 }
 
-TEST(CliErrors, MachineFailuresExit3AndSayWhatFailed) {
+TEST(CliReportError, MachineFailuresExit3AndSayWhatFailed) {
   const Reported io = report(util::IoError("study/analysis/analysis.json: cannot write: No space left on device"));
   EXPECT_EQ(io.status, util::k_exit_internal);
   EXPECT_EQ(io.err, "demsa: internal error: study/analysis/analysis.json: cannot write: No space left on device\n");
@@ -74,8 +74,8 @@ TEST(CliErrors, MachineFailuresExit3AndSayWhatFailed) {
   EXPECT_EQ(fork.status, util::k_exit_internal);
   EXPECT_EQ(fork.err.rfind("demsa: internal error: fork: ", 0), 0u) << fork.err;
 
-  const Reported fs_error = report(std::filesystem::filesystem_error(
-      "cannot create directories", "study/analysis", std::make_error_code(std::errc::file_exists)));
+  const Reported fs_error = report(std::filesystem::filesystem_error("cannot create directories", "study/analysis",
+                                                                     std::make_error_code(std::errc::file_exists)));
   EXPECT_EQ(fs_error.status, util::k_exit_internal);
   EXPECT_NE(fs_error.err.find("study/analysis"), std::string::npos) << fs_error.err;
 
