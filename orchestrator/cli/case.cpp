@@ -7,6 +7,7 @@
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/process.hpp"
 
 #include <fmt/core.h>
 #include <mpi.h>
@@ -61,11 +62,15 @@ std::vector<std::pair<std::string, double>> parse_sets(const std::vector<std::st
   return out;
 }
 
-std::filesystem::path self_executable() {
-  std::error_code ec;
-  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::filesystem::path("demsa") : self;
-}
+/// MPI_Init for the life of the object and MPI_Finalize at its end, also when the driver throws (run_cli() then
+/// prints the error after MPI has been shut down).
+class MpiSession {
+ public:
+  MpiSession() { MPI_Init(nullptr, nullptr); }
+  ~MpiSession() { MPI_Finalize(); }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+};
 
 void run_case(const CaseOptions& o, CliState& state) {
   const StudyConfig config = load_study(o.study);
@@ -80,7 +85,7 @@ void run_case(const CaseOptions& o, CliState& state) {
   } else {
     request = request_from_values(config, parse_sets(o.sets));
   }
-  request.demsa_executable = self_executable();
+  request.demsa_executable = util::self_executable();
   if (const auto info = query_liggghts()) request.liggghts_version = info->version;
   const std::filesystem::path dir =
       o.output.empty() ? std::filesystem::path(o.sample >= 0 ? fmt::format("case-{:06d}", o.sample) : "case-set")
@@ -107,7 +112,7 @@ void run_case(const CaseOptions& o, CliState& state) {
 
 }  // namespace
 
-void register_case_command(CLI::App& app, CliState& state) {
+void register_case_commands(CLI::App& app, CliState& state) {
   auto options = std::make_shared<CaseOptions>();
   CLI::App* sub = app.add_subcommand(
       "case", "Write one LIGGGHTS case folder of a study, runnable by hand with `cd DIR && ./run.sh`");
@@ -133,16 +138,8 @@ void register_case_command(CLI::App& app, CliState& state) {
   driver->group("");  // internal: run.sh calls it under mpirun
   driver->add_option("case_dir", *driver_dir, "Case folder")->required()->check(CLI::ExistingDirectory);
   driver->callback([driver_dir, &state] {
-    MPI_Init(nullptr, nullptr);
-    int status = k_exit_usage;
-    try {
-      status = drive_oedometer(*driver_dir);
-    } catch (...) {
-      MPI_Finalize();
-      throw;
-    }
-    MPI_Finalize();
-    state.exit_code = status;
+    const MpiSession mpi;
+    state.exit_code = drive_oedometer(*driver_dir);
   });
 }
 

@@ -4,12 +4,18 @@
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/version.hpp"
+#include "postprocess/error.hpp"
+#include "sobol/error.hpp"
 
+#include <SQLiteCpp/Exception.h>
 #include <fmt/core.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <exception>
+#include <new>
+#include <string>
+#include <system_error>
 
 namespace demsa::cli {
 
@@ -32,11 +38,55 @@ void print_version() {
   }
 }
 
+int user_error(const std::string& message) {
+  fmt::print(stderr, "demsa: error: {}\n", message);
+  return k_exit_usage;
+}
+
+int internal_error(const std::string& message) {
+  fmt::print(stderr, "demsa: internal error: {}\n", message);
+  return k_exit_internal;
+}
+
 }  // namespace
 
+int report_error(const std::exception_ptr& error) {
+  // The libraries' own input errors (sobol, postprocess) know nothing of demsa's CLI; they are the user's to fix
+  // like util::UserError.
+  try {
+    std::rethrow_exception(error);
+  } catch (const UserError& e) {
+    return user_error(e.what());
+  } catch (const sobol::InputError& e) {  // sobol::DataError too
+    return user_error(e.what());
+  } catch (const sobol::NumericalError& e) {
+    // A metamodel that cannot be fitted, or indices that cannot be computed, from the user's data (a singular
+    // design, too few distinct samples, no convergence): the data's fault, fixed by more or other samples or
+    // another metamodel, not by the machine.
+    return user_error(e.what());
+  } catch (const postprocess::ParseError& e) {
+    return user_error(e.what());
+  } catch (const postprocess::InputError& e) {
+    return user_error(e.what());
+  } catch (const InternalError& e) {  // util::IoError too
+    return internal_error(e.what());
+  } catch (const SQLite::Exception& e) {
+    return internal_error(fmt::format("study store (SQLite): {}", e.what()));
+  } catch (const std::system_error& e) {  // std::filesystem::filesystem_error names its paths
+    return internal_error(e.what());
+  } catch (const std::bad_alloc&) {
+    return internal_error("out of memory");
+  } catch (const std::exception& e) {
+    return internal_error(e.what());
+  } catch (...) {
+    return internal_error("an exception that is not a std::exception");
+  }
+}
+
 int run_cli(int argc, char** argv) {
-  // Log lines (SLURM warnings, submissions) go to standard error: standard output carries results, e.g. the JSON
-  // of `demsa status --json`.
+  // Log lines go to standard error: standard output carries results, e.g. the JSON of `demsa status --json`. The
+  // SLURM executor (exec/slurm/executor.cpp) still logs through spdlog's default logger; the CLI's own lines go
+  // through util::log.
   if (!spdlog::get("demsa")) spdlog::set_default_logger(spdlog::stderr_color_mt("demsa"));
   CLI::App app{
       "demsa: sensitivity analysis and calibration of DEM models in LIGGGHTS\n"
@@ -48,14 +98,18 @@ int run_cli(int argc, char** argv) {
   app.add_flag("--version", version, "Print demsa's version and the LIGGGHTS version found at run time");
 
   CliState state;
-  register_run_commands(app, state);
-  register_case_command(app, state);
-  register_report_commands(app, state);
+  register_run_command(app, state);
+  register_status_command(app, state);
+  register_analyze_command(app, state);
+  register_case_commands(app, state);
+  register_report_command(app, state);
+  register_calibrate_command(app, state);
   register_design_command(app, state);
   register_sensitivity_command(app, state);
   register_postprocess_command(app, state);
   register_compare_command(app, state);
 
+  // Every error of every command ends here: the subcommands' callbacks run inside parse().
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -64,11 +118,11 @@ int run_cli(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // CLI11's own exit codes are not ours: every usage error is 2.
-    app.exit(e);
-    return e.get_exit_code() == 0 ? k_exit_ok : k_exit_usage;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "demsa: error: {}\n", e.what());
+    if (e.get_exit_code() == 0) return k_exit_ok;
+    fmt::print(stderr, "demsa: error: {}\nRun with --help for more information.\n", e.what());
     return k_exit_usage;
+  } catch (...) {
+    return report_error(std::current_exception());
   }
   if (version) {
     print_version();

@@ -1,5 +1,6 @@
 #pragma once
-// One registration function per subcommand family; each lives in its own commands_<name>.cpp.
+// One registration function per subcommand; each lives in cli/<command>.cpp. A callback throws on error (run_cli()
+// prints it once and picks the exit status) and otherwise sets CliState::exit_code.
 #include <CLI/CLI.hpp>
 
 namespace demsa::cli {
@@ -9,12 +10,15 @@ struct CliState {
   int exit_code = 0;
 };
 
-void register_run_commands(CLI::App& app, CliState& state);         // run, status, analyze
-void register_case_command(CLI::App& app, CliState& state);         // case
-void register_report_commands(CLI::App& app, CliState& state);      // report, calibrate
-void register_design_command(CLI::App& app, CliState& state);       // design
-void register_sensitivity_command(CLI::App& app, CliState& state);  // sensitivity
-void register_postprocess_command(CLI::App& app, CliState& state);  // postprocess
-void register_compare_command(CLI::App& app, CliState& state);      // compare
+void register_run_command(CLI::App& app, CliState& state);          // run.cpp
+void register_status_command(CLI::App& app, CliState& state);       // status.cpp
+void register_analyze_command(CLI::App& app, CliState& state);      // analyze.cpp
+void register_case_commands(CLI::App& app, CliState& state);        // case.cpp: case and the hidden drive-oedometer
+void register_report_command(CLI::App& app, CliState& state);       // report.cpp
+void register_calibrate_command(CLI::App& app, CliState& state);    // calibrate.cpp
+void register_design_command(CLI::App& app, CliState& state);       // design.cpp
+void register_sensitivity_command(CLI::App& app, CliState& state);  // sensitivity.cpp
+void register_postprocess_command(CLI::App& app, CliState& state);  // postprocess.cpp
+void register_compare_command(CLI::App& app, CliState& state);      // compare.cpp
 
 }  // namespace demsa::cli

@@ -1,6 +1,7 @@
 // `demsa compare A B`: particles of two dumps (or of the `*_final.dump` files of two case folders) matched by id;
-// for piles also the angle of repose and h_P. Exit 0 within tolerance, 1 beyond it, 2 on an error.
+// for piles also the angle of repose and h_P. Exit 0 within tolerance, 1 beyond it (errors: cli.hpp).
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/dump_compare.hpp"
@@ -128,13 +129,10 @@ int run_compare(const CompareArgs& args) {
   for (const auto& [pa, pb] : pairs) {
     pp::CompareOptions options = args.options;
     if (pa.filename() == "pile_final.dump") options.pile = true;
+    validate_command_line(options);
     const pp::Particles particles_a = pp::read_particles(pa);
     const pp::Particles particles_b = pp::read_particles(pb);
-    try {
-      compared.push_back({pa, pb, pp::compare_particles(particles_a, particles_b, options, pa.string(), pb.string())});
-    } catch (const pp::InputError& e) {
-      throw UserError(e.what());
-    }
+    compared.push_back({pa, pb, pp::compare_particles(particles_a, particles_b, options, pa.string(), pb.string())});
   }
   bool within = true;
   for (const ComparedPair& c : compared) within = within && c.result.within_tolerance();

@@ -5,6 +5,7 @@
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/log.hpp"
 #include "sobol/error.hpp"
 #include "sobol/saltelli.hpp"
 #include "sobol/scaling.hpp"
@@ -133,8 +134,7 @@ void warn_unless_power_of_two(const std::string& option, int samples, const std:
   const auto n = static_cast<unsigned>(samples);
   if (samples < 1 || std::has_single_bit(n)) return;
   const unsigned below = std::bit_floor(n);
-  fmt::print(stderr, "demsa: warning: {} {} is not a power of two (nearest: {} and {}); {}\n", option, samples, below,
-             2 * below, why);
+  log::warn("{} {} is not a power of two (nearest: {} and {}); {}", option, samples, below, 2 * below, why);
 }
 
 void check_point_design(const DesignArgs& args, sobol::DesignKind kind, int dimension) {
@@ -188,12 +188,7 @@ void run_point_design(const DesignArgs& args, sobol::DesignKind kind) {
   options.time_limit = args.time_limit;
   options.iterations = args.iterations;
   options.phi_p_power = args.phi_p;
-  sobol::DesignResult r;
-  try {
-    r = sobol::make_design(options);
-  } catch (const sobol::InputError& e) {
-    throw UserError(e.what());
-  }
+  const sobol::DesignResult r = sobol::make_design(options);
   const Eigen::MatrixXd values = p.scaled ? sobol::to_physical(r.points, p.bounds) : r.points;
   write_csv(args.output, p.names, values);
   if (args.json) {
@@ -222,12 +217,7 @@ void run_saltelli(const DesignArgs& args) {
   options.dimension = static_cast<int>(p.names.size());
   options.second_order = args.second_order;
   options.seed = args.seed;
-  sobol::SaltelliDesign d;
-  try {
-    d = sobol::saltelli_design(options);
-  } catch (const sobol::InputError& e) {
-    throw UserError(e.what());
-  }
+  const sobol::SaltelliDesign d = sobol::saltelli_design(options);
   const Eigen::MatrixXd unit = d.stacked();
   const Eigen::MatrixXd values = p.scaled ? sobol::to_physical(unit, p.bounds) : unit;
   const std::vector<int> codes = d.block_codes();

@@ -1,6 +1,7 @@
 // `demsa postprocess pile DUMP` and `demsa postprocess oedometer PLATEFILE...`: the observables of one case
 // (paper §3.3 angle of repose, §4 settlements), as text or JSON.
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/oedometer.hpp"
@@ -214,6 +215,7 @@ void run_oedometer(const OedometerArgs& a) {
   pp::OedometerOptions options = a.options;
   options.measured_settlements = a.measured;
   if (dump_file) options.solid_volume = pp::solid_volume(pp::read_particles(*dump_file, 1));
+  validate_command_line(options);
   const std::string source = (states_file ? *states_file : *history_file).string();
   pp::OedometerResult r;
   try {
@@ -283,11 +285,7 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
   p->add_option("--target-angle", pile->options.target_angle, "Target angle for E_phi [deg]")->capture_default_str();
   p->add_flag("--json", pile->json, "Print the whole result (lines and boundary particles included) as JSON");
   p->callback([pile] {
-    try {
-      pile->options.validate();
-    } catch (const std::invalid_argument& e) {
-      throw UserError(e.what());
-    }
+    validate_command_line(pile->options);
     run_pile(*pile);
   });
 

@@ -1,0 +1,64 @@
+// `demsa analyze` (README "Usage"): metamodels and Sobol' indices on a study's observables, written to analysis/.
+#include "orchestrator/analysis/study_analysis.hpp"
+#include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
+#include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/errors.hpp"
+
+#include <fmt/core.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace demsa::cli {
+
+using namespace demsa::util;
+using namespace demsa::analysis;
+
+namespace {
+
+struct AnalyzeArgs {
+  std::string dir;
+  std::vector<std::string> models;
+  int bootstrap = -1;
+  int base = -1;
+  bool second_order = false;
+  bool no_second_order = false;
+  bool json = false;
+};
+
+int do_analyze(const AnalyzeArgs& args) {
+  AnalyzeOptions options;
+  options.dir = args.dir;
+  options.metamodels = args.models;
+  options.bootstrap = args.bootstrap;
+  options.base_samples = args.base;
+  if (args.second_order) options.second_order = 1;
+  if (args.no_second_order) options.second_order = 0;
+  const AnalysisSummary summary = analyze_study(options);
+  if (args.json)
+    fmt::print("{}\n", read_file(summary.out_dir / "analysis.json"));
+  else
+    print_analysis_tables(summary);
+  return k_exit_ok;
+}
+
+}  // namespace
+
+void register_analyze_command(CLI::App& app, CliState& state) {
+  auto args = std::make_shared<AnalyzeArgs>();
+  CLI::App* analyze =
+      app.add_subcommand("analyze", "Metamodels and Sobol' indices on a study's observables (writes analysis/)");
+  analyze->add_option("dir", args->dir, "Study folder")->required();
+  analyze->add_option("--models", args->models, "Metamodels (default: the study's [analysis] metamodels)");
+  analyze->add_option("--bootstrap", args->bootstrap, "Design-bootstrap refits for the intervals")
+      ->check(CLI::NonNegativeNumber);
+  analyze->add_option("--base", args->base, "QMC base sample size N")->check(CLI::Range(2, 1 << 24));
+  analyze->add_flag("--second-order", args->second_order, "Also compute S2");
+  analyze->add_flag("--no-second-order", args->no_second_order, "Do not compute S2");
+  analyze->add_flag("--json", args->json, "Print analysis.json");
+  analyze->callback([&state, args] { state.exit_code = do_analyze(*args); });
+}
+
+}  // namespace demsa::cli

@@ -1,0 +1,137 @@
+// `demsa status` (README "Usage"): counts by state, failures with their class, ETA; on a SLURM study that no demsa
+// runs, first collects the tasks that have ended.
+#include "orchestrator/cli/commands.hpp"
+#include "orchestrator/exec/local_executor.hpp"
+#include "orchestrator/exec/progress.hpp"
+#include "orchestrator/exec/runner.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/store.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/log.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+namespace demsa::cli {
+
+using namespace demsa::util;
+using namespace demsa::study;
+using namespace demsa::exec;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct StatusArgs {
+  std::string dir;
+  bool json = false;
+};
+
+/// `demsa status` on a SLURM study that no demsa runs: commits the runs whose tasks have ended (one look, no
+/// waiting), submits and cancels nothing. Returns the number of runs that ended; 0 when there was nothing to do or
+/// the study is not a SLURM study. A problem here (no sbatch on this machine, squeue failing, the study file no
+/// longer parsing) is a warning on stderr and leaves status read-only: the counts below are still worth showing.
+int collect_submitted(const fs::path& dir) {
+  const fs::path frozen = dir / "study.toml";
+  try {
+    if (StudyLock::holder(dir) != 0) return 0;
+    if (Store::open_read_only((dir / "study.db").string()).counts().running == 0) return 0;
+    ExecutorKind kind = ExecutorKind::local;
+    try {
+      kind = load_study(frozen).run.executor;
+    } catch (const UserError&) {
+      return 0;  // status still works on a study whose file no longer parses here
+    }
+    if (kind != ExecutorKind::slurm) return 0;
+    RunOptions options;
+    options.study_file = frozen;
+    options.dir = dir;
+    options.collect_only = true;
+    options.quiet = true;
+    options.should_stop = [] { return false; };
+    const RunSummary summary = run_study(options);
+    if (summary.collected > 0)
+      log::info("collected {} ended SLURM task(s): {} committed; {} still queued or running", summary.collected,
+                summary.done_now, summary.left_running);
+    return summary.collected;
+  } catch (const std::exception& e) {
+    log::warn("submitted runs not collected: {}", e.what());
+    return 0;
+  }
+}
+
+int do_status(const StatusArgs& args) {
+  const fs::path dir = args.dir;
+  const fs::path db = dir / "study.db";
+  if (!fs::exists(db)) throw UserError(fmt::format("{}: not a study folder (no study.db)", dir.string()));
+  const int collected = collect_submitted(dir);
+  const Store store = Store::open_read_only(db.string());
+  const StoreCounts c = store.counts();
+  const long holder = StudyLock::holder(dir);
+  // Failures: the latest failed run of each sample that is not done.
+  std::map<int, RunRow> failures;
+  std::map<int, bool> done;
+  for (const RunRow& r : store.runs()) {
+    if (r.state == RunState::done) done[r.sample] = true;
+    if (r.state == RunState::failed) failures[r.sample] = r;
+  }
+  int parallel = 1;
+  try {
+    const StudyConfig config = load_study(dir / "study.toml");
+    if (config.run.executor == ExecutorKind::local) parallel = local_parallel(config.run, machine_cores());
+  } catch (const UserError&) {
+    parallel = 1;  // status still works on a study whose file no longer parses here
+  }
+  const double eta = estimate_remaining(c.samples - c.done - (holder ? 0 : c.failed), parallel, c.mean_done_wall);
+  if (args.json) {
+    nlohmann::json j{{"dir", dir.string()},  {"study", store.study_name()}, {"samples", c.samples},
+                     {"done", c.done},       {"running", c.running},        {"failed", c.failed},
+                     {"pending", c.pending}, {"attempts", c.attempts},      {"mean_case_seconds", c.mean_done_wall},
+                     {"eta_seconds", eta},   {"active_pid", holder},        {"collected", collected}};
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& [sample, r] : failures) {
+      if (done.count(sample)) continue;
+      list.push_back({{"sample", sample},
+                      {"attempt", r.attempt},
+                      {"class", r.failure},
+                      {"message", r.message},
+                      {"exit_code", r.exit_code},
+                      {"log_tail", r.log_tail}});
+    }
+    j["failures"] = list;
+    fmt::print("{}\n", j.dump(2));
+    return k_exit_ok;
+  }
+  fmt::print("study {} in {}\n", store.study_name(), dir.string());
+  fmt::print("samples {}: done {}, running {}, failed {}, pending {} ({} attempts)\n", c.samples, c.done, c.running,
+             c.failed, c.pending, c.attempts);
+  fmt::print("demsa run: {}\n", holder ? fmt::format("active (pid {})", holder) : std::string("not running"));
+  if (c.mean_done_wall > 0)
+    fmt::print("mean case time {}; ETA {}\n", format_duration(c.mean_done_wall),
+               eta < 0 ? std::string("?") : format_duration(eta));
+  for (const auto& [sample, r] : failures) {
+    if (done.count(sample)) continue;
+    fmt::print("  sample {} attempt {}: {}: {}\n", sample, r.attempt, r.failure, r.message);
+  }
+  return k_exit_ok;
+}
+
+}  // namespace
+
+void register_status_command(CLI::App& app, CliState& state) {
+  auto args = std::make_shared<StatusArgs>();
+  CLI::App* status = app.add_subcommand(
+      "status", "Counts by state, failures with their class, ETA; on a SLURM study, first collects ended tasks");
+  status->add_option("dir", args->dir, "Study folder")->required();
+  status->add_flag("--json", args->json, "Machine-readable output");
+  status->callback([&state, args] { state.exit_code = do_status(*args); });
+}
+
+}  // namespace demsa::cli
