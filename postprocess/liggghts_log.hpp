@@ -64,10 +64,10 @@ LiggghtsLog parse_liggghts_log(const std::string& text);
 
 /// One thermo row met by scan_thermo.
 struct ThermoRow {
-  const ThermoBlock& block;                ///< the header of the row's block (its `rows` stay empty)
-  long line;                               ///< 1-based line of the row
-  const std::vector<std::string>& words;   ///< the values as written (`1.5e3`, `nan`, `-nan`, `inf`)
-  const std::vector<double>& values;       ///< the same parsed, one per column of `block`
+  const ThermoBlock& block;               ///< the header of the row's block (its `rows` stay empty)
+  long line;                              ///< 1-based line of the row
+  const std::vector<std::string>& words;  ///< the values as written (`1.5e3`, `nan`, `-nan`, `inf`)
+  const std::vector<double>& values;      ///< the same parsed, one per column of `block`
 };
 
 /// Streams the thermo rows of the log at `path` in file order with the rules of read_liggghts_log, holding one row

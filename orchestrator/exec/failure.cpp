@@ -26,7 +26,8 @@ namespace fs = std::filesystem;
 /// A reader's complaint about `file`, named by its file name alone (the case folder is in the report already).
 std::string problem(const fs::path& file, const postprocess::ParseError& e) {
   const std::string name = file.filename().string();
-  return e.line() > 0 ? fmt::format("{}:{}: {}", name, e.line(), e.message()) : fmt::format("{}: {}", name, e.message());
+  return e.line() > 0 ? fmt::format("{}:{}: {}", name, e.line(), e.message())
+                      : fmt::format("{}: {}", name, e.message());
 }
 
 /// NaN or infinite values anywhere in the thermo rows of the log, or kinetic energy above `limit` (0: not checked).
@@ -39,8 +40,8 @@ std::string thermo_blowup(const fs::path& log, double limit) {
     postprocess::scan_thermo(log, [&](const postprocess::ThermoRow& row) {
       for (std::size_t i = 0; i < row.values.size(); ++i)
         if (!std::isfinite(row.values[i])) {
-          message = fmt::format("thermo column '{}' is {} at step {}", row.block.columns[i], row.words[i],
-                                row.words.front());
+          message =
+              fmt::format("thermo column '{}' is {} at step {}", row.block.columns[i], row.words[i], row.words.front());
           return false;
         }
       const int ke = row.block.kinetic_energy_column();
@@ -77,8 +78,8 @@ DumpCheck check_dump(const fs::path& file) {
   try {
     check.atoms = static_cast<long>(postprocess::read_particles(file, 0, options).size());
   } catch (const postprocess::ShortFrameError& e) {
-    check.problem = fmt::format("{} is truncated: {} of {} atom rows", file.filename().string(), e.rows(),
-                                e.announced());
+    check.problem =
+        fmt::format("{} is truncated: {} of {} atom rows", file.filename().string(), e.rows(), e.announced());
     return check;
   } catch (const postprocess::ParseError& e) {
     check.problem = problem(file, e);

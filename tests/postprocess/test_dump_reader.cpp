@@ -231,11 +231,12 @@ TEST(DumpReader, ReadParticlesKeepsTheCallersOptions) {
             (dir / "a.dump").string() + ":9: ITEM: ATOMS has no column 'vx' (columns: id type x y z radius)");
   options.required_columns = {"x"};
   EXPECT_EQ(test::message_of<ParseError>([&] { read_particles(dir / "a.dump", 0, options); }),
-            (dir / "a.dump").string() + ":10: the file ends inside this line ('1 1 0 0 0 0.1', no end of line): cut "
-                                        "short?");
+            (dir / "a.dump").string() +
+                ":10: the file ends inside this line ('1 1 0 0 0 0.1', no end of line): cut "
+                "short?");
   write_file(dir / "a.dump", frame_with_rows("1", "id type x y z", "1 1 0 0 0\n"));
   EXPECT_EQ(test::message_of<ParseError>([&] { read_particles(dir / "a.dump", 0, options); }),
-            (dir / "a.dump").string() + ":9: ITEM: ATOMS has no column 'id' (columns: id type x y z)")
+            (dir / "a.dump").string() + ":9: ITEM: ATOMS has no column 'radius' (columns: id type x y z)")
       << "id type radius are still required";
 }
 
@@ -398,8 +399,9 @@ TEST(DumpReaderErrors, FinalNewlineRequiredWhenAsked) {
   DumpReaderOptions options;
   options.require_final_newline = true;
   EXPECT_EQ(test::message_of<ParseError>([&] { read_last_frame(dir / "c.dump", options); }),
-            (dir / "c.dump").string() + ":11: the file ends inside this line ('2 1 0 0 0 0.12', no end of line): "
-                                        "cut short?");
+            (dir / "c.dump").string() +
+                ":11: the file ends inside this line ('2 1 0 0 0 0.12', no end of line): "
+                "cut short?");
   write_file(dir / "c.dump", cut + "\n");
   EXPECT_EQ(read_last_frame(dir / "c.dump", options).atom_count, 2u);
   // In memory as well.

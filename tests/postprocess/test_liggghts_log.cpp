@@ -126,7 +126,9 @@ TEST(LiggghtsLog, NanAndInfAreThermoValues) {
 }
 
 TEST(LiggghtsLog, KineticEnergyColumn) {
-  auto column = [](std::vector<std::string> names) { return ThermoBlock{1, std::move(names), {}}.kinetic_energy_column(); };
+  auto column = [](std::vector<std::string> names) {
+    return ThermoBlock{1, std::move(names), {}}.kinetic_energy_column();
+  };
   EXPECT_EQ(column({"Step", "Atoms", "KinEng"}), 2);
   EXPECT_EQ(column({"Step", "KinEng", "c_KE", "Volume"}), 2);  // the last one
   EXPECT_EQ(column({"Step", "v_kinetic_energy"}), 1);

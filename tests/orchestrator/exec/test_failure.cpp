@@ -260,7 +260,8 @@ TEST(Failure, TornOrMalformedPlateStatesIsMissingDump) {
   test::TempDir tmp;
   write_file(tmp / "log.liggghts", k_clean_log);
   write_file(tmp / "oedometer_final.dump", dump_text(10, 10));
-  const std::string whole = "# load_N plate_z_m force_N converged\n100 0.09 100 1\n400 0.089 400 1\n1100 0.088 1100 1\n";
+  const std::string whole =
+      "# load_N plate_z_m force_N converged\n100 0.09 100 1\n400 0.089 400 1\n1100 0.088 1100 1\n";
   // Every cut inside the last row leaves it short.
   const std::size_t last_row = whole.rfind('\n', whole.size() - 2) + 1;
   for (std::size_t size = last_row + 1; size + 1 < whole.size(); ++size) {
