@@ -36,15 +36,20 @@ std::string thermo_blowup(const fs::path& log, double limit) {
   std::string message;
   std::error_code ec;
   if (!fs::exists(log, ec)) return message;
+  long header_line = -1;
+  int ke = -1;
   try {
     postprocess::scan_thermo(log, [&](const postprocess::ThermoRow& row) {
+      if (row.block.header_line != header_line) {  // once per block, not per row
+        header_line = row.block.header_line;
+        ke = row.block.kinetic_energy_column();
+      }
       for (std::size_t i = 0; i < row.values.size(); ++i)
         if (!std::isfinite(row.values[i])) {
           message =
               fmt::format("thermo column '{}' is {} at step {}", row.block.columns[i], row.words[i], row.words.front());
           return false;
         }
-      const int ke = row.block.kinetic_energy_column();
       if (ke >= 0 && limit > 0 && row.values[static_cast<std::size_t>(ke)] > limit) {
         message = fmt::format("kinetic energy {} J above the limit {} J at step {}",
                               row.words[static_cast<std::size_t>(ke)], limit, row.words.front());
