@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -165,6 +166,10 @@ struct DumpReader::Impl {
     throw ParseError(name, rel_line > 0 ? absolute_line(rel_line) : 0, message);
   }
 
+  [[noreturn]] void fail_short(long rel_line, const std::string& message, std::size_t rows, std::size_t announced) {
+    throw ShortFrameError(name, absolute_line(rel_line), message, rows, announced);
+  }
+
   /// Reads more bytes so that data[begin, end) grows; returns false when nothing more came.
   bool refill() {
     if (file == nullptr || eof) {
@@ -210,6 +215,8 @@ struct DumpReader::Impl {
         consumed += out.size();
         begin = end;
         ++line;
+        if (options.require_final_newline)
+          fail(line, fmt::format("the file ends inside this line ({}, no end of line): cut short?", shown(trim(out))));
         return true;
       }
       scanned = begin + pending;
@@ -351,9 +358,11 @@ void DumpReader::Impl::read_rows(DumpFrame& frame) {
   std::string_view text;
   for (std::size_t i = 0; i < n; ++i) {
     if (!next_line(text))
-      fail(line + 1, fmt::format("file ends after {} of the {} atom rows announced for the frame whose ITEM: ATOMS is "
-                                 "at line {} (truncated?)",
-                                 i, n, absolute_line(atoms_rel)));
+      fail_short(line + 1,
+                 fmt::format("file ends after {} of the {} atom rows announced for the frame whose ITEM: ATOMS is at "
+                             "line {} (truncated?)",
+                             i, n, absolute_line(atoms_rel)),
+                 i, n);
     if (i == capacity) {  // only when the input grows while it is read
       capacity = std::min(n, 2 * capacity + 1024);
       for (std::size_t c = 0; c < ncol; ++c) {
@@ -366,7 +375,8 @@ void DumpReader::Impl::read_rows(DumpFrame& frame) {
     for (std::size_t c = 0; c < ncol; ++c) {
       while (p != e && is_blank(*p)) ++p;
       if (c == 0 && p != e && *p == 'I' && starts_with_item(text, "ITEM:"))
-        fail(line, fmt::format("only {} atom rows before {}, but NUMBER OF ATOMS is {}", i, shown(trim(text)), n));
+        fail_short(line, fmt::format("only {} atom rows before {}, but NUMBER OF ATOMS is {}", i, shown(trim(text)), n),
+                   i, n);
       if (p == e) {
         fail(line, fmt::format("atom row has {} values, ITEM: ATOMS names {} columns (line cut short?)", c, ncol));
       }
@@ -555,9 +565,11 @@ Particles particles_from_frame(const DumpFrame& frame, int only_type) {
   return p;
 }
 
-Particles read_particles(const std::filesystem::path& path, int only_type) {
-  DumpReaderOptions options;
-  options.required_columns = {"id", "type", "radius"};
+Particles read_particles(const std::filesystem::path& path, int only_type, DumpReaderOptions options) {
+  for (const char* name : {"id", "type", "radius"})
+    if (std::find(options.required_columns.begin(), options.required_columns.end(), name) ==
+        options.required_columns.end())
+      options.required_columns.emplace_back(name);
   return particles_from_frame(read_last_frame(path, options), only_type);
 }
 

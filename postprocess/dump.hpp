@@ -52,9 +52,28 @@ struct DumpReaderOptions {
   std::size_t buffer_bytes = std::size_t{1} << 22;
   /// Longest line accepted [bytes]; a longer line is reported as not being a text dump (binary data).
   std::size_t max_line_bytes = std::size_t{1} << 20;
+  /// The file must end with an end of line. LIGGGHTS ends every line of a dump with one, so a last line without it
+  /// was cut by a writer that stopped (killed, disk full); when the cut falls inside the last value of the last row,
+  /// that row still parses, with a wrong value. Off: a last line without end of line counts as a line.
+  bool require_final_newline = false;
 
   /// Throws std::invalid_argument naming the field, its value and the rule.
   void validate() const;
+};
+
+/// A frame with fewer atom rows than its NUMBER OF ATOMS: the file ends, or the next `ITEM:` line comes, after
+/// rows() of the announced() rows (a dump cut short). The message is that of any ParseError.
+class ShortFrameError : public ParseError {
+ public:
+  ShortFrameError(const std::string& file, long line, const std::string& message, std::size_t rows,
+                  std::size_t announced)
+      : ParseError(file, line, message), m_rows(rows), m_announced(announced) {}
+  std::size_t rows() const { return m_rows; }
+  std::size_t announced() const { return m_announced; }
+
+ private:
+  std::size_t m_rows;
+  std::size_t m_announced;
 };
 
 DumpFrame read_last_frame(const std::filesystem::path& path, const DumpReaderOptions& options);
@@ -114,7 +133,8 @@ struct Particles {
 /// throw ParseError. `only_type` > 0 keeps only atoms of that type (demsa: type 1 = particles, 2 = walls).
 Particles particles_from_frame(const DumpFrame& frame, int only_type = 0);
 
-/// particles_from_frame(read_last_frame(path), only_type): what the observables use from a final dump.
-Particles read_particles(const std::filesystem::path& path, int only_type = 0);
+/// particles_from_frame(read_last_frame(path, options), only_type) with `id type radius` added to the required
+/// columns: what the observables use from a final dump.
+Particles read_particles(const std::filesystem::path& path, int only_type = 0, DumpReaderOptions options = {});
 
 }  // namespace demsa::postprocess

@@ -4,12 +4,15 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
-#include <charconv>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <istream>
 #include <sstream>
+#include <string_view>
 
 namespace demsa::postprocess {
 
@@ -17,62 +20,109 @@ namespace {
 
 bool starts_with(const std::string& s, std::string_view prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
 
-}  // namespace
-
-int ThermoBlock::column_index(const std::string& name) const {
-  for (std::size_t c = 0; c < columns.size(); ++c)
-    if (columns[c] == name) return static_cast<int>(c);
-  return -1;
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
 }
 
-LiggghtsLog parse_liggghts_log(const std::string& text) {
-  LiggghtsLog log;
-  std::istringstream in(text);
+std::string trim_left(const std::string& line) {
+  const std::size_t first = line.find_first_not_of(" \t");
+  return first == std::string::npos ? std::string() : line.substr(first);
+}
+
+/// LAMMPS and LIGGGHTS print "ERROR: ..." from one process and "ERROR on proc N: ..." from another (error.cpp).
+bool is_error_line(const std::string& trimmed) {
+  return starts_with(trimmed, "ERROR:") || starts_with(trimmed, "ERROR on proc");
+}
+
+/// The thermo part of the log: a header line (`Step` and the column names; LIGGGHTS indents it) opens a block, lines
+/// of as many numbers as the header names columns are its rows, the first other line closes it. Shared by the
+/// whole-log reader and the row scanner so that both read the same rows.
+class ThermoParser {
+ public:
+  enum class Kind { header, row, other };
+
+  /// Classifies the next line (without its '\n' and '\r').
+  Kind feed(const std::string& raw, long line_no) {
+    if (m_open) {
+      m_words = split_words(raw);
+      bool numeric = m_words.size() == m_block.columns.size();
+      m_values.resize(m_words.size());
+      for (std::size_t c = 0; numeric && c < m_words.size(); ++c) numeric = parse_double(m_words[c], m_values[c]);
+      if (numeric) return Kind::row;
+      m_open = false;  // a Loop time line, a warning, a cut row of a killed run
+    }
+    const std::string trimmed = trim_left(raw);
+    if (starts_with(trimmed, "Step ") || trimmed == "Step") {
+      m_block = ThermoBlock{line_no, split_words(trimmed), {}};
+      m_open = true;
+      return Kind::header;
+    }
+    return Kind::other;
+  }
+
+  const ThermoBlock& block() const { return m_block; }
+  const std::vector<std::string>& words() const { return m_words; }
+  const std::vector<double>& values() const { return m_values; }
+
+ private:
+  ThermoBlock m_block;
+  bool m_open = false;
+  std::vector<std::string> m_words;
+  std::vector<double> m_values;
+};
+
+/// Calls `line(text, line_no)` for every line of `in`, without its '\n' and a '\r' before it.
+template <class F>
+void for_each_line(std::istream& in, const std::string& name, F&& line) {
   std::string raw;
   long line_no = 0;
-  ThermoBlock* block = nullptr;  // the block collecting rows, if any
-  bool have_atoms = false;
-  double last_atoms = 0.0;
-  long lost_reported = -1;
-
   while (std::getline(in, raw)) {
     ++line_no;
     if (!raw.empty() && raw.back() == '\r') raw.pop_back();
-    // Thermo rows: numeric lines with as many values as the header names.
-    if (block != nullptr) {
-      const std::vector<std::string> words = split_words(raw);
-      bool numeric = words.size() == block->columns.size();
-      std::vector<double> row(words.size());
-      for (std::size_t c = 0; numeric && c < words.size(); ++c) numeric = parse_double(words[c], row[c]);
-      if (numeric) {
-        const int atoms = block->column_index("Atoms");
-        if (atoms >= 0) {
-          const double now = row[static_cast<std::size_t>(atoms)];
-          if (have_atoms && now < last_atoms) log.lost_atoms += static_cast<long>(last_atoms - now);
-          last_atoms = now;
-          have_atoms = true;
-        }
-        block->rows.push_back(std::move(row));
-        continue;
-      }
-      block = nullptr;  // the block ends at the first line that is not a row (Loop time, a warning, a cut row)
-    }
+    if (!line(raw, line_no)) return;
+  }
+  if (in.bad()) throw ParseError(name, line_no + 1, "read error");
+}
 
-    // LIGGGHTS indents the thermo header ("    Step    Atoms  KinEng ...").
-    const std::size_t indent = raw.find_first_not_of(" \t");
-    const std::string trimmed = indent == std::string::npos ? std::string() : raw.substr(indent);
-    if (starts_with(raw, "LIGGGHTS (Version ") && log.version.empty()) {
+std::ifstream open_log(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ParseError(path.string(), 0, fmt::format("cannot open: {}", std::strerror(errno)));
+  return in;
+}
+
+LiggghtsLog parse_log(std::istream& in, const std::string& name) {
+  LiggghtsLog log;
+  ThermoParser thermo;
+  bool have_atoms = false;
+  double last_atoms = 0.0;
+  long lost_reported = -1;
+  for_each_line(in, name, [&](const std::string& raw, long line_no) {
+    const ThermoParser::Kind kind = thermo.feed(raw, line_no);
+    if (kind == ThermoParser::Kind::row) {
+      ThermoBlock& block = log.thermo.back();
+      const int atoms = block.column_index("Atoms");
+      if (atoms >= 0) {
+        const double now = thermo.values()[static_cast<std::size_t>(atoms)];
+        if (have_atoms && now < last_atoms) log.lost_atoms += static_cast<long>(last_atoms - now);
+        last_atoms = now;
+        have_atoms = true;
+      }
+      block.rows.push_back(thermo.values());
+      return true;
+    }
+    const std::string trimmed = trim_left(raw);
+    if (kind == ThermoParser::Kind::header) {
+      log.thermo.push_back(thermo.block());
+    } else if (starts_with(raw, "LIGGGHTS (Version ") && log.version.empty()) {
       const std::size_t b = std::strlen("LIGGGHTS (Version ");
       const std::size_t e = raw.find_first_of(",)", b);
       log.version = raw.substr(b, e == std::string::npos ? std::string::npos : e - b);
-    } else if (starts_with(trimmed, "Step ") || trimmed == "Step") {
-      log.thermo.push_back(ThermoBlock{line_no, split_words(trimmed), {}});
-      block = &log.thermo.back();
     } else if (starts_with(raw, "WARNING: ")) {
       log.warnings.push_back({line_no, raw.substr(std::strlen("WARNING: "))});
-    } else if (starts_with(raw, "ERROR")) {
-      const std::size_t colon = raw.find(": ");
-      log.errors.push_back({line_no, colon == std::string::npos ? raw : raw.substr(colon + 2)});
+    } else if (is_error_line(trimmed)) {
+      const std::size_t colon = trimmed.find(": ");
+      log.errors.push_back({line_no, colon == std::string::npos ? trimmed : trimmed.substr(colon + 2)});
     } else if (starts_with(raw, "Loop time of ")) {
       // "Loop time of 45.721 on 1 procs for 300000 steps with 496 atoms"
       LoopSummary loop;
@@ -99,17 +149,63 @@ LiggghtsLog parse_liggghts_log(const std::string& text) {
       if (std::sscanf(raw.c_str() + lost, "Lost atoms: original %ld current %ld", &original, &current) == 2)
         lost_reported = original - current;
     }
-  }
+    return true;
+  });
   if (lost_reported >= 0) log.lost_atoms = lost_reported;
   return log;
 }
 
+}  // namespace
+
+int ThermoBlock::column_index(const std::string& name) const {
+  for (std::size_t c = 0; c < columns.size(); ++c)
+    if (columns[c] == name) return static_cast<int>(c);
+  return -1;
+}
+
+int ThermoBlock::kinetic_energy_column() const {
+  int found = -1;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const std::string n = lower(columns[c]);
+    bool ke = n == "kineng" || n == "ke";
+    if (!ke && n.size() > 2 && (starts_with(n, "c_") || starts_with(n, "v_") || starts_with(n, "f_"))) {
+      const std::string base = n.substr(2);
+      ke = base == "ke" || base == "vke" || base == "kineng" || starts_with(base, "kinetic");
+    }
+    if (ke) found = static_cast<int>(c);
+  }
+  return found;
+}
+
+LiggghtsLog parse_liggghts_log(const std::string& text) {
+  std::istringstream in(text);
+  return parse_log(in, "log text");
+}
+
 LiggghtsLog read_liggghts_log(const std::filesystem::path& path) {
+  std::ifstream in = open_log(path);
+  return parse_log(in, path.string());
+}
+
+void scan_thermo(const std::filesystem::path& path, const std::function<bool(const ThermoRow&)>& visit) {
+  std::ifstream in = open_log(path);
+  ThermoParser thermo;
+  for_each_line(in, path.string(), [&](const std::string& raw, long line_no) {
+    if (thermo.feed(raw, line_no) != ThermoParser::Kind::row) return true;
+    return visit(ThermoRow{thermo.block(), line_no, thermo.words(), thermo.values()});
+  });
+}
+
+std::string first_error_line(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path.string(), 0, fmt::format("cannot open: {}", std::strerror(errno)));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_liggghts_log(text.str());
+  if (!in) return {};
+  std::string found;
+  for_each_line(in, path.string(), [&](const std::string& raw, long) {
+    const std::string trimmed = trim_left(raw);
+    if (is_error_line(trimmed)) found = trimmed;
+    return found.empty();
+  });
+  return found;
 }
 
 }  // namespace demsa::postprocess

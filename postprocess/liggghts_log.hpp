@@ -4,6 +4,7 @@
 #include "postprocess/error.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,9 @@ struct ThermoBlock {
 
   /// Index of `name` (case-sensitive), or -1.
   int column_index(const std::string& name) const;
+  /// Index of the last column that holds kinetic energy, or -1: the thermo keyword `ke` (`KinEng`) or a compute,
+  /// variable or fix named ke, vke, kineng or kinetic... (`c_ke`, `v_ke`, `v_kinetic`, `c_KE`; any case).
+  int kinetic_energy_column() const;
 };
 
 /// One `Loop time of T on P procs for N steps with M atoms` line.
@@ -50,10 +54,30 @@ struct LiggghtsLog {
 };
 
 /// Reads the log at `path`. Lines it does not recognise are skipped (a log also echoes the input script); a thermo
-/// row that is cut short (a killed run) ends its block. Throws ParseError only when the file cannot be read.
+/// row that is cut short (a killed run) ends its block. A thermo row is a line of as many numbers as the header
+/// names columns, `nan` and `inf` included (a blown-up run prints them). An ERROR line starts, after blanks, with
+/// `ERROR:` or `ERROR on proc N:`. Throws ParseError only when the file cannot be read.
 LiggghtsLog read_liggghts_log(const std::filesystem::path& path);
 
 /// The same from text held in memory.
 LiggghtsLog parse_liggghts_log(const std::string& text);
+
+/// One thermo row met by scan_thermo.
+struct ThermoRow {
+  const ThermoBlock& block;               ///< the header of the row's block (its `rows` stay empty)
+  long line;                              ///< 1-based line of the row
+  const std::vector<std::string>& words;  ///< the values as written (`1.5e3`, `nan`, `-nan`, `inf`)
+  const std::vector<double>& values;      ///< the same parsed, one per column of `block`
+};
+
+/// Streams the thermo rows of the log at `path` in file order with the rules of read_liggghts_log, holding one row
+/// at a time (a log can be hundreds of MB). `visit` returns false to stop the scan. Throws ParseError when the
+/// file cannot be read.
+void scan_thermo(const std::filesystem::path& path, const std::function<bool(const ThermoRow&)>& visit);
+
+/// The first ERROR line of a LIGGGHTS log, screen output or any text file (the rule of read_liggghts_log), as
+/// written without its leading blanks (`ERROR: Lost atoms: ... (../thermo.cpp:407)`); "" when it has none or does
+/// not exist. Streams the file.
+std::string first_error_line(const std::filesystem::path& path);
 
 }  // namespace demsa::postprocess

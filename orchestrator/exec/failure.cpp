@@ -1,125 +1,66 @@
 #include "orchestrator/exec/failure.hpp"
 
-#include "orchestrator/cases/case_writer.hpp"
+#include "orchestrator/study/folder.hpp"
+#include "postprocess/dump.hpp"
+#include "postprocess/liggghts_log.hpp"
+#include "postprocess/oedometer.hpp"
 
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <array>
-#include <cctype>
 #include <cmath>
 #include <deque>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
 namespace demsa::exec {
 
-using namespace demsa::util;
 using namespace demsa::study;
-using namespace demsa::cases;
 
 namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> split_words(const std::string& line) {
-  std::istringstream in(line);
-  std::vector<std::string> words;
-  std::string word;
-  while (in >> word) words.push_back(word);
-  return words;
+/// A reader's complaint about `file`, named by its file name alone (the case folder is in the report already).
+std::string problem(const fs::path& file, const postprocess::ParseError& e) {
+  const std::string name = file.filename().string();
+  return e.line() > 0 ? fmt::format("{}:{}: {}", name, e.line(), e.message())
+                      : fmt::format("{}: {}", name, e.message());
 }
 
-std::string lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
-  return text;
-}
-
-std::string trim_left(const std::string& line) {
-  const auto first = line.find_first_not_of(" \t");
-  return first == std::string::npos ? std::string{} : line.substr(first);
-}
-
-/// First `ERROR` line (LAMMPS/LIGGGHTS print "ERROR: ..." or "ERROR on proc N: ...") in a file, or "".
-std::string first_error_line(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line)) {
-    const std::string text = trim_left(line);
-    if (text.rfind("ERROR:", 0) == 0 || text.rfind("ERROR on proc", 0) == 0) return text;
-  }
-  return {};
-}
-
-/// A thermo column that holds kinetic energy: LAMMPS's `ke` keyword ("KinEng") or a compute/variable/fix whose
-/// name is ke/kinetic energy ("c_ke", "v_ke", "v_kinetic", "c_KE").
-bool is_kinetic_energy_column(const std::string& name) {
-  const std::string n = lower(name);
-  if (n == "kineng" || n == "ke") return true;
-  if (n.size() > 2 && (n.rfind("c_", 0) == 0 || n.rfind("v_", 0) == 0 || n.rfind("f_", 0) == 0)) {
-    const std::string base = n.substr(2);
-    return base == "ke" || base == "vke" || base == "kineng" || base.rfind("kinetic", 0) == 0;
-  }
-  return false;
-}
-
-bool parse_number(const std::string& word, double& value) {
-  try {
-    std::size_t used = 0;
-    value = std::stod(word, &used);
-    return used == word.size();
-  } catch (const std::exception&) {
-    // stod throws out_of_range for 1e999 and invalid_argument for words; "nan"/"inf" parse fine.
-    const std::string w = lower(word);
-    if (w == "nan" || w == "-nan" || w == "inf" || w == "-inf") {
-      value = std::nan("");
-      return true;
-    }
-    return false;
-  }
-}
-
-/// Scans the thermo blocks of a LIGGGHTS log (a header line starting with "Step", then rows of numbers) for NaN
-/// or infinite values and for kinetic energy above `limit` (limit 0: not checked). Returns a message or "".
+/// NaN or infinite values anywhere in the thermo rows of the log, or kinetic energy above `limit` (0: not checked).
+/// Returns a message or "". A log that cannot be read says nothing: the dump checks still apply.
 std::string thermo_blowup(const fs::path& log, double limit) {
-  std::ifstream in(log);
-  std::string line;
-  std::vector<std::string> header;
-  int ke_column = -1;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> words = split_words(line);
-    if (words.empty()) {
-      header.clear();
-      continue;
-    }
-    if (words.front() == "Step") {
-      header = words;
-      ke_column = -1;
-      for (std::size_t i = 0; i < words.size(); ++i)
-        if (is_kinetic_energy_column(words[i])) ke_column = static_cast<int>(i);
-      continue;
-    }
-    if (header.empty() || words.size() != header.size()) {
-      header.clear();
-      continue;
-    }
-    std::vector<double> values(words.size());
-    bool numeric = true;
-    for (std::size_t i = 0; i < words.size() && numeric; ++i) numeric = parse_number(words[i], values[i]);
-    if (!numeric) {
-      header.clear();
-      continue;
-    }
-    for (std::size_t i = 0; i < values.size(); ++i)
-      if (!std::isfinite(values[i]))
-        return fmt::format("thermo column '{}' is {} at step {}", header[i], words[i], words.front());
-    if (ke_column >= 0 && limit > 0 && values[static_cast<std::size_t>(ke_column)] > limit)
-      return fmt::format("kinetic energy {} J above the limit {} J at step {}", words[ke_column], limit, words.front());
+  std::string message;
+  std::error_code ec;
+  if (!fs::exists(log, ec)) return message;
+  long header_line = -1;
+  int ke = -1;
+  try {
+    postprocess::scan_thermo(log, [&](const postprocess::ThermoRow& row) {
+      if (row.block.header_line != header_line) {  // once per block, not per row
+        header_line = row.block.header_line;
+        ke = row.block.kinetic_energy_column();
+      }
+      for (std::size_t i = 0; i < row.values.size(); ++i)
+        if (!std::isfinite(row.values[i])) {
+          message =
+              fmt::format("thermo column '{}' is {} at step {}", row.block.columns[i], row.words[i], row.words.front());
+          return false;
+        }
+      if (ke >= 0 && limit > 0 && row.values[static_cast<std::size_t>(ke)] > limit) {
+        message = fmt::format("kinetic energy {} J above the limit {} J at step {}",
+                              row.words[static_cast<std::size_t>(ke)], limit, row.words.front());
+        return false;
+      }
+      return true;
+    });
+  } catch (const postprocess::ParseError&) {
+    return {};
   }
-  return {};
+  return message;
 }
 
 struct DumpCheck {
@@ -128,91 +69,57 @@ struct DumpCheck {
   std::string problem;
 };
 
-/// Checks the last snapshot of a LIGGGHTS text dump: header complete, as many atom rows as announced, each with
-/// as many columns as the ATOMS line names.
+/// Reads the final dump as the measurement does (postprocess::read_particles), and also refuses a last line without
+/// end of line: a dump the measurement would refuse, or that was cut, is not a finished case.
 DumpCheck check_dump(const fs::path& file) {
   DumpCheck check;
-  std::ifstream in(file);
-  if (!in) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
     check.problem = fmt::format("{} is missing", file.filename().string());
     return check;
   }
-  std::string line;
-  long announced = -1;
-  long rows = 0;
-  std::size_t columns = 0;
-  bool in_atoms = false;
-  bool bad_row = false;
-  bool any_snapshot = false;
-  while (std::getline(in, line)) {
-    if (line.rfind("ITEM:", 0) == 0) {
-      in_atoms = false;
-      if (line.rfind("ITEM: TIMESTEP", 0) == 0) {
-        announced = -1;
-        rows = 0;
-        bad_row = false;
-      } else if (line.rfind("ITEM: NUMBER OF ATOMS", 0) == 0) {
-        if (std::getline(in, line)) {
-          double n = 0;
-          if (parse_number(trim_left(line).substr(0, line.find_last_not_of(" \t\r") + 1), n) && n >= 0)
-            announced = static_cast<long>(n);
-        }
-      } else if (line.rfind("ITEM: ATOMS", 0) == 0) {
-        columns = split_words(line).size() - 2;
-        in_atoms = true;
-        any_snapshot = true;
-      }
-      continue;
-    }
-    if (in_atoms) {
-      const std::size_t n = split_words(line).size();
-      if (n == 0) continue;
-      if (n != columns) bad_row = true;
-      ++rows;
-    }
-  }
-  if (!any_snapshot || announced < 0) {
-    check.problem = fmt::format("{} has no complete snapshot", file.filename().string());
+  postprocess::DumpReaderOptions options;
+  options.require_final_newline = true;
+  try {
+    check.atoms = static_cast<long>(postprocess::read_particles(file, 0, options).size());
+  } catch (const postprocess::ShortFrameError& e) {
+    check.problem =
+        fmt::format("{} is truncated: {} of {} atom rows", file.filename().string(), e.rows(), e.announced());
     return check;
-  }
-  if (rows != announced || bad_row) {
-    check.problem = fmt::format("{} is truncated: {} of {} atom rows{}", file.filename().string(), rows, announced,
-                                bad_row ? ", some incomplete" : "");
+  } catch (const postprocess::ParseError& e) {
+    check.problem = problem(file, e);
     return check;
   }
   check.ok = true;
-  check.atoms = rows;
   return check;
 }
 
-/// Oedometer: every row of plate_states.txt has converged = 1 and there is a row per load. Returns a message or "".
-std::string plate_problem(const fs::path& file, std::size_t loads, bool& missing) {
-  std::ifstream in(file);
-  missing = !in;
-  if (missing) return fmt::format("{} is missing", file.filename().string());
-  std::string line;
-  std::size_t rows = 0;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> words = split_words(line);
-    if (words.empty() || words.front().front() == '#') continue;
-    ++rows;
-    if (words.size() < 4) {
-      missing = true;
-      return fmt::format("{}: row {} has {} columns, expected 4", file.filename().string(), rows, words.size());
-    }
-    if (words[3] != "1")
-      return fmt::format("load {} N not reached (plate force {} N)", words[0], words.size() > 2 ? words[2] : "?");
+/// Oedometer: plate_states.txt (postprocess::read_plate_states) has a row per load and every row converged. Sets
+/// `unreadable` when the file is missing or malformed.
+std::string plate_problem(const fs::path& file, std::size_t loads, bool& unreadable) {
+  std::error_code ec;
+  unreadable = !fs::exists(file, ec);
+  if (unreadable) return fmt::format("{} is missing", file.filename().string());
+  std::vector<postprocess::PlateState> states;
+  try {
+    states = postprocess::read_plate_states(file);
+  } catch (const postprocess::ParseError& e) {
+    unreadable = true;
+    return problem(file, e);
   }
-  if (rows < loads) return fmt::format("only {} of {} load steps reached", rows, loads);
+  for (const postprocess::PlateState& state : states)
+    if (!state.converged) return fmt::format("load {} N not reached (plate force {} N)", state.load_N, state.force_N);
+  if (states.size() < loads) return fmt::format("only {} of {} load steps reached", states.size(), loads);
+  if (states.empty()) return fmt::format("{} has no load step", file.filename().string());  // nothing to measure
   return {};
 }
 
 std::string combined_tail(const fs::path& folder, int lines) {
-  std::string tail = file_tail(folder / "log.liggghts", lines);
+  std::string tail = file_tail(folder / k_case_log, lines);
   const std::string out = file_tail(folder / k_run_output_file, std::max(5, lines / 3));
-  if (tail.empty()) tail = file_tail(folder / "screen.txt", lines);
+  if (tail.empty()) tail = file_tail(folder / k_case_screen, lines);
   if (!out.empty()) {
-    if (!tail.empty()) tail += "--- run.out ---\n";
+    if (!tail.empty()) tail += fmt::format("--- {} ---\n", k_run_output_file);
     tail += out;
   }
   return tail;
@@ -269,10 +176,10 @@ FailureReport classify_case(const CaseExit& exit, const fs::path& folder, const 
   if (exit.signal > 0) return fail(FailureClass::signal, fmt::format("killed by signal {}", exit.signal));
 
   for (const char* name : {k_case_log, k_case_screen, k_run_output_file}) {
-    const std::string error = first_error_line(folder / name);
+    const std::string error = postprocess::first_error_line(folder / name);
     if (!error.empty()) return fail(FailureClass::liggghts_error, error);
   }
-  const std::string blowup = thermo_blowup(folder / "log.liggghts", options.kinetic_energy_limit);
+  const std::string blowup = thermo_blowup(folder / k_case_log, options.kinetic_energy_limit);
   if (!blowup.empty()) return fail(FailureClass::energy_blowup, blowup);
   // A shell reports a child killed by signal N as exit status 128 + N (mpirun and liggghts run under run.sh).
   if (exit.exit_code > 128 && exit.exit_code <= 128 + 64)
@@ -292,11 +199,10 @@ FailureReport classify_case(const CaseExit& exit, const fs::path& folder, const 
                               100 * fraction, 100 * options.lost_fraction));
   }
   if (options.experiment == Experiment::oedometer) {
-    bool missing = false;
-    const std::string problem =
-        plate_problem(folder / k_plate_states, static_cast<std::size_t>(options.load_steps), missing);
-    if (!problem.empty())
-      return fail(missing ? FailureClass::missing_dump : FailureClass::plate_not_converged, problem);
+    bool unreadable = false;
+    const std::string plate =
+        plate_problem(folder / k_plate_states, static_cast<std::size_t>(options.load_steps), unreadable);
+    if (!plate.empty()) return fail(unreadable ? FailureClass::missing_dump : FailureClass::plate_not_converged, plate);
   }
   return report;
 }

@@ -6,6 +6,9 @@
 //   timeout, cancelled/lost (not failures: `none` with requeue), signal, LIGGGHTS ERROR line, kinetic-energy
 //   blow-up or NaN in the thermo output, non-zero exit, missing or truncated dump, lost particles above the
 //   threshold, plate not converged (oedometer).
+// The files are read by the postprocess readers, the ones the measurement uses (liggghts_log.hpp, dump.hpp,
+// oedometer.hpp): a final dump or plate_states.txt they refuse, or that was cut, is `missing_dump` here rather
+// than `measurement` later.
 // `measurement` is set by the runner when the case ran cleanly but its observable could not be measured.
 #include "orchestrator/exec/executor.hpp"
 #include "orchestrator/study/config.hpp"
@@ -35,7 +38,8 @@ struct FailureReport {
   std::string log_tail;  ///< last lines of log.liggghts (or run.out/screen.txt when that says more)
 };
 
-/// Classifies one finished case. Reads log.liggghts, screen.txt, run.out and the final dump in `folder`.
+/// Classifies one finished case. Reads log.liggghts, screen.txt, run.out, the final dump and (oedometer)
+/// plate_states.txt in `folder`. A missing or malformed file is a failure class, not an exception.
 FailureReport classify_case(const CaseExit& exit, const std::filesystem::path& folder, const FailureOptions& options);
 
 /// The last `lines` lines of a text file ("" when it does not exist).

@@ -220,6 +220,26 @@ TEST(DumpReader, ReadParticlesFiltersType) {
   EXPECT_EQ(ones.id[1], 1);
 }
 
+TEST(DumpReader, ReadParticlesKeepsTheCallersOptions) {
+  TempDir dir;
+  write_file(dir / "a.dump", frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1"));  // no final '\n'
+  EXPECT_EQ(read_particles(dir / "a.dump").size(), 1u);
+  DumpReaderOptions options;
+  options.require_final_newline = true;
+  options.required_columns = {"vx"};
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_particles(dir / "a.dump", 0, options); }),
+            (dir / "a.dump").string() + ":9: ITEM: ATOMS has no column 'vx' (columns: id type x y z radius)");
+  options.required_columns = {"x"};
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_particles(dir / "a.dump", 0, options); }),
+            (dir / "a.dump").string() +
+                ":10: the file ends inside this line ('1 1 0 0 0 0.1', no end of line): cut "
+                "short?");
+  write_file(dir / "a.dump", frame_with_rows("1", "id type x y z", "1 1 0 0 0\n"));
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_particles(dir / "a.dump", 0, options); }),
+            (dir / "a.dump").string() + ":9: ITEM: ATOMS has no column 'radius' (columns: id type x y z)")
+      << "id type radius are still required";
+}
+
 // ---------------------------------------------------------------------------------------------- malformed input
 
 TEST(DumpReaderErrors, EmptyFile) { EXPECT_EQ(error_of(""), "bad.dump: empty file: not a LIGGGHTS dump"); }
@@ -368,6 +388,65 @@ TEST(DumpReaderOptionsTest, ValidateNamesFieldAndValue) {
   o.buffer_bytes = 10;
   EXPECT_EQ(test::message_of<std::invalid_argument>([&] { o.validate(); }),
             "DumpReaderOptions.buffer_bytes = 10: must be at least 4096");
+}
+
+TEST(DumpReaderErrors, FinalNewlineRequiredWhenAsked) {
+  // A cut inside the last value of the last row leaves a row that parses: only the missing end of line tells.
+  const std::string cut = frame_with_rows("2", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0 0 0 0.12");
+  TempDir dir;
+  write_file(dir / "c.dump", cut);
+  EXPECT_NO_THROW(read_last_frame(dir / "c.dump"));
+  DumpReaderOptions options;
+  options.require_final_newline = true;
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_last_frame(dir / "c.dump", options); }),
+            (dir / "c.dump").string() +
+                ":11: the file ends inside this line ('2 1 0 0 0 0.12', no end of line): "
+                "cut short?");
+  write_file(dir / "c.dump", cut + "\n");
+  EXPECT_EQ(read_last_frame(dir / "c.dump", options).atom_count, 2u);
+  // In memory as well.
+  DumpReader reader(cut, "mem.dump", options);
+  DumpFrame frame;
+  EXPECT_EQ(test::message_of<ParseError>([&] { reader.next(frame); }),
+            "mem.dump:11: the file ends inside this line ('2 1 0 0 0 0.12', no end of line): cut short?");
+}
+
+TEST(DumpReaderErrors, ShortFrameSaysHowManyRows) {
+  TempDir dir;
+  write_file(dir / "s.dump", frame_with_rows("4", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0 0 0 0.1\n"));
+  try {
+    read_last_frame(dir / "s.dump");
+    FAIL() << "no exception";
+  } catch (const ShortFrameError& e) {
+    EXPECT_EQ(e.rows(), 2u);
+    EXPECT_EQ(e.announced(), 4u);
+    EXPECT_EQ(e.line(), 12);
+    EXPECT_EQ(e.message(),
+              "file ends after 2 of the 4 atom rows announced for the frame whose ITEM: ATOMS is at line 9 "
+              "(truncated?)");
+  }
+  write_file(dir / "s.dump", frame_with_rows("3", "id type x y z radius", "1 1 0 0 0 0.1\n") +
+                                 frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1\n"));
+  try {
+    DumpReader reader(dir / "s.dump");
+    DumpFrame frame;
+    reader.next(frame);
+    FAIL() << "no exception";
+  } catch (const ShortFrameError& e) {
+    EXPECT_EQ(e.rows(), 1u);
+    EXPECT_EQ(e.announced(), 3u);
+  }
+  // More rows than announced is not a short frame.
+  write_file(dir / "s.dump", frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0 0 0 0.1\n"));
+  EXPECT_THROW(
+      {
+        try {
+          read_last_frame(dir / "s.dump");
+        } catch (const ShortFrameError&) {
+          FAIL() << "a ShortFrameError";
+        }
+      },
+      ParseError);
 }
 
 }  // namespace

@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+#include <vector>
+
 namespace demsa::postprocess {
 namespace {
 
@@ -62,6 +66,91 @@ TEST(LiggghtsLog, LostAtomsFromThermoAndErrors) {
   EXPECT_EQ(err.errors[1].text, "Bad thing (x.cpp:2)");
   ASSERT_TRUE(err.total_wall_seconds.has_value());
   EXPECT_DOUBLE_EQ(*err.total_wall_seconds, 3723.0);
+}
+
+TEST(LiggghtsLog, ScanThermoStreamsTheRowsOfTheReader) {
+  const std::filesystem::path path = test::data_path("postprocess/liggghts_pile/log.liggghts");
+  const LiggghtsLog log = read_liggghts_log(path);
+  std::size_t rows = 0;
+  std::size_t block = 0;
+  long last_header = -1;
+  bool same = true;
+  scan_thermo(path, [&](const ThermoRow& row) {
+    if (row.block.header_line != last_header) {
+      if (last_header >= 0) ++block;
+      last_header = row.block.header_line;
+      rows = 0;
+    }
+    same = same && block < log.thermo.size() && log.thermo[block].header_line == row.block.header_line &&
+           log.thermo[block].columns == row.block.columns && rows < log.thermo[block].rows.size() &&
+           log.thermo[block].rows[rows] == row.values && row.words.size() == row.values.size() && row.line > 0 &&
+           row.block.rows.empty();
+    ++rows;
+    return true;
+  });
+  EXPECT_TRUE(same);
+  EXPECT_EQ(block + 1, log.thermo.size());
+  EXPECT_EQ(rows, log.thermo.back().rows.size());
+  // `visit` returning false stops the scan.
+  int seen = 0;
+  scan_thermo(path, [&](const ThermoRow&) { return ++seen < 3; });
+  EXPECT_EQ(seen, 3);
+  EXPECT_THROW(scan_thermo("/nonexistent/log.liggghts", [](const ThermoRow&) { return true; }), ParseError);
+}
+
+TEST(LiggghtsLog, NanAndInfAreThermoValues) {
+  test::TempDir dir;
+  test::write_file(dir / "log.liggghts",
+                   "    Step    Atoms         KinEng           c_ke \n"
+                   "       0       10              0              0 \n"
+                   "     100       10            inf           -nan \n"
+                   "     200       10            nan            1e3 7\n"  // one value too many: not a row
+                   "     300       10              0              0 \n");
+  std::vector<long> lines;
+  std::vector<std::string> words;
+  scan_thermo(dir / "log.liggghts", [&](const ThermoRow& row) {
+    lines.push_back(row.line);
+    words.push_back(row.words[3]);
+    if (row.line == 3) {
+      EXPECT_TRUE(std::isinf(row.values[2]));
+      EXPECT_TRUE(std::isnan(row.values[3]));
+    }
+    return true;
+  });
+  EXPECT_EQ(lines, (std::vector<long>{2, 3}));
+  EXPECT_EQ(words, (std::vector<std::string>{"0", "-nan"}));
+  const LiggghtsLog log = read_liggghts_log(dir / "log.liggghts");
+  ASSERT_EQ(log.thermo.size(), 1u);
+  EXPECT_EQ(log.thermo[0].rows.size(), 2u);
+  EXPECT_EQ(log.thermo[0].kinetic_energy_column(), 3);
+}
+
+TEST(LiggghtsLog, KineticEnergyColumn) {
+  auto column = [](std::vector<std::string> names) {
+    return ThermoBlock{1, std::move(names), {}}.kinetic_energy_column();
+  };
+  EXPECT_EQ(column({"Step", "Atoms", "KinEng"}), 2);
+  EXPECT_EQ(column({"Step", "KinEng", "c_KE", "Volume"}), 2);  // the last one
+  EXPECT_EQ(column({"Step", "v_kinetic_energy"}), 1);
+  EXPECT_EQ(column({"Step", "f_vke"}), 1);
+  EXPECT_EQ(column({"Step", "Atoms", "c_rke", "Volume", "v_"}), -1);
+}
+
+TEST(LiggghtsLog, FirstErrorLine) {
+  test::TempDir dir;
+  test::write_file(dir / "screen.txt",
+                   "echo: ERROR: not at the start\n"
+                   "   ERROR on proc 2: Cannot open file a.stl (../input.cpp:3)\r\n"
+                   "ERROR: second (x.cpp:1)\n");
+  EXPECT_EQ(first_error_line(dir / "screen.txt"), "ERROR on proc 2: Cannot open file a.stl (../input.cpp:3)");
+  test::write_file(dir / "clean.txt", "ERRORS are not errors\nWARNING: fine\n");
+  EXPECT_EQ(first_error_line(dir / "clean.txt"), "");
+  EXPECT_EQ(first_error_line(dir / "missing.txt"), "");
+  // The whole-log reader applies the same rule.
+  const LiggghtsLog log = read_liggghts_log(dir / "screen.txt");
+  ASSERT_EQ(log.errors.size(), 2u);
+  EXPECT_EQ(log.errors[0].line, 2);
+  EXPECT_EQ(log.errors[0].text, "Cannot open file a.stl (../input.cpp:3)");
 }
 
 TEST(LiggghtsLog, MissingFile) { EXPECT_THROW(read_liggghts_log("/nonexistent/log.liggghts"), ParseError); }

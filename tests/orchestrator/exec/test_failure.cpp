@@ -198,6 +198,122 @@ TEST(Failure, PlateNotConvergedAndMissingPlateStates) {
   EXPECT_EQ(classify_case(clean_exit(), tmp.path(), options).failure, FailureClass::none);
 }
 
+TEST(Failure, DumpCutAnywhereInARowIsMissingDump) {
+  // A writer that stops (killed, disk full) can cut the dump at any byte; every cut inside the last row, even one
+  // that leaves a row with all its values (the end of line or part of the last value gone), is missing_dump.
+  const std::string whole = dump_text(10, 10);
+  const std::size_t last_row = whole.rfind('\n', whole.size() - 2) + 1;
+  for (std::size_t size = last_row + 1; size < whole.size(); ++size) {
+    CaseFolder folder(k_clean_log, whole.substr(0, size));
+    const FailureReport report = classify_case(clean_exit(), folder.tmp.path(), pile_options());
+    EXPECT_EQ(report.failure, FailureClass::missing_dump) << "cut at byte " << size << ": " << report.message;
+    EXPECT_NE(report.message.find("pile_final.dump"), std::string::npos) << report.message;
+  }
+  // Cut in the middle of an earlier row: the row is short.
+  const std::size_t fifth_row = whole.find("\n5 1 ") + 1;
+  CaseFolder folder(k_clean_log, whole.substr(0, fifth_row + 9));
+  EXPECT_EQ(classify_case(clean_exit(), folder.tmp.path(), pile_options()).failure, FailureClass::missing_dump);
+}
+
+TEST(Failure, AtomCountThatDisagreesWithTheRowsIsMissingDump) {
+  {
+    CaseFolder folder(k_clean_log, dump_text(10, 12));  // more rows than NUMBER OF ATOMS
+    const FailureReport report = classify_case(clean_exit(), folder.tmp.path(), pile_options());
+    EXPECT_EQ(report.failure, FailureClass::missing_dump);
+    EXPECT_NE(report.message.find("more rows than NUMBER OF ATOMS"), std::string::npos) << report.message;
+  }
+  {
+    CaseFolder folder(k_clean_log, dump_text(12, 10));  // fewer: the file ends first
+    const FailureReport report = classify_case(clean_exit(), folder.tmp.path(), pile_options());
+    EXPECT_EQ(report.failure, FailureClass::missing_dump);
+    EXPECT_EQ(report.message, "pile_final.dump is truncated: 10 of 12 atom rows");
+  }
+}
+
+TEST(Failure, DumpTheMeasurementWouldRefuseIsMissingDump) {
+  std::string text = dump_text(10, 10);
+  text.replace(text.find("\n3 1 0.001"), 10, "\n3 1 nan  ");  // a position that is not a number
+  CaseFolder nan_position(k_clean_log, text);
+  FailureReport report = classify_case(clean_exit(), nan_position.tmp.path(), pile_options());
+  EXPECT_EQ(report.failure, FailureClass::missing_dump);
+  EXPECT_EQ(report.message, "pile_final.dump:12: column 'x': 'nan' is not a finite number");
+
+  text = dump_text(10, 10);
+  text.replace(text.find("\n4 1 "), 5, "\n4.5 1 ");  // an id that is not an integer
+  CaseFolder fractional_id(k_clean_log, text);
+  report = classify_case(clean_exit(), fractional_id.tmp.path(), pile_options());
+  EXPECT_EQ(report.failure, FailureClass::missing_dump);
+  EXPECT_NE(report.message.find("id 4.5 is not an integer"), std::string::npos) << report.message;
+
+  text = dump_text(10, 10);
+  text.replace(text.find(" radius "), 8, " r ");  // no radius column
+  CaseFolder no_radius(k_clean_log, text);
+  report = classify_case(clean_exit(), no_radius.tmp.path(), pile_options());
+  EXPECT_EQ(report.failure, FailureClass::missing_dump);
+  EXPECT_NE(report.message.find("no column 'radius'"), std::string::npos) << report.message;
+}
+
+TEST(Failure, TornOrMalformedPlateStatesIsMissingDump) {
+  FailureOptions options;
+  options.experiment = Experiment::oedometer;
+  options.load_steps = 3;
+  test::TempDir tmp;
+  write_file(tmp / "log.liggghts", k_clean_log);
+  write_file(tmp / "oedometer_final.dump", dump_text(10, 10));
+  const std::string whole =
+      "# load_N plate_z_m force_N converged\n100 0.09 100 1\n400 0.089 400 1\n1100 0.088 1100 1\n";
+  // Every cut inside the last row leaves it short.
+  const std::size_t last_row = whole.rfind('\n', whole.size() - 2) + 1;
+  for (std::size_t size = last_row + 1; size + 1 < whole.size(); ++size) {
+    write_file(tmp / "plate_states.txt", whole.substr(0, size));
+    const FailureReport report = classify_case(clean_exit(), tmp.path(), options);
+    EXPECT_EQ(report.failure, FailureClass::missing_dump) << "cut at byte " << size << ": " << report.message;
+  }
+  write_file(tmp / "plate_states.txt", "100 0.09 100 1\n400 0.089 40x 1\n1100 0.088 1100 1\n");
+  FailureReport report = classify_case(clean_exit(), tmp.path(), options);
+  EXPECT_EQ(report.failure, FailureClass::missing_dump);
+  EXPECT_EQ(report.message, "plate_states.txt:2: column 'force_N': '40x' is not a number");
+  write_file(tmp / "plate_states.txt", "100 0.09 100 1\n400 0.089 400 2\n1100 0.088 1100 1\n");
+  EXPECT_EQ(classify_case(clean_exit(), tmp.path(), options).failure, FailureClass::missing_dump);
+  // A file with no row at all has reached no load, whatever the number of loads asked for.
+  write_file(tmp / "plate_states.txt", "# load_N plate_z_m force_N converged\n");
+  options.load_steps = 0;
+  report = classify_case(clean_exit(), tmp.path(), options);
+  EXPECT_EQ(report.failure, FailureClass::plate_not_converged);
+  EXPECT_EQ(report.message, "plate_states.txt has no load step");
+  write_file(tmp / "plate_states.txt", whole);
+  EXPECT_EQ(classify_case(clean_exit(), tmp.path(), options).failure, FailureClass::none);
+}
+
+TEST(Failure, NanKineticEnergyInAnIndentedThermoBlockIsEnergyBlowup) {
+  // LIGGGHTS indents its thermo header and prints glibc's "-nan" for a NaN.
+  const std::string log =
+      "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0)\n"
+      "thermo_style custom step atoms ke c_ke\n"
+      "    Step    Atoms         KinEng           c_ke \n"
+      "       0       10              0              0 \n"
+      "    1000       10          0.002          -nan \n"
+      "Loop time of 1.5 on 1 procs for 1000 steps with 10 atoms\n";
+  CaseFolder folder(log, dump_text(10, 10));
+  const FailureReport report = classify_case(clean_exit(), folder.tmp.path(), pile_options());
+  EXPECT_EQ(report.failure, FailureClass::energy_blowup);
+  EXPECT_EQ(report.message, "thermo column 'c_ke' is -nan at step 1000");
+  // An infinite kinetic energy too; a row that does not fit the header is not a thermo row.
+  CaseFolder inf(std::string(k_clean_log) + "Step Atoms KinEng\n 2000 10 inf\n", dump_text(10, 10));
+  EXPECT_EQ(classify_case(clean_exit(), inf.tmp.path(), pile_options()).message,
+            "thermo column 'KinEng' is inf at step 2000");
+  CaseFolder echo(std::string(k_clean_log) + "Step Atoms KinEng\n 2000 10 nan 7\n", dump_text(10, 10));
+  EXPECT_EQ(classify_case(clean_exit(), echo.tmp.path(), pile_options()).failure, FailureClass::none);
+}
+
+TEST(Failure, IndentedErrorLineIsLiggghtsError) {
+  CaseFolder folder(std::string(k_clean_log) + "  ERROR on proc 3: Particle out of box (../fix.cpp:12)\n",
+                    dump_text(10, 10));
+  const FailureReport report = classify_case(clean_exit(), folder.tmp.path(), pile_options());
+  EXPECT_EQ(report.failure, FailureClass::liggghts_error);
+  EXPECT_EQ(report.message, "ERROR on proc 3: Particle out of box (../fix.cpp:12)");
+}
+
 TEST(Failure, NamesRoundTripAndUnknownListsValidNames) {
   for (FailureClass c : {FailureClass::none, FailureClass::nonzero_exit, FailureClass::signal, FailureClass::timeout,
                          FailureClass::liggghts_error, FailureClass::lost_particles, FailureClass::energy_blowup,
