@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <string>
 #include <map>
 #include <set>
 #include <type_traits>
@@ -33,8 +34,16 @@ std::string code_list(const std::vector<std::string>& names) {
   return join(quoted);
 }
 
-/// Shortest text that reads back as the same double (fmt's default): for docs and messages.
-std::string shortest(double v) { return fmt::format("{}", v); }
+/// The shortest text that reads back as the same double, in fixed or exponent notation (1e+08 rather than
+/// 100000000, 2500 rather than 2.5e+03): for docs and messages.
+std::string shortest(double v) {
+  const std::string fixed = fmt::format("{}", v);
+  for (int digits = 1; digits <= 17; ++digits) {
+    const std::string g = fmt::format("{:.{}g}", v, digits);
+    if (std::stod(g) == v) return g.size() < fixed.size() ? g : fixed;
+  }
+  return fixed;
+}
 /// The hash's number format since the first version: 17 significant digits.
 std::string canonical_number(double v) { return fmt::format("{:.17g}", v); }
 
@@ -291,10 +300,10 @@ Row preset(const std::string& section, F field, std::vector<std::string> names,
         apply(c, value);
       })
       .canonical([](const StudyConfig&) { return Lines{}; })
+      .names(names)
       .first()
       .effect(SettingEffect::cases)
       .default_text("—");
-  row.range(code_list(names));
   return row;
 }
 
@@ -759,7 +768,8 @@ std::vector<Setting> build_settings() {
     if (s.section != "parameters") continue;
     const Setting& m = material_row(settings, s.key);
     s.bounds = m.bounds;
-    s.range_text = "`low` < `high`, both " + m.range_text + "; `scale` is `uniform` (default) or `log` (`low` > 0)";
+    s.range_text = fmt::format("`low` < `high`, both {}{}; `scale` is `uniform` (default) or `log` (`low` > 0)",
+                               m.bounds.low && m.bounds.high ? "in " : "", m.range_text);
   }
   return settings;
 }

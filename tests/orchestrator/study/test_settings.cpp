@@ -5,6 +5,7 @@
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
 
+#include "sobol/design.hpp"
 #include "support/test_support.hpp"
 
 #include <fmt/core.h>
@@ -203,8 +204,8 @@ TEST(StudySettings, UnknownKeySuggestsTheNearestKey) {
   const std::string e = [] {
     try {
       parse_study(study_text(minimal_study()) + "[run]\nparalel = 2\n", "study.toml");
-    } catch (const util::UserError& e) {
-      return std::string(e.what());
+    } catch (const util::UserError& error) {
+      return std::string(error.what());
     }
     return std::string();
   }();
