@@ -301,7 +301,8 @@ void check_section(const TableReader& r, const toml::table& table, StudyConfig& 
                          o.measured_settlements.size(), o.loads.size(), o.loads.size() - 1));
     }
     if (2 * o.radii.r_max >= o.box_side)
-      r.fail(table, "box_side", fmt::format("{} m is too small for particles of radius {} m", o.box_side, o.radii.r_max));
+      r.fail(table, "box_side",
+             fmt::format("{} m is too small for particles of radius {} m", o.box_side, o.radii.r_max));
   } else if (section == "timestep") {
     if (c.timestep.mode == TimestepMode::fixed && !(c.timestep.value > 0))
       r.fail(table, "value", "mode = \"fixed\" needs value = the time step in seconds");
@@ -331,8 +332,7 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
     if (std::find(sections.begin(), sections.end(), section) == sections.end()) {
       std::vector<std::string> sorted = sections;
       std::sort(sorted.begin(), sorted.end());
-      throw UserError(name, top.line_of(node),
-                      fmt::format("unknown section [{}] (valid: {})", section, join(sorted)));
+      throw UserError(name, top.line_of(node), fmt::format("unknown section [{}] (valid: {})", section, join(sorted)));
     }
     const toml::table& table = top.table(section, node);
     const TableReader r(table, name, section);

@@ -11,8 +11,6 @@
 #include <algorithm>
 #include <cassert>
 #include <string>
-#include <map>
-#include <set>
 #include <type_traits>
 
 namespace demsa::study {
@@ -219,8 +217,7 @@ class Row {
   /// The finished row: the canonical lines of a typed setter use the final hash key (set after the setter).
   Setting finish() && {
     const std::string key = m_s.hash_key;
-    if (m_value)
-      m_s.canonical = [key, value = m_value](const StudyConfig& c) -> Lines { return {{key, value(c)}}; };
+    if (m_value) m_s.canonical = [key, value = m_value](const StudyConfig& c) -> Lines { return {{key, value(c)}}; };
     if (m_list)
       m_s.canonical = [key, list = m_list](const StudyConfig& c) -> Lines {
         Lines lines;
@@ -256,7 +253,8 @@ class Row {
   std::function<std::vector<std::string>(const StudyConfig&)> m_list;
 };
 
-#define FIELD(path) [](auto& c) -> auto& { return c.path; }
+#define FIELD(path) \
+  [](auto& c) -> auto& { return c.path; }
 
 void apply_pile_preset(PileSettings& pile, const std::string& preset) {
   // Paper Table 2: particle sets 1 and 2.
@@ -311,22 +309,26 @@ Row preset(const std::string& section, F field, std::vector<std::string> names,
 template <typename F>
 void radius_rows(std::vector<Row>& rows, const std::string& section, const std::string& prefix, F radii) {
   rows.push_back(std::move(Row(section, "r_min")
-                               .number([radii](auto& c) -> auto& { return radii(c).r_min; }, k_positive)
+                               .number(
+                                   [radii](auto& c) -> auto& { return radii(c).r_min; }, k_positive)
                                .unit("m")
                                .cases(prefix + "r_min")
                                .doc("smallest radius r_L")));
   rows.push_back(std::move(Row(section, "r_max")
-                               .number([radii](auto& c) -> auto& { return radii(c).r_max; }, k_positive)
+                               .number(
+                                   [radii](auto& c) -> auto& { return radii(c).r_max; }, k_positive)
                                .unit("m")
                                .cases(prefix + "r_max")
                                .doc("largest radius r_U; more than `r_min`")));
   rows.push_back(std::move(Row(section, "r_mean")
-                               .number([radii](auto& c) -> auto& { return radii(c).mean; }, k_positive)
+                               .number(
+                                   [radii](auto& c) -> auto& { return radii(c).mean; }, k_positive)
                                .unit("m")
                                .cases(prefix + "mean")
                                .doc("mean of the normal distribution before truncation, in [`r_min`, `r_max`]")));
   rows.push_back(std::move(Row(section, "r_sd")
-                               .number([radii](auto& c) -> auto& { return radii(c).sd; }, k_positive)
+                               .number(
+                                   [radii](auto& c) -> auto& { return radii(c).sd; }, k_positive)
                                .unit("m")
                                .cases(prefix + "sd")
                                .doc("standard deviation of the normal distribution before truncation")));
@@ -355,8 +357,9 @@ std::vector<Setting> build_settings() {
           .range("non-empty")
           .doc("study name"));
   add(Row("study", "experiment")
-          .choice(FIELD(experiment), std::vector<std::pair<std::string, Experiment>>{{"pile", Experiment::pile},
-                                                                                   {"oedometer", Experiment::oedometer}})
+          .choice(FIELD(experiment),
+                  std::vector<std::pair<std::string, Experiment>>{{"pile", Experiment::pile},
+                                                                  {"oedometer", Experiment::oedometer}})
           .required()
           .default_text("— (required)")
           .cases("experiment")
@@ -475,7 +478,8 @@ std::vector<Setting> build_settings() {
           .integer(FIELD(pile.particles), at_least(1))
           .cases("pile.particles")
           .doc("number of particles"));
-  radius_rows(rows, "pile", "pile.", [](auto& c) -> auto& { return c.pile.radii; });
+  radius_rows(
+      rows, "pile", "pile.", [](auto& c) -> auto& { return c.pile.radii; });
   add(Row("pile", "disc_radius")
           .number(FIELD(pile.disc_radius), k_positive)
           .unit("m")
@@ -543,7 +547,8 @@ std::vector<Setting> build_settings() {
           .integer(FIELD(oedometer.particles), at_least(1))
           .cases("oed.particles")
           .doc("number of particles"));
-  radius_rows(rows, "oedometer", "oed.", [](auto& c) -> auto& { return c.oedometer.radii; });
+  radius_rows(
+      rows, "oedometer", "oed.", [](auto& c) -> auto& { return c.oedometer.radii; });
   add(Row("oedometer", "box_side")
           .number(FIELD(oedometer.box_side), k_positive)
           .unit("m")
@@ -583,8 +588,9 @@ std::vector<Setting> build_settings() {
           .measurement("oed.measured_settlement")
           .doc("s̃_i for loads 2..n relative to load 1: a finished case stores its error E_0 against them"));
   add(Row("oedometer", "plate_mode")
-          .choice(FIELD(oedometer.plate_mode), std::vector<std::pair<std::string, PlateMode>>{
-                                                   {"servo", PlateMode::servo}, {"trial-step", PlateMode::trial_step}})
+          .choice(FIELD(oedometer.plate_mode),
+                  std::vector<std::pair<std::string, PlateMode>>{{"servo", PlateMode::servo},
+                                                                 {"trial-step", PlateMode::trial_step}})
           .cases("oed.mode")
           .doc("`servo` (`fix mesh/surface/stress/servo`) or `trial-step` (the paper's algorithm)"));
   add(Row("oedometer", "plate_gap")
@@ -659,8 +665,9 @@ std::vector<Setting> build_settings() {
 
   // [timestep]
   add(Row("timestep", "mode")
-          .choice(FIELD(timestep.mode), std::vector<std::pair<std::string, TimestepMode>>{
-                                            {"rayleigh", TimestepMode::rayleigh}, {"fixed", TimestepMode::fixed}})
+          .choice(FIELD(timestep.mode),
+                  std::vector<std::pair<std::string, TimestepMode>>{{"rayleigh", TimestepMode::rayleigh},
+                                                                    {"fixed", TimestepMode::fixed}})
           .cases("dt.mode")
           .doc("`rayleigh`: dt = `fraction` × T_R of the smallest particle of the sample; `fixed`: dt = `value`"));
   add(Row("timestep", "fraction")
@@ -682,21 +689,17 @@ std::vector<Setting> build_settings() {
 
   // [run]
   add(Row("run", "executor")
-          .choice(FIELD(run.executor), std::vector<std::pair<std::string, ExecutorKind>>{
-                                           {"local", ExecutorKind::local}, {"slurm", ExecutorKind::slurm}})
+          .choice(FIELD(run.executor),
+                  std::vector<std::pair<std::string, ExecutorKind>>{{"local", ExecutorKind::local},
+                                                                    {"slurm", ExecutorKind::slurm}})
           .doc("where cases run: this machine or a SLURM cluster"));
   add(Row("run", "ranks")
           .integer(FIELD(run.ranks), at_least(1))
           .cases("ranks")
           .doc("MPI ranks per case; results depend on it, so every case of a study uses the same count"));
-  add(Row("run", "parallel")
-          .integer(FIELD(run.parallel), at_least(0))
-          .doc("cases at once (local); 0 = cores / ranks"));
+  add(Row("run", "parallel").integer(FIELD(run.parallel), at_least(0)).doc("cases at once (local); 0 = cores / ranks"));
   add(Row("run", "oversubscribe").boolean(FIELD(run.oversubscribe)).doc("allow parallel × ranks > cores"));
-  add(Row("run", "timeout")
-          .number(FIELD(run.timeout), k_non_negative)
-          .unit("s")
-          .doc("per case; 0 = none"));
+  add(Row("run", "timeout").number(FIELD(run.timeout), k_non_negative).unit("s").doc("per case; 0 = none"));
   add(Row("run", "retries").integer(FIELD(run.retries), at_least(0)).doc("extra attempts after a failure"));
   add(Row("run", "lost_fraction")
           .number(FIELD(run.lost_fraction), between(0, true, 1, true))
@@ -754,7 +757,8 @@ std::vector<Setting> build_settings() {
                   sobol::gp_kernel_from_string, [](sobol::GpKernel k) { return sobol::to_string(k); })
           .doc("correlation of the `gp` metamodel"));
   add(Row("analysis", "gp_trend")
-          .choice(FIELD(analysis.gp_trend), std::vector<sobol::GpTrend>{sobol::GpTrend::constant, sobol::GpTrend::linear},
+          .choice(FIELD(analysis.gp_trend),
+                  std::vector<sobol::GpTrend>{sobol::GpTrend::constant, sobol::GpTrend::linear},
                   sobol::gp_trend_from_string, [](sobol::GpTrend t) { return sobol::to_string(t); })
           .doc("trend of the `gp` metamodel: `linear` is universal Kriging"));
   add(Row("analysis", "gp_nugget")

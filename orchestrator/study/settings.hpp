@@ -73,10 +73,10 @@ struct Setting {
   SettingBounds bounds;              ///< number, integer, number list: checked by the parser
   std::string unit;                  ///< SI unit, "" when dimensionless
   SettingEffect effect = SettingEffect::none;
-  std::string doc;         ///< one documentation line (markdown)
-  bool required = false;   ///< the file must give it
-  bool first = false;      ///< read before the other keys of its section (presets: explicit keys override them)
-  std::string hash_key;    ///< its name in the canonical text of design_hash()
+  std::string doc;        ///< one documentation line (markdown)
+  bool required = false;  ///< the file must give it
+  bool first = false;     ///< read before the other keys of its section (presets: explicit keys override them)
+  std::string hash_key;   ///< its name in the canonical text of design_hash()
   /// Stores a value of `type`, already type- and bounds-checked, into the config; throws SettingError for values
   /// the bounds cannot judge. Empty for a table row: the parser reads it with dedicated code.
   std::function<void(StudyConfig&, const SettingValue&)> assign;

@@ -120,9 +120,9 @@ TEST(StudySettings, EveryRowIsReadIntoItsOwnField) {
 TEST(StudySettings, AFileOfEveryDefaultReadsAsTheDefaults) {
   StudyConfig expected;
   expected.name = "s";
-  expected.pile.preset = "set1";         // the defaults of [pile] are set 1
-  expected.oedometer.preset = "paper";   // and those of [oedometer] the paper's assembly
-  expected.timestep.value = 1e-6;        // 0 = not given, which the file cannot say
+  expected.pile.preset = "set1";        // the defaults of [pile] are set 1
+  expected.oedometer.preset = "paper";  // and those of [oedometer] the paper's assembly
+  expected.timestep.value = 1e-6;       // 0 = not given, which the file cannot say
   expected.parameters.push_back({"E", sobol::Bounds{1e8, 1e9, sobol::Scale::log_uniform}, 0});
   StudyMap study;
   for (const Setting& s : study_settings()) {
