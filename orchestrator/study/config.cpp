@@ -2,6 +2,7 @@
 
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "sobol/design.hpp"
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
 
@@ -346,6 +347,16 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
     throw UserError(name, 0, fmt::format("[{}] {} is required{}", s.section, s.key, choices));
   }
   if (c.parameters.empty()) throw UserError(name, 0, "[parameters] must vary at least one parameter");
+  // A Latin hypercube needs two points (sobol::DesignOptions::validate): refused here, at its line, rather than when
+  // `demsa run` draws the design.
+  if (c.samples < 2 && c.design != sobol::to_string(sobol::DesignKind::sobol)) {
+    const auto at =
+        seen.lines.count("design.samples") ? seen.lines.find("design.samples") : seen.lines.find("design.method");
+    throw UserError(
+        name, at == seen.lines.end() ? 0 : at->second,
+        fmt::format("[design] samples: method \"{}\" needs at least 2 samples (only \"sobol\" draws one), got {}",
+                    c.design, c.samples));
+  }
   // Keep the paper's order (eq. 1) whatever order the file lists them in.
   const auto& order = contact_parameter_names();
   std::sort(c.parameters.begin(), c.parameters.end(), [&](const ParameterRange& a, const ParameterRange& b) {

@@ -196,6 +196,10 @@ TEST(StudySettings, RangesComeFromTheTable) {
   EXPECT_EQ(error_of("[timestep]\nfraction = 0.5\n"),
             "study.toml:7: [timestep] fraction: must lie in (0, 0.3], got 0.5: a time step above 0.3 Rayleigh times "
             "is unstable for Hertz contacts");
+  EXPECT_EQ(error_of("[design]\nsamples = 1\n"),
+            "study.toml:7: [design] samples: method \"lhs-maximin\" needs at least 2 samples (only \"sobol\" draws "
+            "one), got 1");
+  EXPECT_NO_THROW(parse_study(base + "[design]\nsamples = 1\nmethod = \"sobol\"\n", "study.toml"));
   EXPECT_EQ(find_setting("pile", "levels")->range_text, ">= 2");
   EXPECT_EQ(find_setting("parameters", "nu")->bounds.text(), "(0, 0.5)");
 }
