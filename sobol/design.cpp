@@ -271,7 +271,9 @@ DesignKind design_kind_from_string(const std::string& name) {
   if (name == "lhs-maximin") return DesignKind::lhs_maximin;
   if (name == "lhs-cl2") return DesignKind::lhs_cl2;
   if (name == "sobol") return DesignKind::sobol;
-  throw InputError(fmt::format("unknown design '{}' (valid: lhs, lhs-centred, lhs-maximin, lhs-cl2, sobol)", name));
+  std::string valid;
+  for (const std::string& kind : design_kind_names()) valid += (valid.empty() ? "" : ", ") + kind;
+  throw InputError(fmt::format("unknown design '{}' (valid: {})", name, valid));
 }
 
 std::string to_string(DesignKind kind) {

@@ -6,6 +6,7 @@
 #include "orchestrator/exec/measure.hpp"
 #include "orchestrator/exec/progress.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/settings.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -173,12 +174,22 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
   Store store(db.string());
   const std::string hash = design_hash(config);
   if (const std::optional<std::string> stored = store.design_hash()) {
-    if (*stored != hash)
+    if (*stored != hash) {
+      // The frozen copy is the last file the study accepted: it names the changed keys (when it still reads).
+      std::string changed;
+      try {
+        for (const std::string& key : changed_settings(load_study(dir / k_frozen_study), config)) {
+          changed += changed.empty() ? "; changed: " : ", ";
+          changed += key;
+        }
+      } catch (const UserError&) {
+      }
       throw UserError(fmt::format(
-          "{}: the design-relevant settings differ from those of the study in {} (design hash {} there, {} now); "
+          "{}: the design-relevant settings differ from those of the study in {} (design hash {} there, {} now{}); "
           "only [run] and [analysis] may change in an existing study. Use `demsa run --new` to discard it and start "
           "a new study there, or choose another --dir",
-          study_file.string(), dir.string(), *stored, hash));
+          study_file.string(), dir.string(), *stored, hash, changed));
+    }
   } else {
     const std::vector<SampleRow> samples = draw_design(config);
     write_file_atomically(dir / k_design_file, design_csv(config, samples));

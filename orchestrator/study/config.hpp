@@ -1,7 +1,7 @@
 #pragma once
 // The study file (TOML): what a study varies, how it samples, what it simulates, where it runs and how it is
-// analysed. Every field has a default and a comment (meaning, unit, valid range); validate() names the field,
-// its value and the broken rule. Keys, units and defaults for users: docs/study-file.md.
+// analysed. Every key of the file is one row of settings.hpp (type, default, range, unit, effect, documentation),
+// from which the parser, the design hash and the reference of docs/study-file.md come.
 //
 // Units are SI throughout (m, s, kg, Pa, N). The paper's mg-mm-ms values are converted in docs/study-file.md.
 #include "orchestrator/study/parameters.hpp"
@@ -159,7 +159,7 @@ struct StudyConfig {
   std::string name;            ///< study name
   Experiment experiment = Experiment::pile;
   std::uint64_t seed = 12345;          ///< one seed for the design, the radii and the initial positions
-  std::string design = "lhs-maximin";  ///< lhs | lhs-centred | lhs-maximin | lhs-cl2 | sobol
+  std::string design = "lhs-maximin";  ///< a canonical name of sobol::design_kind_names()
   int samples = 16;
   std::vector<ParameterRange> parameters;  ///< the varied parameters, in the paper's order
   Material material;
@@ -177,8 +177,8 @@ StudyConfig load_study(const std::filesystem::path& file);
 /// Parses study text (for tests); `file` is the name used in messages.
 StudyConfig parse_study(const std::string& text, const std::filesystem::path& file);
 
-/// A stable hash of the settings that define the design and the cases (everything but [run] and [analysis],
-/// except run.ranks: a result depends on the rank count).
+/// A stable hash (16 hex digits, FNV-1a 64) of the settings whose effect is cases or measurement (settings.hpp:
+/// design_hash_text): everything but [run] and [analysis], except run.ranks (a result depends on the rank count).
 std::string design_hash(const StudyConfig& config);
 
 /// Material values for one sample: config.material with the varied parameters set from `physical`
