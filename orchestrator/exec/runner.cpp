@@ -4,6 +4,7 @@
 #include "orchestrator/exec/failure.hpp"
 #include "orchestrator/exec/local_executor.hpp"
 #include "orchestrator/exec/measure.hpp"
+#include "orchestrator/exec/plan.hpp"
 #include "orchestrator/exec/progress.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/settings.hpp"
@@ -15,25 +16,15 @@
 #include "sobol/design.hpp"
 #include "sobol/scaling.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <cerrno>
-#include <cmath>
-#include <cstring>
-#include <deque>
-#include <fstream>
+#include <chrono>
 #include <limits>
 #include <numbers>
 #include <optional>
-#include <set>
-#include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace demsa::exec {
 
@@ -204,12 +195,222 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
   return store;
 }
 
+/// What the runner keeps of a case from its start to its end.
 struct InFlight {
   long run = 0;
   int sample = 0;
   int attempt = 1;
   long particles = 0;
 };
+
+/// One invocation's loop, in the shape of ninja's Builder (src/build.h): the study, the executor (the
+/// CommandRunner), what is left (the Plan) and the cases in flight.
+struct Loop {
+  const RunOptions& options;
+  const StudyConfig& config;
+  const fs::path& dir;
+  Store& store;
+  Executor& executor;
+  RunSummary& summary;
+  std::function<bool()> should_stop;
+  Plan plan;
+  std::map<std::string, InFlight> in_flight = {};  ///< by case folder
+  std::vector<double> walls = {};                  ///< [s] wall times of the done runs, for the ETA
+};
+
+/// Runs an earlier demsa left `submitted`: the ones whose folder holds a complete result.json of that very run are
+/// committed from it; with submit_only the others are left to the cluster (no polling: they only stay out of the
+/// queue); otherwise the executor adopts them and they end through collect() like the cases this run starts.
+void recover_submitted(Loop& loop) {
+  std::vector<SubmittedCase> adopt;
+  for (const RunRow& r : loop.store.runs_in_state(RunState::submitted)) {
+    const fs::path folder = case_dir(loop.dir, r.sample);
+    if (const auto observables = read_result(folder, r.sample, r.id)) {
+      RunOutcome outcome;
+      outcome.exit_code = 0;
+      outcome.message = "recovered from result.json after an interruption";
+      loop.store.record_done(r.id, outcome, *observables);
+      loop.plan.mark_done(r.sample, r.attempt);
+      ++loop.summary.recovered;
+      continue;
+    }
+    if (loop.options.submit_only) {
+      loop.plan.leave_submitted(r.sample);
+      continue;
+    }
+    adopt.push_back({CaseTask{r.sample, r.attempt, folder}, r.job_id});
+    loop.in_flight[folder.string()] = InFlight{r.id, r.sample, r.attempt, configured_particles(loop.config)};
+    loop.plan.adopt(r.sample);
+  }
+  if (!adopt.empty()) {
+    loop.store.add_event("resume", fmt::format("{} runs left in flight by an earlier demsa", adopt.size()));
+    loop.executor.adopt(adopt);
+  }
+}
+
+/// Starts a batch of prepared case folders and returns their run ids, in the order of `batch`. The run rows, with
+/// the ids the executor can find the tasks by (SLURM: the submission's token), are committed in one transaction
+/// before anything starts: a crash at any point after it leaves runs to adopt, never a process or an array job the
+/// store does not know how to find (that would run a case twice). The real ids replace them once submit() returns.
+std::vector<long> start_batch(Executor& executor, Store& store, const std::vector<CaseTask>& batch) {
+  const std::vector<std::string> reserved = executor.reserve_ids(batch);
+  std::vector<NewRun> rows;
+  for (std::size_t i = 0; i < batch.size(); ++i)
+    rows.push_back(NewRun{batch[i].sample, batch[i].attempt, reserved.at(i)});
+  const std::vector<long> runs = store.add_runs(rows);
+  const std::vector<std::string> ids = executor.submit(batch);
+  std::vector<std::pair<long, std::string>> job_ids;
+  for (std::size_t i = 0; i < batch.size(); ++i) job_ids.emplace_back(runs.at(i), ids.at(i));
+  store.set_job_ids(job_ids);
+  return runs;
+}
+
+/// Takes from the front of the plan as many cases as the executor has room for, writes each case folder anew and
+/// starts them in one batch.
+void start_what_fits(Loop& loop, const std::vector<SampleRow>& samples) {
+  std::vector<CaseTask> batch;
+  std::vector<InFlight> flights;
+  const int slots = loop.executor.free_slots();
+  while (static_cast<int>(batch.size()) < slots) {
+    const std::optional<PlannedCase> next = loop.plan.next();
+    if (!next) break;
+    const fs::path folder = case_dir(loop.dir, next->sample);
+    const long particles = prepare_case(loop.config, samples.at(static_cast<std::size_t>(next->sample)), folder);
+    batch.push_back(CaseTask{next->sample, next->attempt, folder});
+    flights.push_back(InFlight{0, next->sample, next->attempt, particles});
+  }
+  if (batch.empty()) return;
+  const std::vector<long> runs = start_batch(loop.executor, loop.store, batch);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    flights[i].run = runs.at(i);
+    loop.in_flight[batch[i].folder.string()] = flights[i];
+  }
+  loop.summary.submitted += static_cast<int>(batch.size());
+}
+
+/// The text of a done run's result.json: what recovery needs to commit the run without running it again.
+std::string result_json(const FinishedCase& finished, const InFlight& flight,
+                        const std::map<std::string, double>& observables) {
+  nlohmann::json result;
+  result["sample"] = flight.sample;
+  result["run"] = flight.run;
+  result["attempt"] = flight.attempt;
+  result["observables"] = observables;
+  result["exit_code"] = finished.exit.exit_code;
+  result["wall_seconds"] = finished.exit.wall_seconds;
+  result["cpu_seconds"] = finished.exit.cpu_seconds;
+  result["host"] = finished.exit.host;
+  return result.dump(2) + "\n";
+}
+
+/// One case ended (ninja's Builder::FinishCommand): classify it, measure it, write its result.json, commit its run
+/// (done, failed or requeued: one store transaction) and tell the plan. result.json is written atomically before
+/// the commit, so a crash between the two is recovered from it (recover_submitted).
+void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& flight) {
+  const fs::path& folder = finished.task.folder;
+  FailureReport report = classify_case(finished.exit, folder, failure_options(loop.config, flight.particles));
+  if (report.requeue) {
+    loop.store.record_requeued(flight.run, report.message);
+    if (!finished.exit.detail.empty())
+      loop.store.add_event("requeued", fmt::format("run {}: {}: {}", flight.run, report.message, finished.exit.detail),
+                           flight.sample);
+    loop.plan.requeue(flight.sample, loop.should_stop());
+    return;
+  }
+  RunOutcome outcome = outcome_from(finished.exit);
+  std::map<std::string, double> observables;
+  if (report.failure == FailureClass::none) {
+    try {
+      observables = measure_case(loop.config, folder);
+    } catch (const std::exception& e) {
+      report.failure = FailureClass::measurement;
+      report.message = e.what();
+      report.log_tail = file_tail(folder / k_case_log, 30);
+    }
+  }
+  if (report.failure == FailureClass::none) {
+    write_file_atomically(folder / k_result_file, result_json(finished, flight, observables));
+    loop.store.record_done(flight.run, outcome, observables);
+    loop.plan.mark_done(flight.sample, flight.attempt);
+    ++loop.summary.done_now;
+    if (finished.exit.wall_seconds > 0) loop.walls.push_back(finished.exit.wall_seconds);
+    return;
+  }
+  outcome.failure = to_string(report.failure);
+  outcome.message = report.message;
+  outcome.log_tail = report.log_tail;
+  loop.store.record_failed(flight.run, outcome);
+  ++loop.summary.failures_by_class[to_string(report.failure)];
+  // collect_only: the plan neither retries nor gives up; the next `demsa run` retries it.
+  loop.plan.retry_or_give_up(flight.sample, flight.attempt, !loop.options.collect_only && loop.should_stop());
+}
+
+/// Polls the executor (waiting up to `wait`) and finishes every case that ended; first stores the real job ids it
+/// found for adopted runs that had only a provisional one.
+void collect(Loop& loop, std::chrono::milliseconds wait) {
+  const std::vector<FinishedCase> finished = loop.executor.poll(wait);
+  std::vector<std::pair<long, std::string>> learned;
+  for (const SubmittedCase& found : loop.executor.take_learned_ids()) {
+    const auto it = loop.in_flight.find(found.task.folder.string());
+    if (it == loop.in_flight.end()) continue;
+    learned.emplace_back(it->second.run, found.job_id);
+    loop.store.add_event("adopted",
+                         fmt::format("run {}: its array job was found by its submission token: SLURM task {}",
+                                     it->second.run, found.job_id),
+                         it->second.sample);
+  }
+  if (!learned.empty()) loop.store.set_job_ids(learned);
+  for (const FinishedCase& f : finished) {
+    const auto it = loop.in_flight.find(f.task.folder.string());
+    if (it == loop.in_flight.end()) continue;  // not ours (cannot happen with one runner per study)
+    const InFlight flight = it->second;
+    loop.in_flight.erase(it);
+    ++loop.summary.collected;
+    finish_case(loop, f, flight);
+  }
+}
+
+/// Whether the loop goes on: samples left to start, or (unless submit_only, which does not poll) cases in flight.
+bool work_left(const Loop& loop) {
+  return loop.plan.has_queued() || (!loop.options.submit_only && loop.executor.in_flight() > 0);
+}
+
+ProgressCounts counts(const Loop& loop) {
+  ProgressCounts c;
+  c.done = loop.plan.done_count();
+  c.running = static_cast<int>(loop.in_flight.size());
+  c.failed = loop.plan.failed_count();
+  c.total = loop.summary.samples;
+  return c;
+}
+
+double eta(const Loop& loop, int parallel) {
+  double mean = 0;
+  for (double w : loop.walls) mean += w;
+  mean = loop.walls.empty() ? 0.0 : mean / static_cast<double>(loop.walls.size());
+  const int remaining = loop.summary.samples - loop.plan.done_count() - loop.plan.failed_count();
+  return estimate_remaining(remaining, parallel, mean);
+}
+
+/// Stopped by a signal or should_stop. Local cases die with demsa anyway; SLURM tasks are cancelled only on request
+/// (they cost nothing to keep); --submit-only never cancels what it submitted. Cancelled cases are collected and
+/// recorded `requeued`.
+void handle_interrupt(Loop& loop) {
+  loop.summary.interrupted = true;
+  const std::string why =
+      StopFlag::signal_number() != 0 ? fmt::format("signal {}", StopFlag::signal_number()) : std::string("stopped");
+  bool cancel = !loop.options.submit_only;
+  if (cancel && loop.config.run.executor == ExecutorKind::slurm && loop.executor.in_flight() > 0)
+    cancel = loop.options.cancel_on_interrupt ||
+             (loop.options.ask_cancel && loop.options.ask_cancel(loop.executor.in_flight()));
+  if (cancel) {
+    loop.executor.cancel_all();
+    collect(loop, std::chrono::milliseconds(0));
+    loop.store.add_event("interrupted", why);
+  } else {
+    loop.store.add_event("interrupted", fmt::format("{}; {} SLURM task(s) left running", why, loop.in_flight.size()));
+  }
+}
 
 }  // namespace
 
@@ -226,8 +427,6 @@ RunSummary run_study(const RunOptions& options) {
   Store store = open_study(config, options.study_file, dir, options.new_study);
   const std::vector<SampleRow> samples = store.samples();
   summary.samples = static_cast<int>(samples.size());
-  const std::function<bool()> should_stop =
-      options.should_stop ? options.should_stop : [] { return StopFlag::raised(); };
 
   if (options.dry_run) {
     // Validate every case by writing it (a case that breaks a LIGGGHTS limit throws UserError here).
@@ -248,221 +447,42 @@ RunSummary run_study(const RunOptions& options) {
   summary.executor = executor->name();
   const int parallel = config.run.executor == ExecutorKind::local ? local_parallel(config.run, machine_cores()) : 1;
 
-  // Who is done, who has a run in flight.
-  std::set<int> done;
-  std::map<int, int> attempts;  // sample -> attempts that counted (not requeued)
+  Loop loop{.options = options,
+            .config = config,
+            .dir = dir,
+            .store = store,
+            .executor = *executor,
+            .summary = summary,
+            .should_stop = options.should_stop ? options.should_stop : [] { return StopFlag::raised(); },
+            .plan = Plan(PlanOptions{.retries = config.run.retries, .collect_only = options.collect_only})};
+  // Who is done, which attempt each sample is at; then the runs an earlier demsa left in flight; then the queue.
   for (const RunRow& r : store.runs()) {
-    if (r.state == RunState::done) done.insert(r.sample);
-    if (r.state != RunState::requeued) attempts[r.sample] = std::max(attempts[r.sample], r.attempt);
+    loop.plan.add_past_run(r);
+    if (r.state == RunState::done && r.wall_seconds > 0) loop.walls.push_back(r.wall_seconds);
   }
+  recover_submitted(loop);
+  std::vector<int> order;
+  for (const SampleRow& s : samples) order.push_back(s.sample);
+  loop.plan.queue_remaining(order);
 
-  std::map<std::string, InFlight> in_flight;  // keyed by case folder
-  auto key = [&](int sample) { return case_dir(dir, sample).string(); };
-
-  // Recover runs an earlier demsa left `submitted`. With submit_only they are left to the cluster (no polling):
-  // they are only kept out of the queue.
-  std::vector<SubmittedCase> adopt;
-  std::set<int> left_submitted;
-  for (const RunRow& r : store.runs_in_state(RunState::submitted)) {
-    const fs::path folder = case_dir(dir, r.sample);
-    if (const auto observables = read_result(folder, r.sample, r.id)) {
-      RunOutcome outcome;
-      outcome.exit_code = 0;
-      outcome.message = "recovered from result.json after an interruption";
-      store.record_done(r.id, outcome, *observables);
-      done.insert(r.sample);
-      ++summary.recovered;
-      continue;
-    }
-    if (options.submit_only) {
-      left_submitted.insert(r.sample);
-      continue;
-    }
-    adopt.push_back({CaseTask{r.sample, r.attempt, folder}, r.job_id});
-    in_flight[folder.string()] = InFlight{r.id, r.sample, r.attempt, configured_particles(config)};
-  }
-  if (!adopt.empty()) {
-    store.add_event("resume", fmt::format("{} runs left in flight by an earlier demsa", adopt.size()));
-    executor->adopt(adopt);
-  }
-
-  // This invocation gives every sample that is not done 1 + retries attempts.
-  const int budget = 1 + std::max(0, config.run.retries);
-  std::map<int, int> tries_now;
-  std::deque<int> queue;
-  if (!options.collect_only) {
-    for (const SampleRow& s : samples)
-      if (!done.count(s.sample) && !in_flight.count(key(s.sample)) && !left_submitted.count(s.sample))
-        queue.push_back(s.sample);
-  }
-
-  const bool quiet = options.quiet || options.collect_only;
-  Progress progress(quiet ? nullptr : stderr, Progress::is_terminal(stderr), options.progress_interval);
-  std::vector<double> walls;
-  for (const RunRow& r : store.runs())
-    if (r.state == RunState::done && r.wall_seconds > 0) walls.push_back(r.wall_seconds);
-  std::set<int> failed_final;
-  auto counts = [&] {
-    ProgressCounts c;
-    c.done = static_cast<int>(done.size());
-    c.running = static_cast<int>(in_flight.size());
-    c.failed = static_cast<int>(failed_final.size());
-    c.total = summary.samples;
-    return c;
-  };
-  auto eta = [&] {
-    double mean = 0;
-    for (double w : walls) mean += w;
-    mean = walls.empty() ? 0.0 : mean / static_cast<double>(walls.size());
-    const int remaining = summary.samples - static_cast<int>(done.size()) - static_cast<int>(failed_final.size());
-    return estimate_remaining(remaining, parallel, mean);
-  };
-
-  auto handle = [&](const FinishedCase& finished) {
-    const auto it = in_flight.find(finished.task.folder.string());
-    if (it == in_flight.end()) return;  // not ours (cannot happen with one runner per study)
-    const InFlight flight = it->second;
-    in_flight.erase(it);
-    ++summary.collected;
-    const fs::path folder = finished.task.folder;
-    FailureReport report = classify_case(finished.exit, folder, failure_options(config, flight.particles));
-    if (report.requeue) {
-      store.record_requeued(flight.run, report.message);
-      if (!finished.exit.detail.empty())
-        store.add_event("requeued", fmt::format("run {}: {}: {}", flight.run, report.message, finished.exit.detail),
-                        flight.sample);
-      if (!should_stop() && !options.collect_only) queue.push_front(flight.sample);
-      return;
-    }
-    RunOutcome outcome = outcome_from(finished.exit);
-    std::map<std::string, double> observables;
-    if (report.failure == FailureClass::none) {
-      try {
-        observables = measure_case(config, folder);
-      } catch (const std::exception& e) {
-        report.failure = FailureClass::measurement;
-        report.message = e.what();
-        report.log_tail = file_tail(folder / k_case_log, 30);
-      }
-    }
-    attempts[flight.sample] = std::max(attempts[flight.sample], flight.attempt);
-    if (report.failure == FailureClass::none) {
-      nlohmann::json result;
-      result["sample"] = flight.sample;
-      result["run"] = flight.run;
-      result["attempt"] = flight.attempt;
-      result["observables"] = observables;
-      result["exit_code"] = finished.exit.exit_code;
-      result["wall_seconds"] = finished.exit.wall_seconds;
-      result["cpu_seconds"] = finished.exit.cpu_seconds;
-      result["host"] = finished.exit.host;
-      write_file_atomically(folder / k_result_file, result.dump(2) + "\n");
-      store.record_done(flight.run, outcome, observables);
-      done.insert(flight.sample);
-      ++summary.done_now;
-      if (finished.exit.wall_seconds > 0) walls.push_back(finished.exit.wall_seconds);
-      return;
-    }
-    outcome.failure = to_string(report.failure);
-    outcome.message = report.message;
-    outcome.log_tail = report.log_tail;
-    store.record_failed(flight.run, outcome);
-    ++summary.failures_by_class[outcome.failure];
-    if (options.collect_only) return;  // the next `demsa run` retries it
-    if (tries_now[flight.sample] < budget && !should_stop())
-      queue.push_back(flight.sample);
-    else
-      failed_final.insert(flight.sample);
-  };
-
-  // Polls the executor; first stores the real job ids it found for adopted runs that had only a provisional one.
-  auto collect = [&](std::chrono::milliseconds wait) {
-    const std::vector<FinishedCase> finished = executor->poll(wait);
-    std::vector<std::pair<long, std::string>> learned;
-    for (const SubmittedCase& found : executor->take_learned_ids()) {
-      const auto it = in_flight.find(found.task.folder.string());
-      if (it == in_flight.end()) continue;
-      learned.emplace_back(it->second.run, found.job_id);
-      store.add_event("adopted",
-                      fmt::format("run {}: its array job was found by its submission token: SLURM task {}",
-                                  it->second.run, found.job_id),
-                      it->second.sample);
-    }
-    if (!learned.empty()) store.set_job_ids(learned);
-    for (const FinishedCase& f : finished) handle(f);
-  };
-
+  Progress progress(options.quiet || options.collect_only ? nullptr : stderr, Progress::is_terminal(stderr),
+                    options.progress_interval);
   if (options.collect_only) {
     // One look without waiting (squeue once, the sentinels once); what has not ended stays submitted.
-    collect(std::chrono::milliseconds(0));
+    collect(loop, std::chrono::milliseconds(0));
   }
-
-  while (!options.collect_only && (!queue.empty() || (!options.submit_only && executor->in_flight() > 0)) &&
-         !should_stop()) {
-    std::vector<CaseTask> batch;
-    std::vector<InFlight> flights;
-    const int slots = executor->free_slots();
-    while (static_cast<int>(batch.size()) < slots && !queue.empty()) {
-      const int sample = queue.front();
-      queue.pop_front();
-      if (done.count(sample)) continue;
-      const fs::path folder = case_dir(dir, sample);
-      InFlight flight;
-      flight.sample = sample;
-      flight.attempt = attempts[sample] + 1;
-      flight.particles = prepare_case(config, samples.at(static_cast<std::size_t>(sample)), folder);
-      attempts[sample] = flight.attempt;
-      ++tries_now[sample];
-      batch.push_back(CaseTask{sample, flight.attempt, folder});
-      flights.push_back(flight);
-    }
-    if (!batch.empty()) {
-      // The run rows, with the ids the executor can find the tasks by (SLURM: the submission's token), are
-      // committed in one transaction before anything starts: a crash at any point after it leaves runs to adopt,
-      // never a process or an array job the store does not know how to find (that would run a case twice).
-      const std::vector<std::string> reserved = executor->reserve_ids(batch);
-      std::vector<NewRun> rows;
-      for (std::size_t i = 0; i < batch.size(); ++i)
-        rows.push_back(NewRun{flights[i].sample, flights[i].attempt, reserved.at(i)});
-      const std::vector<long> runs = store.add_runs(rows);
-      for (std::size_t i = 0; i < batch.size(); ++i) flights[i].run = runs.at(i);
-      const std::vector<std::string> ids = executor->submit(batch);
-      std::vector<std::pair<long, std::string>> job_ids;
-      for (std::size_t i = 0; i < batch.size(); ++i) {
-        job_ids.emplace_back(flights[i].run, ids.at(i));
-        in_flight[batch[i].folder.string()] = flights[i];
-      }
-      store.set_job_ids(job_ids);
-      summary.submitted += static_cast<int>(batch.size());
-    }
+  while (!options.collect_only && work_left(loop) && !loop.should_stop()) {
+    start_what_fits(loop, samples);
     if (options.submit_only) continue;  // no polling: the cluster runs them, a later run or status collects
-    collect(std::chrono::milliseconds(200));
-    progress.update(counts(), eta());
+    collect(loop, std::chrono::milliseconds(200));
+    progress.update(counts(loop), eta(loop, parallel));
   }
+  if (!options.collect_only && loop.should_stop()) handle_interrupt(loop);
+  progress.finish(counts(loop));
 
-  if (!options.collect_only && should_stop()) {
-    summary.interrupted = true;
-    const std::string why =
-        StopFlag::signal_number() != 0 ? fmt::format("signal {}", StopFlag::signal_number()) : std::string("stopped");
-    // Local cases die with demsa anyway; SLURM tasks are cancelled only on request (they cost nothing to keep).
-    // --submit-only never cancels what it submitted.
-    bool cancel = !options.submit_only;
-    if (cancel && config.run.executor == ExecutorKind::slurm && executor->in_flight() > 0)
-      cancel = options.cancel_on_interrupt || (options.ask_cancel && options.ask_cancel(executor->in_flight()));
-    if (cancel) {
-      executor->cancel_all();
-      collect(std::chrono::milliseconds(0));
-      store.add_event("interrupted", why);
-    } else {
-      store.add_event("interrupted", fmt::format("{}; {} SLURM task(s) left running", why, in_flight.size()));
-    }
-  }
-  progress.finish(counts());
-  summary.left_running = static_cast<int>(in_flight.size() + left_submitted.size());
-
-  summary.done = static_cast<int>(done.size());
-  for (const SampleRow& s : samples)
-    if (!done.count(s.sample) && failed_final.count(s.sample)) summary.failed_samples.push_back(s.sample);
+  summary.left_running = static_cast<int>(loop.in_flight.size()) + loop.plan.left_submitted_count();
+  summary.done = loop.plan.done_count();
+  summary.failed_samples = loop.plan.failed_samples();
   summary.failed = static_cast<int>(summary.failed_samples.size());
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (options.collect_only)

@@ -6,6 +6,10 @@
 //   -> observables measured from the dump (postprocess/) -> DIR/cases/NNNNNN/result.json written atomically
 //   (temporary file, fsync, rename, fsync of the folder) -> run `done` and observables in one store transaction.
 //
+// The loop has the shape of ninja's build loop (src/build.h): a Plan (plan.hpp) holds what is left, the executor
+// starts cases and reports those that ended (the CommandRunner), and each case that ended is finished (classified,
+// measured, result.json written, committed in one transaction) before the plan is told how it went.
+//
 // A result counts only once that transaction is committed. After any crash (SIGKILL included), `demsa run` again:
 //   - runs the store left `submitted` whose folder holds a complete result.json of that very run are committed
 //     from it (the case is not run again);
