@@ -1,7 +1,7 @@
 #pragma once
 // The interface every executor implements (ARCHITECTURE.md "exec/"): it runs case folders, each runnable by hand with
 // `./run.sh`, and reports how each one ended. It knows nothing of the store, of designs or of observables: the
-// study runner (study_runner.hpp) decides what to submit, classifies the outcome (failure.hpp), measures and
+// study runner (runner.hpp) decides what to submit, classifies the outcome (failure.hpp), measures and
 // commits.
 //
 // Life of a case in an executor:
