@@ -352,11 +352,11 @@ RunSummary run_study(const RunOptions& options) {
       if (finished.exit.wall_seconds > 0) walls.push_back(finished.exit.wall_seconds);
       return;
     }
-    outcome.failure = to_string(report.failure);
+    outcome.failure = report.failure;
     outcome.message = report.message;
     outcome.log_tail = report.log_tail;
     store.record_failed(flight.run, outcome);
-    ++summary.failures_by_class[outcome.failure];
+    ++summary.failures_by_class[to_string(outcome.failure)];
     if (options.collect_only) return;  // the next `demsa run` retries it
     if (tries_now[flight.sample] < budget && !should_stop())
       queue.push_back(flight.sample);
