@@ -4,6 +4,7 @@
 #include "orchestrator/cases/embedded_templates.hpp"
 #include "orchestrator/cases/geometry.hpp"
 #include "orchestrator/cases/physics.hpp"
+#include "orchestrator/study/parameters.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/version.hpp"
 
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <fstream>
@@ -98,15 +100,34 @@ std::string data_header(const std::string& title, int atoms, double half_x, doub
 
 double smallest_radius(const std::vector<double>& radii) { return *std::min_element(radii.begin(), radii.end()); }
 
+/// The member of Material that holds each contact parameter (study/parameters.hpp names them).
+constexpr std::array<std::pair<std::string_view, double Material::*>, 7> k_material_members{{
+    {"E", &Material::E},
+    {"nu", &Material::nu},
+    {"mu_pp", &Material::mu_pp},
+    {"mu_pw", &Material::mu_pw},
+    {"e_r", &Material::e_r},
+    {"mu_r_pp", &Material::mu_r_pp},
+    {"mu_r_pw", &Material::mu_r_pw},
+}};
+
+double contact_value(const Material& m, std::string_view key) {
+  for (const auto& [name, member] : k_material_members)
+    if (name == key) return m.*member;
+  assert(false && "contact parameter without a Material member");
+  return 0.0;
+}
+
+/// "Young's modulus [Pa], LIGGGHTS youngsModulus": the comment of a contact parameter in params.liggghts.
+std::string params_note(const ContactParameter& p) {
+  const std::string unit = p.unit == "-" ? std::string{} : fmt::format(" [{}]", p.unit);
+  return fmt::format("{}{}, LIGGGHTS {}", p.label, unit, p.liggghts);
+}
+
 void add_common_params(Params& p, const Material& m, const TimestepChoice& ts, const StudyConfig& c) {
   p.comment("contact parameters (paper eq. 1) and density");
-  p.number("E", m.E, "Young's modulus [Pa]");
-  p.number("nu", m.nu, "Poisson ratio");
-  p.number("mu_pp", m.mu_pp, "particle-particle friction");
-  p.number("mu_pw", m.mu_pw, "particle-wall friction");
-  p.number("e_r", m.e_r, "coefficient of restitution");
-  p.number("mu_r_pp", m.mu_r_pp, "particle-particle rolling friction (cdt)");
-  p.number("mu_r_pw", m.mu_r_pw, "particle-wall rolling friction (cdt)");
+  for (const ContactParameter& cp : contact_parameters())
+    p.number(std::string(cp.key), contact_value(m, cp.key), params_note(cp));
   p.number("density", m.density, "particle density [kg/m^3]");
   p.number("gravity", m.gravity, "|g| [m/s^2]");
   p.word("soft_particles", m.soft_particles ? "yes" : "no", "allow E < 5e6 Pa");
@@ -118,6 +139,15 @@ void add_common_params(Params& p, const Material& m, const TimestepChoice& ts, c
   p.number("rayleigh_time", ts.rayleigh_time, "Rayleigh time of the smallest particle [s]");
   p.number("skin", c.timestep.skin, "neighbor skin [m]");
   p.integer("thermo_steps", steps_for(0.01, ts.dt), "thermo output every 0.01 s");
+}
+
+/// case.json "material": the contact parameters in the paper's order, then density and gravity.
+nlohmann::ordered_json material_json(const Material& m) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const ContactParameter& cp : contact_parameters()) j[std::string(cp.key)] = contact_value(m, cp.key);
+  j["density"] = m.density;
+  j["gravity"] = m.gravity;
+  return j;
 }
 
 struct Written {
@@ -503,16 +533,7 @@ CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, co
                              {"sample", sample},
                              {"unit_point", request.unit_point},
                              {"parameters", parameters},
-                             {"material",
-                              {{"E", material.E},
-                               {"nu", material.nu},
-                               {"mu_pp", material.mu_pp},
-                               {"mu_pw", material.mu_pw},
-                               {"e_r", material.e_r},
-                               {"mu_r_pp", material.mu_r_pp},
-                               {"mu_r_pw", material.mu_r_pw},
-                               {"density", material.density},
-                               {"gravity", material.gravity}}},
+                             {"material", material_json(material)},
                              {"seed", config.seed},
                              {"dt", ts.dt},
                              {"dt_source", ts.mode == TimestepMode::rayleigh ? "rayleigh" : "fixed"},

@@ -100,7 +100,7 @@ int do_status(const StatusArgs& args) {
       if (done.count(sample)) continue;
       list.push_back({{"sample", sample},
                       {"attempt", r.attempt},
-                      {"class", r.failure},
+                      {"class", to_string(r.failure)},
                       {"message", r.message},
                       {"exit_code", r.exit_code},
                       {"log_tail", r.log_tail}});
@@ -118,7 +118,7 @@ int do_status(const StatusArgs& args) {
                eta < 0 ? std::string("?") : format_duration(eta));
   for (const auto& [sample, r] : failures) {
     if (done.count(sample)) continue;
-    fmt::print("  sample {} attempt {}: {}: {}\n", sample, r.attempt, r.failure, r.message);
+    fmt::print("  sample {} attempt {}: {}: {}\n", sample, r.attempt, to_string(r.failure), r.message);
   }
   return k_exit_ok;
 }

@@ -1,11 +1,10 @@
 #include "orchestrator/exec/measure.hpp"
 
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/parameters.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/oedometer.hpp"
 #include "postprocess/pile_angle.hpp"
-
-#include <fmt/core.h>
 
 namespace demsa::exec {
 
@@ -25,10 +24,10 @@ std::map<std::string, double> measure_case(const StudyConfig& config, const fs::
     options.levels = config.pile.levels;
     options.target_angle = config.pile.target_angle;
     const postprocess::PileAngleResult result = postprocess::measure_pile_angle(particles, options);
-    values["angle"] = result.angle_mean;
-    values["pile_height"] = result.pile_height;
-    values["angle_sd"] = result.angle_sd;
-    values["particles_on_pedestal"] = static_cast<double>(result.particles_on_pedestal);
+    values[std::string(k_angle)] = result.angle_mean;
+    values[std::string(k_pile_height)] = result.pile_height;
+    values[std::string(k_angle_sd)] = result.angle_sd;
+    values[std::string(k_particles_on_pedestal)] = static_cast<double>(result.particles_on_pedestal);
     return values;
   }
   const std::vector<postprocess::PlateState> states = postprocess::read_plate_states(folder / k_plate_states);
@@ -36,9 +35,8 @@ std::map<std::string, double> measure_case(const StudyConfig& config, const fs::
   options.box_side = config.oedometer.box_side;
   options.measured_settlements = config.oedometer.measured_settlements;
   const postprocess::OedometerResult result = postprocess::measure_oedometer(states, options);
-  for (std::size_t i = 0; i < result.settlements.size(); ++i)
-    values[fmt::format("settlement_{}", i + 1)] = result.settlements[i];
-  if (result.settlement_error) values["settlement_error"] = *result.settlement_error;
+  for (std::size_t i = 0; i < result.settlements.size(); ++i) values[settlement_name(i + 1)] = result.settlements[i];
+  if (result.settlement_error) values[std::string(k_settlement_error)] = *result.settlement_error;
   return values;
 }
 

@@ -336,7 +336,7 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
     if (finished.exit.wall_seconds > 0) loop.walls.push_back(finished.exit.wall_seconds);
     return;
   }
-  outcome.failure = to_string(report.failure);
+  outcome.failure = report.failure;
   outcome.message = report.message;
   outcome.log_tail = report.log_tail;
   loop.store.record_failed(flight.run, outcome);

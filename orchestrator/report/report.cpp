@@ -346,8 +346,8 @@ ReportSection summary_section(const StudyData& s) {
     wall += r.wall_seconds;
     if (r.state == RunState::done) done[r.sample] = true;
     if (r.state == RunState::failed) {
-      ++failed_attempts[r.failure.empty() ? "unclassified" : r.failure];
-      last_failure[r.sample] = r.failure.empty() ? "unclassified" : r.failure;
+      ++failed_attempts[to_string(r.failure)];
+      last_failure[r.sample] = to_string(r.failure);
     }
   }
   std::map<std::string, int> failed_samples;

@@ -1,11 +1,14 @@
 #include "orchestrator/study/store.hpp"
 
+#include "orchestrator/util/errors.hpp"
+
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <utility>
@@ -15,7 +18,6 @@ namespace demsa::study {
 namespace {
 
 constexpr int k_busy_timeout_ms = 30000;
-constexpr int k_schema_version = 1;
 
 constexpr std::array<std::pair<RunState, const char*>, 4> k_state_names{{
     {RunState::submitted, "submitted"},
@@ -24,14 +26,17 @@ constexpr std::array<std::pair<RunState, const char*>, 4> k_state_names{{
     {RunState::requeued, "requeued"},
 }};
 
-// Runs and observables are append-mostly; the partial unique index makes "done twice" impossible.
-constexpr const char* k_schema = R"sql(
-CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS samples (
-  sample INTEGER PRIMARY KEY,
-  unit TEXT NOT NULL,
-  physical TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS runs (
+constexpr const char* k_run_columns =
+    "id, sample, attempt, state, job_id, exit_code, signal, failure, message, wall_seconds, cpu_seconds, host, "
+    "log_tail, submitted_at, finished_at";
+
+// The runs table of schema version 2, named `table` (the migration builds it as runs_v2, then renames it). The
+// failure names are those of FailureClass when version 2 was made: a new class is a new schema version, because a
+// CHECK constraint cannot change without rebuilding the table (tests/orchestrator/study/test_store.cpp stores
+// every class).
+std::string runs_table(const char* table) {
+  return fmt::format(R"sql(
+CREATE TABLE IF NOT EXISTS {} (
   id INTEGER PRIMARY KEY AUTOINCREMENT,
   sample INTEGER NOT NULL REFERENCES samples(sample),
   attempt INTEGER NOT NULL,
@@ -39,14 +44,30 @@ CREATE TABLE IF NOT EXISTS runs (
   job_id TEXT NOT NULL DEFAULT '',
   exit_code INTEGER NOT NULL DEFAULT -1,
   signal INTEGER NOT NULL DEFAULT 0,
-  failure TEXT NOT NULL DEFAULT '',
+  failure TEXT NOT NULL DEFAULT 'none' CHECK (failure IN ('none', 'nonzero-exit', 'signal', 'timeout',
+    'liggghts-error', 'lost-particles', 'energy-blowup', 'missing-dump', 'plate-not-converged', 'measurement')),
   message TEXT NOT NULL DEFAULT '',
   wall_seconds REAL NOT NULL DEFAULT 0,
   cpu_seconds REAL NOT NULL DEFAULT 0,
   host TEXT NOT NULL DEFAULT '',
   log_tail TEXT NOT NULL DEFAULT '',
   submitted_at REAL NOT NULL,
-  finished_at REAL NOT NULL DEFAULT 0);
+  finished_at REAL NOT NULL DEFAULT 0,
+  CHECK (state = 'failed' OR failure = 'none'));
+)sql",
+                     table);
+}
+
+// Runs and observables are append-mostly; the partial unique index makes "done twice" impossible.
+std::string schema() {
+  return R"sql(
+CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS samples (
+  sample INTEGER PRIMARY KEY,
+  unit TEXT NOT NULL,
+  physical TEXT NOT NULL);
+)sql" + runs_table("runs") +
+         R"sql(
 CREATE UNIQUE INDEX IF NOT EXISTS runs_one_done ON runs(sample) WHERE state = 'done';
 CREATE INDEX IF NOT EXISTS runs_by_sample ON runs(sample);
 CREATE TABLE IF NOT EXISTS observables (
@@ -62,6 +83,97 @@ CREATE TABLE IF NOT EXISTS events (
   sample INTEGER NOT NULL DEFAULT -1,
   message TEXT NOT NULL);
 )sql";
+}
+
+bool has_table(SQLite::Database& db, const char* name) {
+  SQLite::Statement q(db, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?");
+  q.bind(1, name);
+  return q.executeStep();
+}
+
+// The schema version of the file: 0 for a database without tables (a new store). Refuses a newer version and a
+// database that is not a study store.
+int read_schema_version(SQLite::Database& db) {
+  const std::string path = db.getFilename();
+  if (!has_table(db, "meta")) {
+    if (!has_table(db, "runs") && !has_table(db, "samples")) return 0;
+    throw util::UserError(fmt::format("{}: not a demsa study store (no meta table)", path));
+  }
+  SQLite::Statement q(db, "SELECT value FROM meta WHERE key = 'schema_version'");
+  if (!q.executeStep()) throw util::UserError(fmt::format("{}: not a demsa study store (no schema version)", path));
+  const std::string text = q.getColumn(0).getString();
+  int version = 0;
+  try {
+    std::size_t used = 0;
+    version = std::stoi(text, &used);
+    if (used != text.size()) version = 0;
+  } catch (const std::exception&) {
+    version = 0;
+  }
+  if (version < 1) throw util::UserError(fmt::format("{}: not a demsa study store (schema version '{}')", path, text));
+  if (version > k_store_schema_version)
+    throw util::UserError(
+        fmt::format("{}: study store of schema version {}, written by a newer demsa; this demsa reads versions up to "
+                    "{}: use the demsa that wrote it",
+                    path, version, k_store_schema_version));
+  return version;
+}
+
+// Version 1 -> 2: rebuilds runs with the CHECK constraints (SQLite cannot add a constraint to a table; the rebuild
+// follows "Making Other Kinds Of Table Schema Changes" of https://www.sqlite.org/lang_altertable.html: foreign keys
+// off outside the transaction, new table, copy, drop, rename, foreign_key_check, commit). One transaction: either
+// the file is version 2 or it is as it was.
+void migrate_from_version_1(SQLite::Database& db) {
+  const std::string path = db.getFilename();
+  db.exec("PRAGMA foreign_keys = OFF");
+  SQLite::Transaction tx(db, SQLite::TransactionBehavior::IMMEDIATE);
+  if (read_schema_version(db) != 1) return;  // another demsa migrated it first
+  {
+    SQLite::Statement names(db, "SELECT DISTINCT failure FROM runs WHERE state = 'failed' AND failure <> ''");
+    while (names.executeStep()) {
+      try {
+        (void)failure_class_from_string(names.getColumn(0).getString());
+      } catch (const std::invalid_argument& e) {
+        throw util::UserError(
+            fmt::format("{}: a failed run of this study store (schema version 1): {}", path, e.what()));
+      }
+    }
+  }
+  std::int64_t sequence = 0;
+  {
+    SQLite::Statement q(db, "SELECT seq FROM sqlite_sequence WHERE name = 'runs'");
+    if (q.executeStep()) sequence = q.getColumn(0).getInt64();
+  }
+  db.exec(runs_table("runs_v2"));
+  db.exec(
+      fmt::format("INSERT INTO runs_v2 ({0}) SELECT id, sample, attempt, state, job_id, exit_code, signal, "
+                  "CASE WHEN state = 'failed' AND failure <> '' THEN failure ELSE 'none' END, message, wall_seconds, "
+                  "cpu_seconds, host, log_tail, submitted_at, finished_at FROM runs",
+                  k_run_columns));
+  db.exec("DROP TABLE runs");
+  db.exec("ALTER TABLE runs_v2 RENAME TO runs");
+  db.exec(schema());  // the indexes went with the old table
+  {
+    SQLite::Statement q(db, "UPDATE sqlite_sequence SET seq = max(seq, ?) WHERE name = 'runs'");
+    q.bind(1, sequence);
+    q.exec();
+  }
+  {
+    SQLite::Statement check(db, "PRAGMA foreign_key_check");
+    if (check.executeStep())
+      throw util::InternalError(fmt::format("{}: migration to schema version 2 broke a foreign key (table {})", path,
+                                            check.getColumn(0).getString()));
+  }
+  SQLite::Statement meta(db, "UPDATE meta SET value = ? WHERE key = 'schema_version'");
+  meta.bind(1, std::to_string(k_store_schema_version));
+  meta.exec();
+  SQLite::Statement event(db, "INSERT INTO events(time, kind, sample, message) VALUES (?, 'migrated', -1, ?)");
+  event.bind(1, unix_now());
+  event.bind(2, fmt::format("store schema version 1 -> {}: failure classes checked, none for runs that did not fail",
+                            k_store_schema_version));
+  event.exec();
+  tx.commit();
+}
 
 std::string to_json(const std::vector<double>& values) { return nlohmann::json(values).dump(); }
 
@@ -78,7 +190,9 @@ RunRow read_run(SQLite::Statement& q) {
   row.job_id = q.getColumn(4).getString();
   row.exit_code = q.getColumn(5).getInt();
   row.signal = q.getColumn(6).getInt();
-  row.failure = q.getColumn(7).getString();
+  // "" is a version-1 store read as it is (read-only open): a run that did not fail.
+  const std::string failure = q.getColumn(7).getString();
+  row.failure = failure.empty() ? FailureClass::none : failure_class_from_string(failure);
   row.message = q.getColumn(8).getString();
   row.wall_seconds = q.getColumn(9).getDouble();
   row.cpu_seconds = q.getColumn(10).getDouble();
@@ -89,14 +203,10 @@ RunRow read_run(SQLite::Statement& q) {
   return row;
 }
 
-constexpr const char* k_run_columns =
-    "id, sample, attempt, state, job_id, exit_code, signal, failure, message, wall_seconds, cpu_seconds, host, "
-    "log_tail, submitted_at, finished_at";
-
 void bind_outcome(SQLite::Statement& q, const RunOutcome& o) {
   q.bind(":exit_code", o.exit_code);
   q.bind(":signal", o.signal);
-  q.bind(":failure", o.failure);
+  q.bind(":failure", to_string(o.failure));
   q.bind(":message", o.message);
   q.bind(":wall", o.wall_seconds);
   q.bind(":cpu", o.cpu_seconds);
@@ -131,11 +241,13 @@ Store::Store(const std::string& path)
   m_db->exec("PRAGMA journal_mode = WAL");
   // FULL: a transaction that returned is on disk, also after a power cut (SIGKILL alone would need only NORMAL).
   m_db->exec("PRAGMA synchronous = FULL");
+  // Before foreign_keys = ON: the migration turns them off, and that pragma is a no-op inside a transaction.
+  if (read_schema_version(*m_db) == 1) migrate_from_version_1(*m_db);
   m_db->exec("PRAGMA foreign_keys = ON");
   SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
-  m_db->exec(k_schema);
+  m_db->exec(schema());
   SQLite::Statement q(*m_db, "INSERT OR IGNORE INTO meta(key, value) VALUES ('schema_version', ?)");
-  q.bind(1, std::to_string(k_schema_version));
+  q.bind(1, std::to_string(k_store_schema_version));
   q.exec();
   tx.commit();
 }
@@ -144,8 +256,12 @@ Store::Store(std::unique_ptr<SQLite::Database> db) : m_db(std::move(db)) {}
 
 Store Store::open_read_only(const std::string& path) {
   if (!std::filesystem::exists(path)) throw std::runtime_error(fmt::format("{}: no study store here", path));
-  return Store(std::make_unique<SQLite::Database>(path, SQLite::OPEN_READONLY, k_busy_timeout_ms));
+  auto db = std::make_unique<SQLite::Database>(path, SQLite::OPEN_READONLY, k_busy_timeout_ms);
+  if (read_schema_version(*db) == 0) throw util::UserError(fmt::format("{}: not a demsa study store (empty)", path));
+  return Store(std::move(db));
 }
+
+int Store::schema_version() const { return read_schema_version(*m_db); }
 
 Store::~Store() = default;
 Store::Store(Store&&) noexcept = default;
@@ -246,6 +362,8 @@ void Store::set_job_id(long run, const std::string& job_id) {
 }
 
 void Store::record_done(long run, const RunOutcome& outcome, const std::map<std::string, double>& observables) {
+  if (outcome.failure != FailureClass::none)
+    throw std::logic_error(fmt::format("record_done: run {} has failure class {}", run, to_string(outcome.failure)));
   SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
   int sample = -1;
   {
@@ -277,6 +395,8 @@ void Store::record_done(long run, const RunOutcome& outcome, const std::map<std:
 }
 
 void Store::record_failed(long run, const RunOutcome& outcome) {
+  if (outcome.failure == FailureClass::none)
+    throw std::logic_error(fmt::format("record_failed: run {} without a failure class", run));
   SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
   SQLite::Statement update(*m_db, k_update_outcome);
   update.bind(":state", "failed");
@@ -287,7 +407,7 @@ void Store::record_failed(long run, const RunOutcome& outcome) {
                           "INSERT INTO events(time, kind, sample, message) "
                           "SELECT ?, 'failed', sample, ? FROM runs WHERE id = ?");
   event.bind(1, unix_now());
-  event.bind(2, fmt::format("run {}: {}: {}", run, outcome.failure, outcome.message));
+  event.bind(2, fmt::format("run {}: {}: {}", run, to_string(outcome.failure), outcome.message));
   event.bind(3, static_cast<std::int64_t>(run));
   event.exec();
   tx.commit();

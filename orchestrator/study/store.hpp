@@ -7,7 +7,21 @@
 // Invariants kept by the schema itself:
 //   - a sample has at most one run in state `done` (a partial unique index), so a finished case can never be
 //     counted twice;
-//   - a run becomes `done` together with its observables in one transaction (record_done).
+//   - a run becomes `done` together with its observables in one transaction (record_done);
+//   - runs.failure is the name of a FailureClass (failure_class.hpp), `none` unless the run failed (CHECK
+//     constraints).
+//
+// Schema versions (meta row `schema_version`):
+//   1  demsa up to commit 6807f91: runs.failure free text, "" for runs that did not fail, no CHECK on it.
+//   2  this demsa: runs.failure a FailureClass name, `none` for runs that did not fail, checked by the schema.
+// Opening read-write migrates a version-1 store to version 2 in one transaction (the runs table is rebuilt with its
+// CHECK constraints, "" becomes `none`, an event `migrated` records it); a name this demsa does not know is refused
+// and leaves the file as it was. Opening read-only (status, analyze, report) writes nothing: a version-1 store is
+// read as it is, "" read as FailureClass::none; the next `demsa run` migrates it. A store of a newer version than
+// k_store_schema_version is refused by both (util::UserError naming the file): it was written by a newer demsa.
+// The CHECK constraints also stop a version-1 demsa from writing to a version-2 store (it would store "").
+#include "orchestrator/study/failure_class.hpp"
+
 #include <map>
 #include <memory>
 #include <optional>
@@ -20,6 +34,9 @@ class Database;
 }
 
 namespace demsa::study {
+
+/// The schema version this demsa writes (see the top of this file).
+inline constexpr int k_store_schema_version = 2;
 
 /// One design point.
 struct SampleRow {
@@ -44,11 +61,11 @@ struct RunRow {
   int sample = 0;
   int attempt = 1;
   RunState state = RunState::submitted;
-  std::string job_id;   ///< executor's id (executor.hpp), "" until known
-  int exit_code = -1;   ///< -1 when not exited normally or not finished
-  int signal = 0;       ///< 0 when none
-  std::string failure;  ///< failure class name (failure.hpp) for failed runs, else ""
-  std::string message;  ///< one line about the outcome
+  std::string job_id;                         ///< executor's id (executor.hpp), "" until known
+  int exit_code = -1;                         ///< -1 when not exited normally or not finished
+  int signal = 0;                             ///< 0 when none
+  FailureClass failure = FailureClass::none;  ///< why it failed; none unless state is failed
+  std::string message;                        ///< one line about the outcome
   double wall_seconds = 0.0;
   double cpu_seconds = 0.0;
   std::string host;
@@ -71,7 +88,7 @@ struct RunOutcome {
   double wall_seconds = 0.0;
   double cpu_seconds = 0.0;
   std::string host;
-  std::string failure;  ///< failure class name; "" for done
+  FailureClass failure = FailureClass::none;  ///< none for record_done, not none for record_failed
   std::string message;
   std::string log_tail;
 };
@@ -96,13 +113,18 @@ struct EventRow {
 
 class Store {
  public:
-  /// Opens (creating if needed) the database at `path`, in WAL mode with a busy timeout, and creates the schema.
+  /// Opens (creating if needed) the database at `path`, in WAL mode with a busy timeout, and creates the schema;
+  /// migrates a version-1 store; throws util::UserError for a store of a newer schema version.
   explicit Store(const std::string& path);
-  /// Opens an existing database read-only (for status); throws std::runtime_error if it does not exist.
+  /// Opens an existing database read-only (for status), version 1 or 2, writing nothing; throws std::runtime_error
+  /// if it does not exist, util::UserError for a store of a newer schema version or a file that is no study store.
   static Store open_read_only(const std::string& path);
   ~Store();
   Store(Store&&) noexcept;
   Store& operator=(Store&&) noexcept;
+
+  /// The schema version of the file: k_store_schema_version, or 1 for a version-1 store opened read-only.
+  int schema_version() const;
 
   /// The design hash recorded by initialize(), or nothing for a new store.
   std::optional<std::string> design_hash() const;
@@ -120,8 +142,10 @@ class Store {
   void set_job_id(long run, const std::string& job_id);
   /// Sets the job ids of several runs (run id, job id) in one transaction.
   void set_job_ids(const std::vector<std::pair<long, std::string>>& ids);
-  /// Marks a run done and stores its observables, in one transaction. Throws if the sample already has a done run.
+  /// Marks a run done and stores its observables, in one transaction. Throws if the sample already has a done run
+  /// (std::logic_error also when outcome.failure is not none).
   void record_done(long run, const RunOutcome& outcome, const std::map<std::string, double>& observables);
+  /// Marks a run failed with outcome.failure (std::logic_error when it is none).
   void record_failed(long run, const RunOutcome& outcome);
   void record_requeued(long run, const std::string& message);
 

@@ -148,7 +148,7 @@ void write_study(const fs::path& dir, const std::string& toml,
   SyntheticStudy study = start_synthetic_study(dir, toml, 5);
   Store& store = study.store;
   RunOutcome failed;
-  failed.failure = "timeout";
+  failed.failure = study::FailureClass::timeout;
   failed.cpu_seconds = 100;
   failed.wall_seconds = 100;
   store.record_failed(store.add_run(0, 1), failed);

@@ -1,9 +1,14 @@
 #include "orchestrator/study/store.hpp"
 
+#include "orchestrator/util/errors.hpp"
 #include "support/test_support.hpp"
 
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 
 namespace demsa {
@@ -77,7 +82,7 @@ TEST(Store, CountsFollowTheLatestRunOfEachSample) {
   store.initialize("h", "s", three_samples());
   const long r0 = store.add_run(0, 1);
   RunOutcome failed;
-  failed.failure = "timeout";
+  failed.failure = FailureClass::timeout;
   failed.message = "time limit exceeded";
   failed.log_tail = "Step KinEng\n";
   store.record_failed(r0, failed);
@@ -96,7 +101,7 @@ TEST(Store, CountsFollowTheLatestRunOfEachSample) {
   EXPECT_EQ(c.running, 0);
   EXPECT_EQ(c.pending, 1);
   ASSERT_EQ(store.runs_in_state(RunState::failed).size(), 1u);
-  EXPECT_EQ(store.runs_in_state(RunState::failed)[0].failure, "timeout");
+  EXPECT_EQ(store.runs_in_state(RunState::failed)[0].failure, FailureClass::timeout);
   EXPECT_EQ(store.runs_in_state(RunState::failed)[0].log_tail, "Step KinEng\n");
   EXPECT_THROW(store.record_failed(r0, failed), std::logic_error);  // already failed
 }
@@ -130,6 +135,175 @@ TEST(Store, RunStateNamesRoundTripAndUnknownIsRefused) {
   for (RunState s : {RunState::submitted, RunState::done, RunState::failed, RunState::requeued})
     EXPECT_EQ(run_state_from_string(to_string(s)), s);
   EXPECT_THROW(run_state_from_string("finished"), std::invalid_argument);
+}
+
+// ------------------------------------------------------------------------------------ schema versions, migration
+
+namespace fs = std::filesystem;
+
+/// TMP/study.db, a copy of the store the previous demsa wrote (tests/data/previous_version/README.md).
+std::string copy_previous_version_store(const test::TempDir& tmp) {
+  const fs::path db = tmp / "study.db";
+  fs::copy_file(test::data_path("previous_version/study.db"), db);
+  return db.string();
+}
+
+std::string meta_value(const std::string& path, const std::string& key) {
+  SQLite::Database db(path, SQLite::OPEN_READONLY);
+  SQLite::Statement q(db, "SELECT value FROM meta WHERE key = ?");
+  q.bind(1, key);
+  return q.executeStep() ? q.getColumn(0).getString() : std::string{};
+}
+
+int migrated_events(const Store& store) {
+  const std::vector<EventRow> events = store.events();
+  return static_cast<int>(
+      std::count_if(events.begin(), events.end(), [](const EventRow& e) { return e.kind == "migrated"; }));
+}
+
+/// The runs of the fixture, as the previous demsa left them: run id -> (sample, state, failure).
+void expect_previous_version_runs(const Store& store) {
+  const std::vector<RunRow> runs = store.runs();
+  ASSERT_EQ(runs.size(), 9u);
+  for (const RunRow& r : runs) {
+    EXPECT_EQ(r.id, r.sample + 1);
+    EXPECT_EQ(r.attempt, 1);
+    if (r.sample == 2) {
+      EXPECT_EQ(r.state, RunState::failed);
+      EXPECT_EQ(r.failure, FailureClass::liggghts_error);
+      EXPECT_NE(r.message.find("Fake failure of sample 2"), std::string::npos);
+    } else if (r.sample == 5) {
+      EXPECT_EQ(r.state, RunState::failed);
+      EXPECT_EQ(r.failure, FailureClass::timeout);
+    } else if (r.sample == 8) {
+      EXPECT_EQ(r.state, RunState::requeued);
+      EXPECT_EQ(r.failure, FailureClass::none);
+    } else {
+      EXPECT_EQ(r.state, RunState::done) << "sample " << r.sample;
+      EXPECT_EQ(r.failure, FailureClass::none);
+    }
+  }
+  const StoreCounts c = store.counts();
+  EXPECT_EQ(c.samples, 12);
+  EXPECT_EQ(c.done, 6);
+  EXPECT_EQ(c.failed, 2);
+  EXPECT_EQ(c.pending, 4);
+  EXPECT_EQ(c.attempts, 9);
+  EXPECT_EQ(store.observables().size(), 6u);
+  EXPECT_EQ(store.design_hash().value_or(""), "ce60b7c194008e95");
+}
+
+TEST(StoreSchema, ReadOnlyOpenReadsAVersion1StoreAndWritesNothing) {
+  test::TempDir tmp;
+  const std::string path = copy_previous_version_store(tmp);
+  const std::string before = test::read_file(path);
+  {
+    const Store store = Store::open_read_only(path);
+    EXPECT_EQ(store.schema_version(), 1);
+    expect_previous_version_runs(store);
+    EXPECT_EQ(migrated_events(store), 0);
+  }
+  EXPECT_EQ(test::read_file(path), before);
+  EXPECT_EQ(meta_value(path, "schema_version"), "1");
+}
+
+TEST(StoreSchema, Version1StoreIsMigratedOnceAndKeepsItsRuns) {
+  test::TempDir tmp;
+  const std::string path = copy_previous_version_store(tmp);
+  {
+    Store store(path);
+    EXPECT_EQ(store.schema_version(), k_store_schema_version);
+    expect_previous_version_runs(store);
+    EXPECT_EQ(migrated_events(store), 1);
+    EXPECT_EQ(store.integrity_check(), "ok");
+    // Run ids go on after the old ones, and the invariants of the schema hold on the migrated table.
+    EXPECT_EQ(store.add_run(9, 1), 10);
+    RunOutcome done;
+    EXPECT_ANY_THROW(store.record_done(store.add_run(0, 2), done, {{"angle", 1.0}}));  // sample 0 is done
+  }
+  EXPECT_EQ(meta_value(path, "schema_version"), std::to_string(k_store_schema_version));
+  {
+    SQLite::Database db(path, SQLite::OPEN_READWRITE);
+    // The CHECK constraints: only known names, and none for a run that did not fail.
+    EXPECT_ANY_THROW(db.exec("UPDATE runs SET failure = 'bogus' WHERE id = 3"));
+    EXPECT_ANY_THROW(db.exec("UPDATE runs SET failure = 'timeout' WHERE id = 1"));
+    EXPECT_ANY_THROW(db.exec("UPDATE runs SET failure = '' WHERE id = 1"));
+  }
+  // A second open changes nothing.
+  const std::string after_first = test::read_file(path);
+  {
+    Store again(path);
+    EXPECT_EQ(again.schema_version(), k_store_schema_version);
+    EXPECT_EQ(migrated_events(again), 1);
+    EXPECT_EQ(again.runs().size(), 11u);
+    EXPECT_EQ(again.run(3)->failure, FailureClass::liggghts_error);
+    EXPECT_EQ(again.run(6)->failure, FailureClass::timeout);
+  }
+  EXPECT_EQ(test::read_file(path), after_first);
+}
+
+TEST(StoreSchema, Version1StoreWithAnUnknownFailureNameIsRefusedAndLeftAsItWas) {
+  test::TempDir tmp;
+  const std::string path = copy_previous_version_store(tmp);
+  {
+    SQLite::Database db(path, SQLite::OPEN_READWRITE);
+    db.exec("UPDATE runs SET failure = 'gremlins' WHERE id = 3");
+  }
+  const std::string message = test::message_of<util::UserError>([&] { Store store(path); });
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("'gremlins'"), std::string::npos) << message;
+  EXPECT_NE(message.find("liggghts-error"), std::string::npos) << message;  // lists the valid names
+  EXPECT_EQ(meta_value(path, "schema_version"), "1");
+  SQLite::Database db(path, SQLite::OPEN_READONLY);
+  SQLite::Statement q(db, "SELECT failure FROM runs WHERE id = 3");
+  ASSERT_TRUE(q.executeStep());
+  EXPECT_EQ(q.getColumn(0).getString(), "gremlins");
+}
+
+TEST(StoreSchema, NewerSchemaVersionIsRefusedNamingTheFile) {
+  test::TempDir tmp;
+  const std::string path = (tmp / "study.db").string();
+  { Store store(path); }
+  {
+    SQLite::Database db(path, SQLite::OPEN_READWRITE);
+    SQLite::Statement q(db, "UPDATE meta SET value = ? WHERE key = 'schema_version'");
+    q.bind(1, std::to_string(k_store_schema_version + 1));
+    q.exec();
+  }
+  for (const bool read_only : {false, true}) {
+    const std::string message = test::message_of<util::UserError>([&] {
+      if (read_only)
+        (void)Store::open_read_only(path);
+      else
+        Store store(path);
+    });
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find(fmt::format("schema version {}", k_store_schema_version + 1)), std::string::npos) << message;
+    EXPECT_NE(message.find("newer demsa"), std::string::npos) << message;
+  }
+}
+
+TEST(StoreSchema, EveryFailureClassIsStoredAndReadBack) {
+  test::TempDir tmp;
+  Store store((tmp / "study.db").string());
+  store.initialize("h", "s", three_samples());
+  // Every class after none (the enum is contiguous; to_string says "unknown" past its end): a class added without
+  // a new schema version fails here, on the CHECK constraint of runs.failure.
+  for (int i = 1; to_string(static_cast<FailureClass>(i)) != "unknown"; ++i) {
+    const auto cls = static_cast<FailureClass>(i);
+    RunOutcome outcome;
+    outcome.failure = cls;
+    const long run = store.add_run(0, i);
+    ASSERT_NO_THROW(store.record_failed(run, outcome)) << to_string(cls);
+    EXPECT_EQ(store.run(run)->failure, cls);
+  }
+  EXPECT_EQ(store.runs_in_state(RunState::failed).size(), 9u);
+  const long run = store.add_run(1, 1);
+  EXPECT_THROW(store.record_failed(run, RunOutcome{}), std::logic_error);  // failed needs a class
+  RunOutcome timed_out;
+  timed_out.failure = FailureClass::timeout;
+  EXPECT_THROW(store.record_done(run, timed_out, {}), std::logic_error);  // done has none
+  EXPECT_EQ(store.run(run)->state, RunState::submitted);
 }
 
 }  // namespace
