@@ -343,7 +343,7 @@ void run_data(const SensitivityArgs& args) {
     nlohmann::json models = nlohmann::json::array();
     for (const sobol::MetamodelKind kind : kinds) {
       const std::string model_name = sobol::to_string(kind);
-      FittedMetamodel fit = fit_metamodel(kind, model_options, x, y);
+      const FittedMetamodel fit = fit_metamodel(kind, model_options, x, y);
       const sobol::MetamodelSummary& summary = fit.quality;
       sobol::SobolResult indices;
       try {
