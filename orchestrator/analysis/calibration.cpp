@@ -1,10 +1,14 @@
 #include "orchestrator/analysis/calibration.hpp"
 
+#include "orchestrator/analysis/fit.hpp"
+#include "orchestrator/analysis/training_data.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/parameters.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/text.hpp"
 #include "sobol/metamodel.hpp"
 #include "sobol/scaling.hpp"
 
@@ -19,7 +23,6 @@
 #include <map>
 #include <memory>
 #include <set>
-#include <sstream>
 
 namespace demsa::analysis {
 
@@ -33,22 +36,10 @@ using util::write_file_atomically;
 
 namespace {
 
-std::string trim(const std::string& s) {
-  const auto begin = s.find_first_not_of(" \t");
-  if (begin == std::string::npos) return "";
-  const auto end = s.find_last_not_of(" \t");
-  return s.substr(begin, end - begin + 1);
-}
-
+/// One number of a NAME=V1,V2,... option (blanks around it allowed).
 double parse_number(const std::string& option, const std::string& whole, const std::string& text) {
-  const std::string t = trim(text);
-  try {
-    size_t used = 0;
-    const double v = std::stod(t, &used);
-    if (used == t.size() && std::isfinite(v)) return v;
-  } catch (const std::exception&) {
-  }
-  throw UserError(fmt::format("{} '{}': '{}' is not a number", option, whole, t));
+  if (const std::optional<double> v = util::parse_number(text)) return *v;
+  throw UserError(fmt::format("{} '{}': '{}' is not a number", option, whole, trim(text)));
 }
 
 /// "NAME=V1,V2,..." -> (NAME, values).
@@ -56,18 +47,14 @@ std::pair<std::string, std::vector<double>> parse_assignment(const std::string& 
   const auto eq = text.find('=');
   if (eq == std::string::npos || trim(text.substr(0, eq)).empty())
     throw UserError(fmt::format("{} '{}': expected NAME=VALUE", option, text));
+  const std::string list = text.substr(eq + 1);
+  if (list.empty()) throw UserError(fmt::format("{} '{}': no value after '='", option, text));
   std::vector<double> values;
-  std::stringstream list(text.substr(eq + 1));
-  std::string item;
-  while (std::getline(list, item, ',')) values.push_back(parse_number(option, text, item));
-  if (values.empty()) throw UserError(fmt::format("{} '{}': no value after '='", option, text));
+  // A trailing comma ends the list (as std::getline did): "V1,V2," is V1, V2.
+  std::vector<std::string> items = split(list, ',');
+  if (items.back().empty()) items.pop_back();
+  for (const std::string& item : items) values.push_back(parse_number(option, text, item));
   return {trim(text.substr(0, eq)), values};
-}
-
-std::string join(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
 }
 
 struct TargetSpec {
@@ -88,7 +75,7 @@ std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const S
     if (name == "settlement" && !known("settlement")) {
       // settlement=V1,V2,... -> settlement_1, settlement_2, ...
       for (size_t i = 0; i < values.size(); ++i) {
-        const std::string n = fmt::format("settlement_{}", i + 1);
+        const std::string n = settlement_name(i + 1);
         if (!known(n))
           throw UserError(
               fmt::format("--target '{}': the study has no observable {} (observables: {})", text, n, join(available)));
@@ -104,7 +91,7 @@ std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const S
   }
   if (options.targets.empty()) {
     if (config.experiment == Experiment::pile) {
-      targets.push_back({"angle", config.pile.target_angle, 1.0});
+      targets.push_back({std::string(k_angle), config.pile.target_angle, 1.0});
     } else {
       const std::vector<double>& measured = config.oedometer.measured_settlements;
       if (measured.empty())
@@ -115,7 +102,7 @@ std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const S
       // Either n-1 values (loads after the first) or n values starting with the first load's 0.
       const size_t offset = measured.size() == config.oedometer.loads.size() ? 1 : 0;
       for (size_t i = offset; i < measured.size(); ++i)
-        targets.push_back({fmt::format("settlement_{}", i + 1 - offset), measured[i], 1.0});
+        targets.push_back({settlement_name(i + 1 - offset), measured[i], 1.0});
     }
     for (const TargetSpec& t : targets)
       if (!known(t.name))
@@ -183,45 +170,22 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
   // Fit the candidates per target observable; keep the best Q² (docs: README "Usage", `demsa calibrate`).
   std::vector<std::unique_ptr<sobol::Metamodel>> models;
   std::vector<sobol::CalibrationTarget> targets;
+  const std::vector<sobol::MetamodelKind> kinds = metamodel_kinds(candidates);
   for (const TargetSpec& spec : specs) {
-    std::vector<const SampleRow*> rows;
-    for (const SampleRow& s : samples) {
-      const auto it = observables.find(s.sample);
-      if (it != observables.end() && it->second.count(spec.name)) rows.push_back(&s);
-    }
-    outcome.samples = std::max(outcome.samples, static_cast<int>(rows.size()));
-    if (rows.size() < 2)
+    const TrainingData data = training_data(config, samples, observables, spec.name);
+    outcome.samples = std::max(outcome.samples, static_cast<int>(data.size()));
+    if (data.size() < 2)
       throw UserError(
-          fmt::format("{}: {} done samples measure {}; calibration needs more", dir.string(), rows.size(), spec.name));
-    Eigen::MatrixXd x(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(d));
-    Eigen::VectorXd y(static_cast<Eigen::Index>(rows.size()));
-    for (size_t i = 0; i < rows.size(); ++i) {
-      for (size_t j = 0; j < d; ++j)
-        x(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = rows[i]->unit.at(j);
-      y(static_cast<Eigen::Index>(i)) = observables.at(rows[i]->sample).at(spec.name);
-    }
-    std::unique_ptr<sobol::Metamodel> best;
-    sobol::MetamodelSummary best_summary;
-    std::string errors;
-    for (const std::string& name : candidates) {
-      try {
-        std::unique_ptr<sobol::Metamodel> m = sobol::make_metamodel(name, config.analysis.metamodel_options());
-        m->fit(x, y);
-        const sobol::MetamodelSummary s = m->summary();
-        // A Q² that is not finite (as many terms as samples: no leave-one-out) ranks below every finite one.
-        const double q2 = std::isfinite(s.q2) ? s.q2 : -std::numeric_limits<double>::infinity();
-        const double best_q2 =
-            std::isfinite(best_summary.q2) ? best_summary.q2 : -std::numeric_limits<double>::infinity();
-        if (!best || q2 > best_q2) {
-          best = std::move(m);
-          best_summary = s;
-        }
-      } catch (const std::exception& e) {
-        errors += fmt::format("\n  {}: {}", name, e.what());
-      }
-    }
-    if (!best)
+          fmt::format("{}: {} done samples measure {}; calibration needs more", dir.string(), data.size(), spec.name));
+    std::vector<FittedMetamodel> fits = fit_metamodels(kinds, config.analysis.metamodel_options(), data.unit, data.y);
+    const std::optional<std::size_t> best_index = best_by_q2(fits);
+    if (!best_index) {
+      std::string errors;
+      for (const FittedMetamodel& f : fits) errors += fmt::format("\n  {}: {}", f.name(), f.error);
       throw UserError(fmt::format("{}: no metamodel could be fitted to {}:{}", dir.string(), spec.name, errors));
+    }
+    std::unique_ptr<sobol::Metamodel> best = std::move(fits[*best_index].model);
+    const sobol::MetamodelSummary& best_summary = fits[*best_index].quality;
     CalibratedTarget t;
     t.name = spec.name;
     t.model = best->name();

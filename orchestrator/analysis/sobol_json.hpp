@@ -10,7 +10,8 @@
 //                     "note": "..." (only when intervals were asked for but could not be computed)}
 //   metamodel:       {"name", "samples", "dimension", "terms", "r2", "adjusted_r2", "q2" (leave-one-out),
 //                     "rmse_loo", "mean", "sd", "parameters": {name: value, ...}}
-// Non-finite numbers are written as null.
+// Non-finite numbers are written as null and read back as NaN. The readers throw nlohmann::json::exception for a
+// missing or mistyped field and std::invalid_argument for an S2 entry naming an unknown input.
 #include "sobol/metamodel.hpp"
 #include "sobol/saltelli.hpp"
 
@@ -27,5 +28,15 @@ nlohmann::json index_estimate_json(const sobol::IndexEstimate& estimate);
 nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::vector<std::string>& inputs);
 
 nlohmann::json metamodel_summary_json(const sobol::MetamodelSummary& summary);
+
+/// A number written by the functions above: null is NaN.
+double number_from_json(const nlohmann::json& value);
+
+sobol::IndexEstimate index_estimate_from_json(const nlohmann::json& j);
+
+/// The inverse of sobol_result_json with the same `inputs`.
+sobol::SobolResult sobol_result_from_json(const nlohmann::json& j, const std::vector<std::string>& inputs);
+
+sobol::MetamodelSummary metamodel_summary_from_json(const nlohmann::json& j);
 
 }  // namespace demsa::analysis

@@ -1,6 +1,8 @@
 #include "orchestrator/analysis/study_analysis.hpp"
 
+#include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/sobol_json.hpp"
+#include "orchestrator/analysis/training_data.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/observables.hpp"
@@ -64,13 +66,15 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
 
   AnalysisSummary summary;
   summary.out_dir = dir / "analysis";
+  summary.study = config.name;
   for (const ParameterRange& p : config.parameters) summary.parameters.push_back(p.name);
   summary.seed = config.seed;
   summary.bootstrap = options.bootstrap >= 0 ? options.bootstrap : config.analysis.bootstrap;
   summary.base_samples = options.base_samples >= 0 ? options.base_samples : config.analysis.base_samples;
   summary.second_order = options.second_order >= 0 ? options.second_order == 1 : config.analysis.second_order;
+  summary.confidence = config.analysis.confidence;
   const std::vector<std::string> models = options.metamodels.empty() ? config.analysis.metamodels : options.metamodels;
-  for (const std::string& m : models) sobol::metamodel_kind_from_string(m);  // unknown names: error up front
+  const std::vector<sobol::MetamodelKind> kinds = metamodel_kinds(models);  // unknown names: error up front
 
   for (const SampleRow& s : samples) {
     if (observables.count(s.sample))
@@ -121,74 +125,41 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   sobol_options.confidence = config.analysis.confidence;
   sobol_options.seed = config.seed;
 
+  const sobol::MetamodelOptions model_options = config.analysis.metamodel_options();
   for (const std::string& name : names) {
+    const TrainingData data = training_data(config, samples, observables, name);
     ObservableAnalysis analysis;
     analysis.name = name;
-    std::vector<const SampleRow*> rows;
-    for (const SampleRow& s : samples) {
-      const auto it = observables.find(s.sample);
-      if (it != observables.end() && it->second.count(name)) rows.push_back(&s);
-    }
-    analysis.samples = static_cast<int>(rows.size());
-    Eigen::MatrixXd x(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(d));
-    Eigen::VectorXd y(static_cast<Eigen::Index>(rows.size()));
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      for (std::size_t j = 0; j < d; ++j)
-        x(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = rows[i]->unit.at(j);
-      y(static_cast<Eigen::Index>(i)) = observables.at(rows[i]->sample).at(name);
-    }
-    analysis.mean = mean_of(y);
-    analysis.sd = sd_of(y);
-    for (const std::string& model_name : models) {
+    analysis.samples = static_cast<int>(data.size());
+    analysis.mean = mean_of(data.y);
+    analysis.sd = sd_of(data.y);
+    for (FittedMetamodel& fit : fit_metamodels(kinds, model_options, data.unit, data.y)) {
+      // A model that cannot be fitted to this data (too few samples for an RSM of degree 3, a constant
+      // observable) is reported, not fatal: the others still give indices.
       ModelAnalysis model;
-      model.model = model_name;
-      try {
-        std::unique_ptr<sobol::Metamodel> metamodel =
-            sobol::make_metamodel(model_name, config.analysis.metamodel_options());
-        metamodel->fit(x, y);
-        model.quality = metamodel->summary();
-        model.indices = sobol::metamodel_sobol(*metamodel, sobol_options);
-        model.ok = true;
-      } catch (const std::exception& e) {
-        // A model that cannot be fitted to this data (too few samples for an RSM of degree 3, a constant
-        // observable) is reported, not fatal: the others still give indices.
-        model.error = e.what();
+      model.model = fit.name();
+      model.error = fit.error;
+      if (fit.ok()) {
+        try {
+          model.quality = fit.quality;
+          model.indices = sobol::metamodel_sobol(*fit.model, sobol_options);
+          model.ok = true;
+        } catch (const std::exception& e) {
+          model.error = e.what();
+        }
       }
       analysis.models.push_back(std::move(model));
     }
     summary.observables.push_back(std::move(analysis));
   }
 
-  // metamodels.json, sobol_<model>.{csv,json}, table_<observable>.csv, analysis.json
-  json all{{"study", config.name},
-           {"parameters", summary.parameters},
-           {"samples_used", summary.samples_used},
-           {"samples_left_out", summary.samples_left_out},
-           {"seed", summary.seed},
-           {"bootstrap", summary.bootstrap},
-           {"base_samples", summary.base_samples},
-           {"second_order", summary.second_order},
-           {"confidence", config.analysis.confidence}};
+  // metamodels.json, table_<observable>.csv, analysis.json, sobol_<model>.{csv,json}
   json metamodels_json = json::object();
-  json observables_json = json::array();
   for (const ObservableAnalysis& o : summary.observables) {
     json per_model = json::object();
-    json obs{{"name", o.name}, {"samples", o.samples}, {"mean", o.mean}, {"sd", o.sd}};
-    json model_list = json::array();
-    for (const ModelAnalysis& m : o.models) {
-      json entry{{"model", m.model}, {"ok", m.ok}};
-      if (m.ok) {
-        entry["quality"] = metamodel_summary_json(m.quality);
-        entry["sobol"] = sobol_result_json(m.indices, summary.parameters);
-      } else {
-        entry["error"] = m.error;
-      }
+    for (const ModelAnalysis& m : o.models)
       per_model[m.model] = m.ok ? metamodel_summary_json(m.quality) : json{{"error", m.error}};
-      model_list.push_back(entry);
-    }
     metamodels_json[o.name] = per_model;
-    obs["models"] = model_list;
-    observables_json.push_back(obs);
 
     std::string table = "model";
     for (const std::string& p : summary.parameters) table += ",S1_" + p;
@@ -202,9 +173,8 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     }
     write_text(summary.out_dir / fmt::format("table_{}.csv", o.name), table);
   }
-  all["observables"] = observables_json;
   write_text(summary.out_dir / "metamodels.json", metamodels_json.dump(2) + "\n");
-  write_text(summary.out_dir / "analysis.json", all.dump(2) + "\n");
+  write_text(summary.out_dir / "analysis.json", analysis_to_json(summary));
 
   for (const std::string& model_name : models) {
     std::string csv = "observable,parameter,S1,S1_lower,S1_upper,ST,ST_lower,ST_upper\n";

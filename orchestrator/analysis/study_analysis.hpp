@@ -10,11 +10,10 @@
 //   sobol_<model>.csv / .json       per observable: S1, ST with intervals per parameter (+ S2 in the JSON)
 //   table_<observable>.csv          the paper's Tables 4–7 layout: one row per metamodel, S1 per parameter and
 //                                   the residual 1 − ΣS1
-//   analysis.json                   everything above in one document (samples used, failed samples, settings)
-#include "sobol/metamodel.hpp"
-#include "sobol/saltelli.hpp"
+//   analysis.json                   everything above in one document (samples used, failed samples, settings;
+//                                   analysis_json.hpp)
+#include "orchestrator/analysis/analysis_json.hpp"
 
-#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -28,34 +27,6 @@ struct AnalyzeOptions {
   int base_samples = -1;                ///< QMC base N; -1: the study's value; >= 2 otherwise
   int second_order = -1;                ///< S2: -1 the study's setting, 0 no, 1 yes
   void validate() const;                ///< throws std::invalid_argument naming the field
-};
-
-/// One metamodel fitted to one observable.
-struct ModelAnalysis {
-  std::string model;                ///< "rsm2", "rbf-cubic", ...
-  bool ok = false;                  ///< false: the fit or the indices failed, see `error`
-  std::string error;                ///< why (too few samples for the model, singular system, ...)
-  sobol::MetamodelSummary quality;  ///< R², adjusted R², Q², ...
-  sobol::SobolResult indices;       ///< S1, ST, S2, residual with intervals
-};
-
-struct ObservableAnalysis {
-  std::string name;             ///< observable name ("angle", "settlement_1", ...)
-  int samples = 0;              ///< done samples with this observable
-  double mean = 0.0, sd = 0.0;  ///< of the observable over those samples
-  std::vector<ModelAnalysis> models;
-};
-
-struct AnalysisSummary {
-  std::filesystem::path out_dir;        ///< DIR/analysis
-  std::vector<std::string> parameters;  ///< varied parameters, in the study's order
-  std::vector<int> samples_used;        ///< done samples
-  std::vector<int> samples_left_out;    ///< not done (failed or never run)
-  std::vector<ObservableAnalysis> observables;
-  std::uint64_t seed = 0;  ///< the study seed, used for the QMC designs and the bootstrap
-  int bootstrap = 0;
-  int base_samples = 0;
-  bool second_order = false;
 };
 
 /// Runs the analysis and writes DIR/analysis/. Throws util::UserError when the folder is not a study or fewer than two

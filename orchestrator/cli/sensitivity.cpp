@@ -3,6 +3,7 @@
 //   --data DATA.csv --inputs ... --output ... samples the user already has: metamodels fitted on the unit cube
 //                                             (scaled by --bounds or by the data's range), indices of each.
 // Every input error names the user's file, line, column and value.
+#include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/sobol_json.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/util/csv.hpp"
@@ -19,9 +20,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <limits>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -342,13 +343,13 @@ void run_data(const SensitivityArgs& args) {
     nlohmann::json models = nlohmann::json::array();
     for (const sobol::MetamodelKind kind : kinds) {
       const std::string model_name = sobol::to_string(kind);
-      std::unique_ptr<sobol::Metamodel> model = sobol::make_metamodel(kind, model_options);
-      sobol::MetamodelSummary summary;
+      const FittedMetamodel fit = fit_metamodel(kind, model_options, x, y);
+      const sobol::MetamodelSummary& summary = fit.quality;
       sobol::SobolResult indices;
       try {
-        model->fit(x, y);
-        summary = model->summary();
-        indices = sobol::metamodel_sobol(*model, options);
+        // Unlike the study analysis, a model that does not fit is the user's to fix: its error names the line.
+        if (!fit.ok()) std::rethrow_exception(fit.exception);
+        indices = sobol::metamodel_sobol(*fit.model, options);
       } catch (const sobol::DataError& e) {
         const int column = e.column() >= 0 ? columns[static_cast<std::size_t>(e.column())] : -1;
         std::string other;

@@ -1,9 +1,13 @@
 #include "orchestrator/report/report.hpp"
 
+#include "orchestrator/analysis/analysis_json.hpp"
 #include "orchestrator/analysis/calibration.hpp"
+#include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
+#include "orchestrator/analysis/training_data.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/parameters.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -13,10 +17,10 @@
 #include "sobol/metamodel.hpp"
 
 #include <fmt/core.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -29,7 +33,6 @@ using namespace demsa::study;
 using namespace demsa::analysis;
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 // ------------------------------------------------------------------------------------------- rendering
 
@@ -231,45 +234,24 @@ namespace {
 
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 
-struct ParameterLabel {
-  std::string plain;     ///< for tables: "μ_R,PP"
-  std::string enhanced;  ///< for gnuplot: "μ_{R,PP}"
-  std::string unit;      ///< "Pa", "-"
+/// A parameter's symbol for tables ("μ_R,PP"), in gnuplot's enhanced text ("μ_{R,PP}") and its unit, from
+/// study::contact_parameters(); a name that is not a contact parameter (an edited analysis.json) stands for itself.
+struct ParameterText {
+  std::string symbol;
+  std::string gnuplot;
+  std::string unit;
 };
 
-ParameterLabel parameter_label(const std::string& name) {
-  static const std::map<std::string, ParameterLabel> labels{
-      {"E", {"E", "E", "Pa"}},
-      {"nu", {"ν", "ν", "-"}},
-      {"mu_pp", {"μ_PP", "μ_{PP}", "-"}},
-      {"mu_pw", {"μ_PW", "μ_{PW}", "-"}},
-      {"e_r", {"e_r", "e_r", "-"}},
-      {"mu_r_pp", {"μ_R,PP", "μ_{R,PP}", "-"}},
-      {"mu_r_pw", {"μ_R,PW", "μ_{R,PW}", "-"}},
-  };
-  const auto it = labels.find(name);
-  if (it != labels.end()) return it->second;
+ParameterText parameter_text(const std::string& name) {
+  if (const ContactParameter* p = find_contact_parameter(name))
+    return {std::string(p->symbol), std::string(p->gnuplot), std::string(p->unit)};
   return {name, name, "-"};
 }
 
-struct ObservableLabel {
-  std::string text;   ///< "angle of repose"
-  std::string unit;   ///< "°"
-  double factor = 1;  ///< shown value = stored value × factor (m -> mm)
-};
-
-ObservableLabel observable_label(const std::string& name) {
-  if (name == "angle") return {"angle of repose", "°", 1};
-  if (name == "angle_sd") return {"spread of the angle over directions", "°", 1};
-  if (name == "pile_height") return {"pile height", "mm", 1e3};
-  if (name == "settlement_error") return {"settlement error E_0", "mm", 1e3};
-  if (name.rfind("settlement_", 0) == 0) return {"settlement s_" + name.substr(11), "mm", 1e3};
-  return {name, "", 1};
-}
-
+/// "angle of repose [°]", or the bare label of an observable without a unit.
 std::string axis_label(const std::string& observable) {
-  const ObservableLabel l = observable_label(observable);
-  return l.unit.empty() ? l.text : fmt::format("{} [{}]", l.text, l.unit);
+  const Observable o = describe_observable(observable);
+  return o.unit.empty() ? o.label : fmt::format("{} [{}]", o.label, o.unit);
 }
 
 std::string model_title(const std::string& model) {
@@ -284,13 +266,10 @@ std::string hours(double seconds) {
   return seconds >= 3600 * 10 ? fmt::format("{:.1f} h", seconds / 3600) : fmt::format("{:.3f} h", seconds / 3600);
 }
 
-/// A number of analysis.json; null (how JSON writes NaN, e.g. Q² of a model with as many terms as samples) is NaN.
-double number(const json& value) { return value.is_number() ? value.get<double>() : k_nan; }
-
 /// "0.9871", or "n/a" for NaN.
 std::string fixed4(double v) { return std::isfinite(v) ? fmt::format("{:.4f}", v) : "n/a"; }
 
-IntervalValue interval(const json& e) { return {number(e.at("value")), number(e.at("lower")), number(e.at("upper"))}; }
+IntervalValue interval(const sobol::IndexEstimate& e) { return {e.value, e.lower, e.upper}; }
 
 std::string interval_text(const IntervalValue& v) { return format_interval(v.value, v.low, v.high); }
 
@@ -301,32 +280,6 @@ struct StudyData {
   std::vector<RunRow> runs;
   StoreCounts counts;
 };
-
-/// Training data of one observable: unit-cube x, physical x, y (samples that measured it).
-struct ObservableData {
-  Eigen::MatrixXd unit;
-  Eigen::MatrixXd physical;
-  Eigen::VectorXd y;
-};
-
-ObservableData observable_data(const StudyData& s, const std::string& name) {
-  std::vector<const SampleRow*> rows;
-  for (const SampleRow& r : s.samples) {
-    const auto it = s.observables.find(r.sample);
-    if (it != s.observables.end() && it->second.count(name)) rows.push_back(&r);
-  }
-  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
-  const Eigen::Index d = static_cast<Eigen::Index>(s.config.parameters.size());
-  ObservableData data{Eigen::MatrixXd(n, d), Eigen::MatrixXd(n, d), Eigen::VectorXd(n)};
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index j = 0; j < d; ++j) {
-      data.unit(i, j) = rows[static_cast<size_t>(i)]->unit.at(static_cast<size_t>(j));
-      data.physical(i, j) = rows[static_cast<size_t>(i)]->physical.at(static_cast<size_t>(j));
-    }
-    data.y(i) = s.observables.at(rows[static_cast<size_t>(i)]->sample).at(name);
-  }
-  return data;
-}
 
 ReportSection summary_section(const StudyData& s) {
   ReportSection section;
@@ -363,8 +316,8 @@ ReportSection summary_section(const StudyData& s) {
   parameters.caption = "Varied parameters (paper Table 3)";
   parameters.header = {"parameter", "symbol", "low", "high", "scale", "unit"};
   for (const ParameterRange& p : c.parameters) {
-    const ParameterLabel l = parameter_label(p.name);
-    parameters.rows.push_back({p.name, l.plain, fmt::format("{:g}", p.bounds.low), fmt::format("{:g}", p.bounds.high),
+    const ParameterText l = parameter_text(p.name);
+    parameters.rows.push_back({p.name, l.symbol, fmt::format("{:g}", p.bounds.low), fmt::format("{:g}", p.bounds.high),
                                sobol::to_string(p.bounds.scale), l.unit});
   }
   section.tables.push_back(parameters);
@@ -382,63 +335,37 @@ ReportSection summary_section(const StudyData& s) {
   return section;
 }
 
-struct ModelEntry {
-  std::string name;
-  bool ok = false;
-  std::string error;
-  json quality;
-  json sobol;
-};
-
-std::vector<ModelEntry> model_entries(const json& observable) {
-  std::vector<ModelEntry> models;
-  for (const json& m : observable.at("models")) {
-    ModelEntry e;
-    e.name = m.at("model").get<std::string>();
-    e.ok = m.at("ok").get<bool>();
-    if (e.ok) {
-      e.quality = m.at("quality");
-      e.sobol = m.at("sobol");
-    } else {
-      e.error = m.value("error", std::string());
-    }
-    models.push_back(std::move(e));
-  }
-  return models;
-}
-
 /// Tables and plots of one observable.
-ReportSection observable_section(const StudyData& s, const json& observable, const std::vector<std::string>& names,
-                                 const Plotter& plotter, const fs::path& out, ReportSummary& summary) {
-  const std::string name = observable.at("name").get<std::string>();
-  const ObservableLabel label = observable_label(name);
+ReportSection observable_section(const StudyData& s, const ObservableAnalysis& observable,
+                                 const std::vector<std::string>& names, const Plotter& plotter, const fs::path& out,
+                                 ReportSummary& summary) {
+  const std::string& name = observable.name;
+  const Observable label = describe_observable(name);
   ReportSection section;
-  section.heading = fmt::format("Observable `{}`: {}", name, label.text);
-  section.paragraphs.push_back(fmt::format("{} samples; mean {} {}, standard deviation {} {}.",
-                                           observable.at("samples").get<int>(),
-                                           short_number(number(observable.at("mean")) * label.factor), label.unit,
-                                           short_number(number(observable.at("sd")) * label.factor), label.unit));
-  const ObservableData data = observable_data(s, name);
+  section.heading = fmt::format("Observable `{}`: {}", name, label.label);
+  section.paragraphs.push_back(fmt::format("{} samples; mean {} {}, standard deviation {} {}.", observable.samples,
+                                           short_number(observable.mean * label.factor), label.unit,
+                                           short_number(observable.sd * label.factor), label.unit));
+  const TrainingData data = training_data(s.config, s.samples, s.observables, name);
   if (data.y.size() < 2) {
     section.paragraphs.push_back("Too few done samples measure it: no tables and no plots.");
     return section;
   }
-  const std::vector<ModelEntry> models = model_entries(observable);
+  const std::vector<ModelAnalysis>& models = observable.models;
   std::vector<std::string> symbols;
-  for (const std::string& p : names) symbols.push_back(parameter_label(p).plain);
+  for (const std::string& p : names) symbols.push_back(parameter_text(p).symbol);
 
   ReportTable quality;
   quality.caption = "Metamodel quality: R² on the samples, adjusted R², leave-one-out Q² and RMSE";
   quality.header = {"metamodel", "terms", "R²", "adj. R²", "Q²", "RMSE_LOO"};
-  for (const ModelEntry& m : models) {
+  for (const ModelAnalysis& m : models) {
     if (!m.ok) {
-      quality.rows.push_back({model_title(m.name), "", "", "", "", "not fitted: " + m.error});
+      quality.rows.push_back({model_title(m.model), "", "", "", "", "not fitted: " + m.error});
       continue;
     }
-    quality.rows.push_back({model_title(m.name), std::to_string(m.quality.at("terms").get<int>()),
-                            fixed4(number(m.quality.at("r2"))), fixed4(number(m.quality.at("adjusted_r2"))),
-                            fixed4(number(m.quality.at("q2"))),
-                            short_number(number(m.quality.at("rmse_loo")) * label.factor)});
+    quality.rows.push_back({model_title(m.model), std::to_string(m.quality.terms), fixed4(m.quality.r2),
+                            fixed4(m.quality.adjusted_r2), fixed4(m.quality.q2),
+                            short_number(m.quality.rmse_loo * label.factor)});
   }
   section.tables.push_back(quality);
 
@@ -456,50 +383,48 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
   }
   first.header.push_back("Res");
   std::vector<ReportTable> second_tables;
-  for (const ModelEntry& m : models) {
+  for (const ModelAnalysis& m : models) {
     if (!m.ok) continue;
-    std::vector<std::string> row1{model_title(m.name)};
-    std::vector<std::string> rowt{model_title(m.name)};
+    std::vector<std::string> row1{model_title(m.model)};
+    std::vector<std::string> rowt{model_title(m.model)};
     SobolBarChart chart;
-    chart.title = fmt::format("{}, {}: Sobol' indices ({})", label.text, model_title(m.name),
-                              m.sobol.at("method").get<std::string>());
-    for (const std::string& p : names) {
-      const IntervalValue s1 = interval(m.sobol.at("S1").at(p));
-      const IntervalValue st = interval(m.sobol.at("ST").at(p));
+    chart.title = fmt::format("{}, {}: Sobol' indices ({})", label.label, model_title(m.model), m.indices.method);
+    for (size_t k = 0; k < names.size(); ++k) {
+      const IntervalValue s1 = interval(m.indices.first.at(k));
+      const IntervalValue st = interval(m.indices.total.at(k));
       row1.push_back(interval_text(s1));
       rowt.push_back(interval_text(st));
-      chart.parameters.push_back(parameter_label(p).enhanced);
+      chart.parameters.push_back(parameter_text(names[k]).gnuplot);
       chart.first_order.push_back(s1);
       chart.total_effect.push_back(st);
     }
-    row1.push_back(interval_text(interval(m.sobol.at("residual"))));
+    row1.push_back(interval_text(interval(m.indices.residual)));
     first.rows.push_back(row1);
-    if (m.sobol.contains("note"))
-      section.paragraphs.push_back(fmt::format("{}: {}.", model_title(m.name), m.sobol.at("note").get<std::string>()));
+    if (!m.indices.note.empty())
+      section.paragraphs.push_back(fmt::format("{}: {}.", model_title(m.model), m.indices.note));
     total.rows.push_back(rowt);
-    if (!m.sobol.at("S2").empty()) {
+    if (!m.indices.second.empty()) {
       ReportTable s2;
       s2.caption =
-          fmt::format("Second-order indices S2 ({}): row parameter with column parameter", model_title(m.name));
+          fmt::format("Second-order indices S2 ({}): row parameter with column parameter", model_title(m.model));
       s2.header = {""};
       for (size_t j = 1; j < names.size(); ++j) s2.header.push_back(symbols[j]);
-      std::map<std::pair<std::string, std::string>, std::string> cells;
-      for (const json& e : m.sobol.at("S2"))
-        cells[{e.at("i").get<std::string>(), e.at("j").get<std::string>()}] = interval_text(interval(e.at("S2")));
+      std::map<std::pair<int, int>, std::string> cells;
+      for (const sobol::SecondOrderIndex& e : m.indices.second) cells[{e.i, e.j}] = interval_text(interval(e.s));
       for (size_t i = 0; i + 1 < names.size(); ++i) {
         std::vector<std::string> row{symbols[i]};
         for (size_t j = 1; j < names.size(); ++j) {
-          const auto it = cells.find({names[i], names[j]});
+          const auto it = cells.find({static_cast<int>(i), static_cast<int>(j)});
           row.push_back(j > i && it != cells.end() ? it->second : "");
         }
         s2.rows.push_back(row);
       }
       second_tables.push_back(s2);
     }
-    const std::string stem = fmt::format("sobol_{}_{}", name, m.name);
+    const std::string stem = fmt::format("sobol_{}_{}", name, m.model);
     section.figures.push_back({fmt::format("Sobol' indices of {} from the {} metamodel; whiskers: confidence "
                                            "interval",
-                                           label.text, model_title(m.name)),
+                                           label.label, model_title(m.model)),
                                plot_sobol_bars(plotter, chart, out / stem)});
     summary.images.push_back(section.figures.back().files.png);
   }
@@ -508,42 +433,43 @@ ReportSection observable_section(const StudyData& s, const json& observable, con
   for (const ReportTable& t : second_tables) section.tables.push_back(t);
 
   // Leave-one-out predictions: the metamodels are refitted to the same samples as the analysis.
-  for (const ModelEntry& m : models) {
+  for (const ModelAnalysis& m : models) {
     if (!m.ok) continue;
     try {
-      std::unique_ptr<sobol::Metamodel> model = sobol::make_metamodel(m.name, s.config.analysis.metamodel_options());
-      model->fit(data.unit, data.y);
-      const Eigen::VectorXd residuals = model->loo_residuals();
+      const FittedMetamodel fit = fit_metamodel(sobol::metamodel_kind_from_string(m.model),
+                                                s.config.analysis.metamodel_options(), data.unit, data.y);
+      if (!fit.ok()) std::rethrow_exception(fit.exception);
+      const Eigen::VectorXd residuals = fit.model->loo_residuals();
       PredictedVsObserved p;
-      p.title = fmt::format("{}, {}: leave-one-out prediction", label.text, model_title(m.name));
+      p.title = fmt::format("{}, {}: leave-one-out prediction", label.label, model_title(m.model));
       p.response_label = label.unit.empty() ? "" : fmt::format("[{}]", label.unit);
       for (Eigen::Index i = 0; i < data.y.size(); ++i) {
         p.observed.push_back(data.y(i) * label.factor);
         p.predicted.push_back((data.y(i) - residuals(i)) * label.factor);
       }
-      p.r2 = number(m.quality.at("r2"));
-      p.q2 = number(m.quality.at("q2"));
-      const std::string stem = fmt::format("loo_{}_{}", name, m.name);
+      p.r2 = m.quality.r2;
+      p.q2 = m.quality.q2;
+      const std::string stem = fmt::format("loo_{}_{}", name, m.model);
       section.figures.push_back({fmt::format("{}: each sample predicted by the {} metamodel fitted without it",
-                                             label.text, model_title(m.name)),
+                                             label.label, model_title(m.model)),
                                  plot_predicted_vs_observed(plotter, p, out / stem)});
       summary.images.push_back(section.figures.back().files.png);
     } catch (const std::exception& e) {
-      summary.notes.push_back(fmt::format("{} / {}: no leave-one-out plot: {}", name, m.name, e.what()));
+      summary.notes.push_back(fmt::format("{} / {}: no leave-one-out plot: {}", name, m.model, e.what()));
     }
   }
 
   ResponseScatter scatter;
-  scatter.title = fmt::format("{} against each parameter", label.text);
+  scatter.title = fmt::format("{} against each parameter", label.label);
   scatter.response_label = axis_label(name);
   scatter.physical = data.physical;
   for (Eigen::Index i = 0; i < data.y.size(); ++i) scatter.response.push_back(data.y(i) * label.factor);
   for (const ParameterRange& p : s.config.parameters) {
-    const ParameterLabel l = parameter_label(p.name);
-    scatter.parameter_labels.push_back(fmt::format("{} [{}]", l.enhanced, l.unit));
+    const ParameterText l = parameter_text(p.name);
+    scatter.parameter_labels.push_back(fmt::format("{} [{}]", l.gnuplot, l.unit));
     scatter.log_scale.push_back(p.bounds.scale == sobol::Scale::log_uniform);
   }
-  section.figures.push_back({fmt::format("{} of every done sample against each varied parameter", label.text),
+  section.figures.push_back({fmt::format("{} of every done sample against each varied parameter", label.label),
                              plot_response_scatter(plotter, scatter, out / fmt::format("response_{}", name))});
   summary.images.push_back(section.figures.back().files.png);
   return section;
@@ -561,13 +487,13 @@ int choose_sample(const StudyData& s, int requested) {
   std::string key;
   double goal = 0;
   if (c.experiment == Experiment::pile) {
-    key = "angle";
+    key = k_angle;
     goal = c.pile.target_angle;
   } else if (!c.oedometer.measured_settlements.empty()) {
-    key = "settlement_error";
+    key = k_settlement_error;
     goal = 0;
   } else {
-    key = fmt::format("settlement_{}", c.oedometer.loads.size() - 1);
+    key = settlement_name(c.oedometer.loads.size() - 1);
     std::vector<double> values;
     for (const auto& [sample, v] : s.observables)
       if (v.count(key)) values.push_back(v.at(key));
@@ -721,10 +647,10 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
   CalibrationPlot plot;
   plot.title = "calibration";
   for (size_t i = 0; i < c.parameters.size(); ++i) {
-    const ParameterLabel l = parameter_label(c.parameters[i]);
-    optimum.rows.push_back({l.plain, fmt::format("{:.6g}", c.physical[i]), fmt::format("{:g}", c.low[i]),
+    const ParameterText l = parameter_text(c.parameters[i]);
+    optimum.rows.push_back({l.symbol, fmt::format("{:.6g}", c.physical[i]), fmt::format("{:g}", c.low[i]),
                             fmt::format("{:g}", c.high[i]), fmt::format("{:.3f}", c.unit[i])});
-    plot.parameter_labels.push_back(fmt::format("{} [{}]", l.enhanced, l.unit));
+    plot.parameter_labels.push_back(fmt::format("{} [{}]", l.gnuplot, l.unit));
     plot.optimum_unit.push_back(c.unit[i]);
     plot.optimum_physical.push_back(c.physical[i]);
   }
@@ -734,7 +660,7 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
   targets.header = {"observable", "metamodel", "Q²", "target", "predicted", "measured (verification)"};
   bool any_measured = false;
   for (const CalibratedTarget& t : c.targets) {
-    const ObservableLabel l = observable_label(t.name);
+    const Observable l = describe_observable(t.name);
     targets.rows.push_back({t.name, model_title(t.model), fixed4(t.q2),
                             fmt::format("{:.5g} {}", t.target * l.factor, l.unit),
                             fmt::format("{:.5g} {}", t.predicted * l.factor, l.unit),
@@ -782,15 +708,11 @@ ReportSummary write_study_report(const ReportOptions& options) {
     analyze.dir = dir;
     analyze_study(analyze);
   }
-  json analysis;
-  {
-    std::ifstream in(analysis_file);
-    try {
-      analysis = json::parse(in);
-    } catch (const json::exception& e) {
-      throw UserError(fmt::format("{}: not an analysis file ({}); run `demsa analyze {}` again", analysis_file.string(),
-                                  e.what(), dir.string()));
-    }
+  AnalysisSummary analysis;
+  try {
+    analysis = read_analysis(analysis_file);
+  } catch (const UserError& e) {
+    throw UserError(fmt::format("{}; run `demsa analyze {}` again", e.what(), dir.string()));
   }
 
   ReportSummary summary;
@@ -802,20 +724,13 @@ ReportSummary write_study_report(const ReportOptions& options) {
   ReportDocument doc;
   doc.title = fmt::format("demsa report: {}", s.config.name);
   doc.sections.push_back(summary_section(s));
-  try {
-    const std::vector<std::string> names = analysis.at("parameters").get<std::vector<std::string>>();
-    doc.sections.back().paragraphs.push_back(fmt::format(
-        "Analysis: {} samples used, {} left out; Sobol' intervals at {:.0f}% from {} bootstrap resamples; QMC base "
-        "N = {}.",
-        analysis.at("samples_used").size(), analysis.at("samples_left_out").size(),
-        number(analysis.at("confidence")) * 100, analysis.at("bootstrap").get<int>(),
-        analysis.at("base_samples").get<int>()));
-    for (const json& observable : analysis.at("observables"))
-      doc.sections.push_back(observable_section(s, observable, names, plotter, summary.out_dir, summary));
-  } catch (const json::exception& e) {
-    throw UserError(fmt::format("{}: unexpected content ({}); run `demsa analyze {}` again", analysis_file.string(),
-                                e.what(), dir.string()));
-  }
+  doc.sections.back().paragraphs.push_back(fmt::format(
+      "Analysis: {} samples used, {} left out; Sobol' intervals at {:.0f}% from {} bootstrap resamples; QMC base "
+      "N = {}.",
+      analysis.samples_used.size(), analysis.samples_left_out.size(), analysis.confidence * 100, analysis.bootstrap,
+      analysis.base_samples));
+  for (const ObservableAnalysis& observable : analysis.observables)
+    doc.sections.push_back(observable_section(s, observable, analysis.parameters, plotter, summary.out_dir, summary));
 
   if (summary.sample_shown >= 0) {
     try {

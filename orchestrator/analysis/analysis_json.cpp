@@ -1,0 +1,90 @@
+#include "orchestrator/analysis/analysis_json.hpp"
+
+#include "orchestrator/analysis/sobol_json.hpp"
+#include "orchestrator/util/errors.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <stdexcept>
+
+namespace demsa::analysis {
+
+using nlohmann::json;
+
+std::string analysis_to_json(const AnalysisSummary& summary) {
+  json all{{"study", summary.study},
+           {"parameters", summary.parameters},
+           {"samples_used", summary.samples_used},
+           {"samples_left_out", summary.samples_left_out},
+           {"seed", summary.seed},
+           {"bootstrap", summary.bootstrap},
+           {"base_samples", summary.base_samples},
+           {"second_order", summary.second_order},
+           {"confidence", summary.confidence}};
+  json observables = json::array();
+  for (const ObservableAnalysis& o : summary.observables) {
+    json models = json::array();
+    for (const ModelAnalysis& m : o.models) {
+      json entry{{"model", m.model}, {"ok", m.ok}};
+      if (m.ok) {
+        entry["quality"] = metamodel_summary_json(m.quality);
+        entry["sobol"] = sobol_result_json(m.indices, summary.parameters);
+      } else {
+        entry["error"] = m.error;
+      }
+      models.push_back(entry);
+    }
+    observables.push_back(
+        {{"name", o.name}, {"samples", o.samples}, {"mean", o.mean}, {"sd", o.sd}, {"models", models}});
+  }
+  all["observables"] = observables;
+  return all.dump(2) + "\n";
+}
+
+AnalysisSummary read_analysis(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw util::UserError(fmt::format("{}: cannot read", file.string()));
+  AnalysisSummary summary;
+  summary.out_dir = file.parent_path();
+  try {
+    const json j = json::parse(in);
+    summary.study = j.at("study").get<std::string>();
+    summary.parameters = j.at("parameters").get<std::vector<std::string>>();
+    summary.samples_used = j.at("samples_used").get<std::vector<int>>();
+    summary.samples_left_out = j.at("samples_left_out").get<std::vector<int>>();
+    summary.seed = j.at("seed").get<std::uint64_t>();
+    summary.bootstrap = j.at("bootstrap").get<int>();
+    summary.base_samples = j.at("base_samples").get<int>();
+    summary.second_order = j.at("second_order").get<bool>();
+    summary.confidence = number_from_json(j.at("confidence"));
+    for (const json& o : j.at("observables")) {
+      ObservableAnalysis observable;
+      observable.name = o.at("name").get<std::string>();
+      observable.samples = o.at("samples").get<int>();
+      observable.mean = number_from_json(o.at("mean"));
+      observable.sd = number_from_json(o.at("sd"));
+      for (const json& m : o.at("models")) {
+        ModelAnalysis model;
+        model.model = m.at("model").get<std::string>();
+        model.ok = m.at("ok").get<bool>();
+        if (model.ok) {
+          model.quality = metamodel_summary_from_json(m.at("quality"));
+          model.indices = sobol_result_from_json(m.at("sobol"), summary.parameters);
+        } else {
+          model.error = m.value("error", std::string());
+        }
+        observable.models.push_back(std::move(model));
+      }
+      summary.observables.push_back(std::move(observable));
+    }
+  } catch (const json::exception& e) {
+    throw util::UserError(fmt::format("{}: not an analysis file ({})", file.string(), e.what()));
+  } catch (const std::invalid_argument& e) {
+    throw util::UserError(fmt::format("{}: not an analysis file ({})", file.string(), e.what()));
+  }
+  return summary;
+}
+
+}  // namespace demsa::analysis

@@ -1,0 +1,60 @@
+#pragma once
+// What DIR/analysis/analysis.json holds (written by `demsa analyze`, read back by the report), as plain data, and
+// its one JSON form:
+//
+//   {"study", "parameters": [name, ...], "samples_used": [sample, ...], "samples_left_out": [sample, ...],
+//    "seed", "bootstrap", "base_samples", "second_order", "confidence",
+//    "observables": [{"name", "samples", "mean", "sd",
+//                     "models": [{"model", "ok": true, "quality": metamodel, "sobol": Sobol' result}
+//                                or {"model", "ok": false, "error"}, ...]}, ...]}
+//
+// with the metamodel and Sobol' result forms of sobol_json.hpp (S1, ST and S2 keyed by parameter name).
+// Non-finite numbers are written as null and read back as NaN.
+#include "sobol/metamodel.hpp"
+#include "sobol/saltelli.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace demsa::analysis {
+
+/// One metamodel fitted to one observable.
+struct ModelAnalysis {
+  std::string model;                ///< "rsm2", "rbf-cubic", ...
+  bool ok = false;                  ///< false: the fit or the indices failed, see `error`
+  std::string error;                ///< why (too few samples for the model, singular system, ...)
+  sobol::MetamodelSummary quality;  ///< R², adjusted R², Q², ...
+  sobol::SobolResult indices;       ///< S1, ST, S2, residual with intervals
+};
+
+struct ObservableAnalysis {
+  std::string name;             ///< observable name ("angle", "settlement_1", ...)
+  int samples = 0;              ///< done samples with this observable
+  double mean = 0.0, sd = 0.0;  ///< of the observable over those samples
+  std::vector<ModelAnalysis> models;
+};
+
+struct AnalysisSummary {
+  std::filesystem::path out_dir;        ///< DIR/analysis (not in the JSON: the folder the file was read from)
+  std::string study;                    ///< study name
+  std::vector<std::string> parameters;  ///< varied parameters, in the study's order
+  std::vector<int> samples_used;        ///< done samples
+  std::vector<int> samples_left_out;    ///< not done (failed or never run)
+  std::vector<ObservableAnalysis> observables;
+  std::uint64_t seed = 0;  ///< the study seed, used for the QMC designs and the bootstrap
+  int bootstrap = 0;
+  int base_samples = 0;
+  bool second_order = false;
+  double confidence = 0.0;  ///< level of the Sobol' intervals
+};
+
+/// The text of analysis.json (two-space indentation, a final newline).
+std::string analysis_to_json(const AnalysisSummary& summary);
+
+/// analysis.json read back; out_dir is the file's folder. Throws util::UserError naming the file when it cannot be
+/// read or is not an analysis file.
+AnalysisSummary read_analysis(const std::filesystem::path& file);
+
+}  // namespace demsa::analysis

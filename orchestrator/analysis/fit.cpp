@@ -1,0 +1,52 @@
+#include "orchestrator/analysis/fit.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace demsa::analysis {
+
+FittedMetamodel fit_metamodel(sobol::MetamodelKind kind, const sobol::MetamodelOptions& options,
+                              const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
+  FittedMetamodel fit;
+  fit.kind = kind;
+  try {
+    std::unique_ptr<sobol::Metamodel> model = sobol::make_metamodel(kind, options);
+    model->fit(x, y);
+    fit.quality = model->summary();
+    fit.model = std::move(model);
+  } catch (const std::exception& e) {
+    // Every failure of a fit is a property of this data (sobol::DataError, InputError, NumericalError): the
+    // caller decides whether the other kinds still give an answer.
+    fit.error = e.what();
+    fit.exception = std::current_exception();
+  }
+  return fit;
+}
+
+std::vector<FittedMetamodel> fit_metamodels(const std::vector<sobol::MetamodelKind>& kinds,
+                                            const sobol::MetamodelOptions& options, const Eigen::MatrixXd& x,
+                                            const Eigen::VectorXd& y) {
+  std::vector<FittedMetamodel> fits;
+  fits.reserve(kinds.size());
+  for (const sobol::MetamodelKind kind : kinds) fits.push_back(fit_metamodel(kind, options, x, y));
+  return fits;
+}
+
+std::vector<sobol::MetamodelKind> metamodel_kinds(const std::vector<std::string>& names) {
+  std::vector<sobol::MetamodelKind> kinds;
+  kinds.reserve(names.size());
+  for (const std::string& name : names) kinds.push_back(sobol::metamodel_kind_from_string(name));
+  return kinds;
+}
+
+std::optional<std::size_t> best_by_q2(const std::vector<FittedMetamodel>& fits) {
+  const auto rank = [](double q2) { return std::isfinite(q2) ? q2 : -std::numeric_limits<double>::infinity(); };
+  std::optional<std::size_t> best;
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    if (!fits[i].ok()) continue;
+    if (!best || rank(fits[i].quality.q2) > rank(fits[*best].quality.q2)) best = i;
+  }
+  return best;
+}
+
+}  // namespace demsa::analysis

@@ -1,0 +1,44 @@
+#pragma once
+// Fitting the candidate metamodels to one observable (paper §5.2: RSM, RBF, GP) and ranking them by their
+// leave-one-out Q², the one fitting loop of the analysis, the calibration, the report and `demsa sensitivity`.
+#include "sobol/metamodel.hpp"
+
+#include <Eigen/Dense>
+
+#include <exception>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demsa::analysis {
+
+/// One metamodel kind fitted to one (x, y): the model and its quality, or why it could not be fitted.
+struct FittedMetamodel {
+  sobol::MetamodelKind kind = sobol::MetamodelKind::rsm2;
+  std::unique_ptr<sobol::Metamodel> model;  ///< null when the fit failed
+  sobol::MetamodelSummary quality;          ///< R², adjusted R², Q² (leave-one-out), ... (when fitted)
+  std::string error;                        ///< why the fit failed ("" when fitted)
+  std::exception_ptr exception;             ///< the exception behind `error`, for callers that report it their way
+  bool ok() const { return model != nullptr; }
+  std::string name() const { return sobol::to_string(kind); }
+};
+
+/// Fits one kind to x (n × d, on [0,1]^d) and y (n). A model that cannot be fitted to the data (too few samples for
+/// an RSM of degree 3, a constant observable, a singular system) is returned with the reason, never thrown.
+FittedMetamodel fit_metamodel(sobol::MetamodelKind kind, const sobol::MetamodelOptions& options,
+                              const Eigen::MatrixXd& x, const Eigen::VectorXd& y);
+
+/// fit_metamodel for each kind, in order.
+std::vector<FittedMetamodel> fit_metamodels(const std::vector<sobol::MetamodelKind>& kinds,
+                                            const sobol::MetamodelOptions& options, const Eigen::MatrixXd& x,
+                                            const Eigen::VectorXd& y);
+
+/// The kinds of the names (sobol::metamodel_kind_from_string; throws sobol::InputError for an unknown name).
+std::vector<sobol::MetamodelKind> metamodel_kinds(const std::vector<std::string>& names);
+
+/// Index of the fitted model with the largest Q²; a Q² that is not finite (as many terms as samples: no
+/// leave-one-out) ranks below every finite one, and the first of equals wins. nullopt when none was fitted.
+std::optional<std::size_t> best_by_q2(const std::vector<FittedMetamodel>& fits);
+
+}  // namespace demsa::analysis
