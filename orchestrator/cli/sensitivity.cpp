@@ -145,11 +145,7 @@ void run_saltelli(const SensitivityArgs& args) {
   options.bootstrap = args.bootstrap == k_mode_default ? 200 : args.bootstrap;
   options.confidence = args.confidence;
   options.seed = args.seed;
-  try {
-    options.validate();
-  } catch (const sobol::InputError& e) {
-    throw UserError(e.what());
-  }
+  options.validate();  // a sobol::InputError is the user's (cli::run_cli)
 
   nlohmann::json results = nlohmann::json::array();
   for (const std::string& name : outputs) {
@@ -318,11 +314,7 @@ void run_data(const SensitivityArgs& args) {
   options.bootstrap = args.bootstrap == k_mode_default ? 100 : args.bootstrap;
   options.confidence = args.confidence;
   options.seed = args.seed;
-  try {
-    options.validate();
-  } catch (const sobol::InputError& e) {
-    throw UserError(e.what());
-  }
+  options.validate();  // a sobol::InputError is the user's (cli::run_cli)
   sobol::MetamodelOptions model_options;
   model_options.gp.seed = args.seed;
   model_options.gp.nugget = args.gp_nugget;

@@ -103,7 +103,7 @@ RunOutcome outcome_from(const CaseExit& exit) {
 long prepare_case(const StudyConfig& config, const SampleRow& sample, const fs::path& folder) {
   std::error_code ec;
   fs::remove_all(folder, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot remove: {}", folder.string(), ec.message()));
+  if (ec) throw util::IoError(fmt::format("{}: cannot remove: {}", folder.string(), ec.message()));
   CaseRequest request = request_from_unit_point(config, sample.sample, sample.unit);
   request.demsa_executable = util::self_executable();
   const CaseSummary summary = write_case(config, request, folder);

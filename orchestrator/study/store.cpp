@@ -236,8 +236,23 @@ RunState run_state_from_string(const std::string& name) {
 
 double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
-Store::Store(const std::string& path)
-    : m_db(std::make_unique<SQLite::Database>(path, SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE, k_busy_timeout_ms)) {
+namespace {
+
+/// Opens the database and reads its schema version once, so that a file that is not a database, or cannot be
+/// opened, fails here with its path in the message (SQLite's own messages do not name the file).
+std::unique_ptr<SQLite::Database> open_database(const std::string& path, int flags) {
+  try {
+    auto db = std::make_unique<SQLite::Database>(path, flags, k_busy_timeout_ms);
+    db->exec("SELECT count(*) FROM sqlite_master");
+    return db;
+  } catch (const SQLite::Exception& e) {
+    throw util::InternalError(fmt::format("{}: cannot open the study store: {}", path, e.what()));
+  }
+}
+
+}  // namespace
+
+Store::Store(const std::string& path) : m_db(open_database(path, SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE)) {
   m_db->exec("PRAGMA journal_mode = WAL");
   // FULL: a transaction that returned is on disk, also after a power cut (SIGKILL alone would need only NORMAL).
   m_db->exec("PRAGMA synchronous = FULL");
@@ -255,8 +270,8 @@ Store::Store(const std::string& path)
 Store::Store(std::unique_ptr<SQLite::Database> db) : m_db(std::move(db)) {}
 
 Store Store::open_read_only(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw std::runtime_error(fmt::format("{}: no study store here", path));
-  auto db = std::make_unique<SQLite::Database>(path, SQLite::OPEN_READONLY, k_busy_timeout_ms);
+  if (!std::filesystem::exists(path)) throw util::UserError(fmt::format("{}: no study store here", path));
+  auto db = open_database(path, SQLite::OPEN_READONLY);
   if (read_schema_version(*db) == 0) throw util::UserError(fmt::format("{}: not a demsa study store (empty)", path));
   return Store(std::move(db));
 }
