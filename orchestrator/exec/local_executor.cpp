@@ -31,6 +31,8 @@ std::string host_name() {
 }  // namespace
 
 struct LocalExecutor::Child {
+  Child(CaseTask task_, util::Child process_)
+      : task(std::move(task_)), process(std::move(process_)), started(Clock::now()) {}
   CaseTask task;
   util::Child process;  ///< run.sh, leader of its process group
   Clock::time_point started;
@@ -86,7 +88,7 @@ std::vector<std::string> LocalExecutor::submit(const std::vector<CaseTask>& task
     SpawnOptions options;
     options.output = task.folder / k_run_output_file;
     options.cwd = task.folder;
-    auto child = std::make_unique<Child>(Child{task, spawn({"./run.sh"}, options), Clock::now()});
+    auto child = std::make_unique<Child>(task, spawn({"./run.sh"}, options));
     ids.push_back(fmt::format("{}:{}", child->process.pid(), child->process.start_ticks()));
     m_children.push_back(std::move(child));
   }

@@ -5,8 +5,8 @@
 // spaces, quotes and '$' in paths need no care.
 //
 // Every program starts with the default action for every signal and none blocked (demsa's Ctrl-C handler and
-// any signal demsa ignores are not passed on), with stdin from /dev/null unless text is given, and with only the
-// descriptors 0, 1 and 2 of demsa's (every other one is closed on exec).
+// any signal demsa ignores are not passed on), with stdin from /dev/null unless text is given, and with no
+// descriptor of demsa's but 0, 1 and 2 as set up here (every other one is closed on exec).
 //
 // A program that cannot be started in the child (not found, not executable, no such working directory) is a
 // result, as in a shell: exit status 127 when it was not found, 126 otherwise, with the reason as a message

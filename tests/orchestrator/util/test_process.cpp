@@ -252,10 +252,13 @@ TEST(Process, SpawnOfAMissingProgramExits127AndSaysWhyInTheOutput) {
 
 TEST(Process, TerminateGroupChecksTheStartTime) {
   test::TempDir tmp;
-  write_script(tmp / "stubborn.sh", "trap '' TERM; sleep 60 & wait; sleep 60");
+  write_script(tmp / "stubborn.sh", "trap '' TERM; sleep 60 & echo started > ready; wait; sleep 60");
   SpawnOptions options;
   options.output = tmp / "stubborn.out";
-  Child child = spawn({(tmp / "stubborn.sh").string()}, options);
+  options.cwd = tmp.path();
+  Child child = spawn({"./stubborn.sh"}, options);
+  for (int i = 0; i < 250 && !(fs::exists(tmp / "ready") && fs::file_size(tmp / "ready") > 0); ++i)
+    std::this_thread::sleep_for(20ms);  // its TERM trap is set
   const auto start = process_start_ticks(child.pid());
   ASSERT_TRUE(start.has_value());
   EXPECT_EQ(*start, child.start_ticks());
