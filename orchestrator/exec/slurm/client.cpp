@@ -332,7 +332,7 @@ std::string SlurmClient::submit(const ArraySubmission& submission) const {
 SqueueResult SlurmClient::query(const std::string& job) const {
   const util::CaptureResult r =
       run_slurm({m_commands.squeue, "-h", "-r", "-t", "all", "-j", job, "-O", "ArrayTaskID:16,State:24,exit_code:16"},
-                  m_commands.timeout);
+                m_commands.timeout);
   SqueueResult result;
   if (r.exit_code != 0) {
     // the controller has forgotten the job (older than MinJobAge): it knows no task of it
@@ -367,8 +367,8 @@ bool SlurmClient::cancel(const std::string& job, std::optional<int> task, std::s
   const std::string target = task ? fmt::format("{}_{}", job, *task) : job;
   const util::CaptureResult r = run_slurm({m_commands.scancel, target}, m_commands.timeout);
   if (r.exit_code != 0 && error != nullptr)
-    *error = fmt::format("scancel {} failed (exit status {}): {}", target, r.exit_code,
-                         complaint(r, m_commands.timeout));
+    *error =
+        fmt::format("scancel {} failed (exit status {}): {}", target, r.exit_code, complaint(r, m_commands.timeout));
   return r.exit_code == 0;
 }
 

@@ -255,7 +255,7 @@ bool SlurmExecutor::resolve_tokens() {
       std::string all;
       for (const auto& job : it->second) all += (all.empty() ? "" : ", ") + job;
       util::log::warn("slurm: submission {} is in squeue as {} array jobs ({}); following the first", t.token,
-                   it->second.size(), all);
+                      it->second.size(), all);
     }
     t.job = it->second.front();
     t.absent = 0;
@@ -461,8 +461,8 @@ void SlurmExecutor::cancel_all() {
     }
   } else {
     util::log::warn("slurm: {}; {} adopted task(s) without a job id cannot be cancelled and stay submitted",
-                 m_last_query_error,
-                 std::count_if(m_tasks.begin(), m_tasks.end(), [](const Tracked& t) { return t.job.empty(); }));
+                    m_last_query_error,
+                    std::count_if(m_tasks.begin(), m_tasks.end(), [](const Tracked& t) { return t.job.empty(); }));
     for (const auto& t : m_tasks)
       if (t.job.empty()) unfound.push_back(t);
   }
