@@ -1,8 +1,9 @@
 #include "orchestrator/exec/liggghts_locator.hpp"
 
+#include "orchestrator/util/process.hpp"
+
 #include <unistd.h>
-#include <array>
-#include <cstdio>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <regex>
@@ -39,14 +40,13 @@ std::optional<LiggghtsInfo> query_liggghts() {
   const auto exe = find_liggghts_executable();
   if (!exe) return std::nullopt;
   LiggghtsInfo info{*exe, ""};
-  // `liggghts -h` prints its banner and exits 1; stdin from /dev/null so that it never waits for input.
-  const std::string command = "'" + *exe + "' -h </dev/null 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return info;
-  std::array<char, 512> buffer{};
-  std::string head;
-  while (head.size() < 4096 && std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) head += buffer.data();
-  ::pclose(pipe);
+  // `liggghts -h` prints its banner and exits 1 (stdin is /dev/null: it never waits for input). Run from its argv,
+  // not through a shell, so that any path works; a LIGGGHTS that hangs is not worth waiting for.
+  util::CaptureOptions options;
+  options.merge_stderr = true;
+  options.timeout = std::chrono::seconds(30);
+  const util::CaptureResult r = util::run_capture({*exe, "-h"}, options);
+  const std::string head = r.out.substr(0, 4096);
   static const std::regex version_re(R"(LIGGGHTS[^\n]*?Version[^\n]*?([0-9]+\.[0-9]+(\.[0-9]+)?))");
   std::smatch m;
   if (std::regex_search(head, m, version_re)) info.version = m[1].str();

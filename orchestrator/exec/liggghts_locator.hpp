@@ -13,7 +13,9 @@ struct LiggghtsInfo {
 /// The executable named by $DEMSA_LIGGGHTS, else `liggghts` on $PATH; nullopt when neither exists.
 std::optional<std::string> find_liggghts_executable();
 
-/// Runs `<exe> -h` and reads "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, ...)". nullopt when LIGGGHTS is missing.
+/// Runs `<exe> -h` (util::run_capture, no shell) and reads "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, ...)".
+/// nullopt when LIGGGHTS is missing; an empty version when it could not be read. Throws util::InternalError when
+/// the program cannot be started (fork).
 std::optional<LiggghtsInfo> query_liggghts();
 
 /// Absolute path of `name` on $PATH (or `name` itself when it contains a '/' and is executable).

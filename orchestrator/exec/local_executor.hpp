@@ -1,8 +1,9 @@
 #pragma once
 // The local executor (ARCHITECTURE.md "exec/"): runs up to K case folders at once on this machine, each `./run.sh`
 // (which runs `mpirun -np R ...`) in a process group of its own, so that a timeout, a cancel or a restart of demsa ends
-// mpirun and every rank with it. Wall time from a monotonic clock, CPU time from wait4()'s rusage (run.sh and all
-// the descendants it waited for), host from gethostname().
+// mpirun and every rank with it. Cases are started, signalled and reaped through util/process.hpp (spawn, Child).
+// Wall time from a monotonic clock, CPU time from wait4()'s rusage (run.sh and all the descendants it waited for),
+// host from gethostname().
 //
 // Job ids are "PGID:START" (START = the group leader's start time in clock ticks since boot, /proc/PID/stat
 // field 22), so that a restarted demsa can tell its own leftover process group from an unrelated process that

@@ -1,12 +1,9 @@
 #include "orchestrator/report/plot.hpp"
 
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/process.hpp"
 
 #include <fmt/core.h>
-
-#include <fcntl.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cassert>
@@ -27,51 +24,12 @@ namespace {
 
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 
-struct Captured {
-  int exit_code = -1;
-  std::string output;  ///< stdout and stderr together
-};
-
-/// Runs argv[0] (looked up on PATH) in `cwd` with stdin from /dev/null and captures stdout and stderr together.
-Captured capture(const std::vector<std::string>& argv, const fs::path& cwd) {
-  int pipe_fds[2];
-  if (::pipe(pipe_fds) != 0) throw std::runtime_error(fmt::format("pipe: {}", std::strerror(errno)));
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
-  if (pid == 0) {
-    ::dup2(pipe_fds[1], 1);
-    ::dup2(pipe_fds[1], 2);
-    ::close(pipe_fds[0]);
-    ::close(pipe_fds[1]);
-    const int devnull = ::open("/dev/null", O_RDONLY);
-    if (devnull >= 0) ::dup2(devnull, 0);
-    if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(126);
-    std::vector<char*> args;
-    args.reserve(argv.size() + 1);
-    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    ::execvp(args[0], args.data());
-    ::_exit(127);
-  }
-  ::close(pipe_fds[1]);
-  Captured result;
-  char buffer[8192];
-  for (;;) {
-    const ssize_t n = ::read(pipe_fds[0], buffer, sizeof buffer);
-    if (n > 0) {
-      result.output.append(buffer, static_cast<size_t>(n));
-    } else if (n < 0 && errno == EINTR) {
-      continue;
-    } else {
-      break;
-    }
-  }
-  ::close(pipe_fds[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return result;
+/// Runs gnuplot (util/process.hpp: argv, no shell, stdin from /dev/null) in `cwd`, stdout and stderr together.
+CaptureResult run_gnuplot(const std::vector<std::string>& argv, const fs::path& cwd) {
+  CaptureOptions options;
+  options.merge_stderr = true;
+  options.cwd = cwd;
+  return run_capture(argv, options);
 }
 
 /// A number for a gnuplot data block; NaN (and infinities) become the missing-value marker.
@@ -145,13 +103,13 @@ void PlotOptions::validate() const {
 }
 
 GnuplotInfo query_gnuplot(const std::string& executable) {
-  const Captured r =
-      capture({executable, "-e", "print GPVAL_VERSION, GPVAL_PATCHLEVEL; print GPVAL_TERMINALS"}, fs::path());
+  const CaptureResult r =
+      run_gnuplot({executable, "-e", "print GPVAL_VERSION, GPVAL_PATCHLEVEL; print GPVAL_TERMINALS"}, fs::path());
   if (r.exit_code == 127)
     throw UserError(fmt::format("gnuplot: cannot run '{}' (not on PATH?); install gnuplot-nox", executable));
   if (r.exit_code != 0)
-    throw UserError(fmt::format("gnuplot: '{}' failed with status {}: {}", executable, r.exit_code, r.output));
-  std::istringstream lines(r.output);
+    throw UserError(fmt::format("gnuplot: '{}' failed with status {}: {}", executable, r.exit_code, r.out));
+  std::istringstream lines(r.out);
   std::string version_line;
   std::string terminal_line;
   std::getline(lines, version_line);
@@ -228,12 +186,12 @@ PlotFiles Plotter::render(const fs::path& stem, const std::string& title, const 
   std::error_code ignored;
   fs::remove(files.png, ignored);
   fs::remove(files.svg, ignored);
-  const Captured r = capture({m_options.gnuplot, name + ".gp"}, folder);
+  const CaptureResult r = run_gnuplot({m_options.gnuplot, name + ".gp"}, folder);
   const bool made =
       fs::exists(files.png) && fs::file_size(files.png) > 0 && fs::exists(files.svg) && fs::file_size(files.svg) > 0;
   if (r.exit_code != 0 || !made)
     throw std::runtime_error(
-        fmt::format("gnuplot failed on {} (status {}): {}", files.script.string(), r.exit_code, r.output));
+        fmt::format("gnuplot failed on {} (status {}): {}", files.script.string(), r.exit_code, r.out));
   return files;
 }
 

@@ -1,12 +1,9 @@
 #include "orchestrator/exec/slurm/client.hpp"
 
+#include "orchestrator/util/process.hpp"
+
 #include <fmt/core.h>
 
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <algorithm>
 #include <cassert>
 #include <cerrno>
@@ -70,95 +67,21 @@ std::string escape_percent(const std::string& text) {
   return out;
 }
 
-void append_output(int fd, std::string& target, bool& open) {
-  char buffer[16384];
-  const ssize_t n = ::read(fd, buffer, sizeof buffer);
-  if (n > 0) {
-    target.append(buffer, static_cast<size_t>(n));
-  } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
-    open = false;
-  }
+/// Runs one SLURM program (util/process.hpp: stdin from /dev/null, in a process group of its own, so that a Ctrl-C
+/// meant for demsa cannot kill an sbatch half-way and leave a job submitted whose id demsa never learns).
+util::CaptureResult run_slurm(const std::vector<std::string>& argv, std::chrono::milliseconds timeout) {
+  util::CaptureOptions options;
+  options.timeout = timeout;
+  return util::run_capture(argv, options);
+}
+
+/// What a failed SLURM program said, for an error message: its stderr, else its stdout, or that it was killed.
+std::string complaint(const util::CaptureResult& r, std::chrono::milliseconds timeout) {
+  if (r.timed_out) return fmt::format("killed after {} s", timeout.count() / 1000.0);
+  return trim(r.err.empty() ? r.out : r.err);
 }
 
 }  // namespace
-
-ProgramResult run_program(const std::vector<std::string>& argv, std::chrono::milliseconds timeout) {
-  assert(!argv.empty());
-  int out_pipe[2];
-  int err_pipe[2];
-  if (::pipe(out_pipe) != 0) throw std::runtime_error(fmt::format("pipe: {}", std::strerror(errno)));
-  if (::pipe(err_pipe) != 0) {
-    ::close(out_pipe[0]);
-    ::close(out_pipe[1]);
-    throw std::runtime_error(fmt::format("pipe: {}", std::strerror(errno)));
-  }
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    for (const int fd : {out_pipe[0], out_pipe[1], err_pipe[0], err_pipe[1]}) ::close(fd);
-    throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
-  }
-  if (pid == 0) {
-    // Its own process group: a Ctrl-C meant for demsa must not kill an sbatch half-way (a job submitted whose id
-    // demsa never learns). The caller may block or ignore signals; the program gets the defaults.
-    ::setpgid(0, 0);
-    sigset_t none;
-    sigemptyset(&none);
-    ::sigprocmask(SIG_SETMASK, &none, nullptr);
-    ::signal(SIGINT, SIG_DFL);
-    ::signal(SIGTERM, SIG_DFL);
-    ::signal(SIGPIPE, SIG_DFL);
-    ::dup2(out_pipe[1], 1);
-    ::dup2(err_pipe[1], 2);
-    for (const int fd : {out_pipe[0], out_pipe[1], err_pipe[0], err_pipe[1]}) ::close(fd);
-    const int devnull = ::open("/dev/null", O_RDONLY);
-    if (devnull >= 0) ::dup2(devnull, 0);
-    ::execvp(args[0], args.data());
-    const std::string message = fmt::format("cannot run {}: {}\n", argv[0], std::strerror(errno));
-    [[maybe_unused]] const ssize_t written = ::write(2, message.data(), message.size());
-    ::_exit(127);
-  }
-  ::close(out_pipe[1]);
-  ::close(err_pipe[1]);
-
-  ProgramResult result;
-  bool out_open = true;
-  bool err_open = true;
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (out_open || err_open) {
-    const auto left =
-        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) {
-      result.timed_out = true;
-      ::kill(pid, SIGKILL);
-      break;
-    }
-    pollfd fds[2] = {{out_open ? out_pipe[0] : -1, POLLIN, 0}, {err_open ? err_pipe[0] : -1, POLLIN, 0}};
-    const int ready = ::poll(fds, 2, static_cast<int>(std::min<long>(left.count(), 1000)));
-    if (ready < 0) {
-      if (errno == EINTR) continue;
-      break;
-    }
-    if (out_open && (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0)
-      append_output(out_pipe[0], result.out, out_open);
-    if (err_open && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0)
-      append_output(err_pipe[0], result.err, err_open);
-  }
-  ::close(out_pipe[0]);
-  ::close(err_pipe[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  if (result.timed_out) {
-    result.exit_code = 128 + SIGKILL;
-    result.err += fmt::format("{}: killed after {} s\n", argv[0], timeout.count() / 1000.0);
-  }
-  return result;
-}
 
 std::string shell_quote(const std::string& text) {
   std::string out = "'";
@@ -395,10 +318,10 @@ std::string SlurmClient::submit(const ArraySubmission& submission) const {
   std::vector<std::string> argv{m_commands.sbatch};
   for (auto& a : sbatch_arguments(submission)) argv.push_back(std::move(a));
   argv.push_back(script.string());
-  const ProgramResult r = run_program(argv, m_commands.timeout);
+  const util::CaptureResult r = run_slurm(argv, m_commands.timeout);
   if (r.exit_code != 0)
     throw std::runtime_error(fmt::format("sbatch failed (exit status {}) for {}: {}", r.exit_code, script.string(),
-                                         trim(r.err.empty() ? r.out : r.err)));
+                                         complaint(r, m_commands.timeout)));
   const auto job = parse_sbatch_job_id(r.out);
   if (!job)
     throw std::runtime_error(
@@ -407,9 +330,9 @@ std::string SlurmClient::submit(const ArraySubmission& submission) const {
 }
 
 SqueueResult SlurmClient::query(const std::string& job) const {
-  const ProgramResult r =
-      run_program({m_commands.squeue, "-h", "-r", "-t", "all", "-j", job, "-O", "ArrayTaskID:16,State:24,exit_code:16"},
-                  m_commands.timeout);
+  const util::CaptureResult r =
+      run_slurm({m_commands.squeue, "-h", "-r", "-t", "all", "-j", job, "-O", "ArrayTaskID:16,State:24,exit_code:16"},
+                m_commands.timeout);
   SqueueResult result;
   if (r.exit_code != 0) {
     // the controller has forgotten the job (older than MinJobAge): it knows no task of it
@@ -417,7 +340,7 @@ SqueueResult SlurmClient::query(const std::string& job) const {
       result.ok = true;
       return result;
     }
-    result.error = fmt::format("squeue failed (exit status {}): {}", r.exit_code, trim(r.err));
+    result.error = fmt::format("squeue failed (exit status {}): {}", r.exit_code, complaint(r, m_commands.timeout));
     return result;
   }
   result.ok = true;
@@ -428,11 +351,11 @@ SqueueResult SlurmClient::query(const std::string& job) const {
 CommentLookup SlurmClient::jobs_by_comment() const {
   // %F: the array job id (also for each task of it), %k: the comment. Without -r a pending range is one line,
   // which is all that is needed here; -t all keeps the jobs that ended within MinJobAge.
-  const ProgramResult r =
-      run_program({m_commands.squeue, "-h", "-t", "all", "--me", "-o", "%F %k"}, m_commands.timeout);
+  const util::CaptureResult r =
+      run_slurm({m_commands.squeue, "-h", "-t", "all", "--me", "-o", "%F %k"}, m_commands.timeout);
   CommentLookup result;
   if (r.exit_code != 0) {
-    result.error = fmt::format("squeue failed (exit status {}): {}", r.exit_code, trim(r.err));
+    result.error = fmt::format("squeue failed (exit status {}): {}", r.exit_code, complaint(r, m_commands.timeout));
     return result;
   }
   result.ok = true;
@@ -442,9 +365,10 @@ CommentLookup SlurmClient::jobs_by_comment() const {
 
 bool SlurmClient::cancel(const std::string& job, std::optional<int> task, std::string* error) const {
   const std::string target = task ? fmt::format("{}_{}", job, *task) : job;
-  const ProgramResult r = run_program({m_commands.scancel, target}, m_commands.timeout);
+  const util::CaptureResult r = run_slurm({m_commands.scancel, target}, m_commands.timeout);
   if (r.exit_code != 0 && error != nullptr)
-    *error = fmt::format("scancel {} failed (exit status {}): {}", target, r.exit_code, trim(r.err));
+    *error =
+        fmt::format("scancel {} failed (exit status {}): {}", target, r.exit_code, complaint(r, m_commands.timeout));
   return r.exit_code == 0;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // A small SLURM client: submits job arrays with `sbatch`, reads the state of their tasks with `squeue`, cancels
 // them with `scancel`, and reads the sentinel file each task writes when it ends. The programs are run directly
-// (argv, no shell), so paths with spaces or quotes need no care here; the batch script quotes every path itself.
+// (util::run_capture: argv, no shell, each killed after SlurmCommands::timeout), so paths with spaces or quotes
+// need no care here; the batch script quotes every path itself.
 //
 // Why sentinels: without slurmdbd there is no `sacct`, and `squeue` forgets finished jobs after MinJobAge (300 s
 // by default). A task cancelled while still pending leaves no trace at all. So each task writes, atomically
@@ -18,19 +19,6 @@
 #include <vector>
 
 namespace demsa::exec {
-
-/// Result of running one program to completion.
-struct ProgramResult {
-  int exit_code = -1;  ///< exit status; 128 + signal when killed by a signal; 127 when it could not be started
-  std::string out;     ///< standard output
-  std::string err;     ///< standard error
-  bool timed_out = false;
-};
-
-/// Runs argv[0] (looked up on PATH) with the remaining arguments, stdin from /dev/null, in a process group of its
-/// own (a Ctrl-C at the terminal does not reach it), and captures its output. Kills it (SIGKILL) after `timeout`.
-ProgramResult run_program(const std::vector<std::string>& argv,
-                          std::chrono::milliseconds timeout = std::chrono::seconds(120));
 
 /// `text` as one single-quoted bash word: `a b'c` -> `'a b'\''c'`.
 std::string shell_quote(const std::string& text);

@@ -2,9 +2,9 @@
 
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/log.hpp"
 
 #include <fmt/core.h>
-#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cctype>
@@ -198,7 +198,7 @@ std::vector<std::string> SlurmExecutor::submit(const std::vector<CaseTask>& task
       added.push_back(t);
       ids.push_back(fmt::format("{}_{}", job, index));
     }
-    spdlog::info("slurm: submitted {} case(s) as array job {}", end - begin, job);
+    util::log::info("slurm: submitted {} case(s) as array job {}", end - begin, job);
   }
   m_tasks.insert(m_tasks.end(), added.begin(), added.end());
   return ids;
@@ -254,8 +254,8 @@ bool SlurmExecutor::resolve_tokens() {
     if (it->second.size() > 1) {
       std::string all;
       for (const auto& job : it->second) all += (all.empty() ? "" : ", ") + job;
-      spdlog::warn("slurm: submission {} is in squeue as {} array jobs ({}); following the first", t.token,
-                   it->second.size(), all);
+      util::log::warn("slurm: submission {} is in squeue as {} array jobs ({}); following the first", t.token,
+                      it->second.size(), all);
     }
     t.job = it->second.front();
     t.absent = 0;
@@ -292,13 +292,13 @@ void SlurmExecutor::query_jobs() {
   const auto now = Clock::now();
   m_last_query = now;
   if (!failed) {
-    if (m_outage_since) spdlog::info("slurm: squeue answers again");
+    if (m_outage_since) util::log::info("slurm: squeue answers again");
     m_outage_since.reset();
     return;
   }
   if (!m_outage_since) {
     m_outage_since = now;
-    spdlog::warn("slurm: {} (retrying; sentinels are still collected)", m_last_query_error);
+    util::log::warn("slurm: {} (retrying; sentinels are still collected)", m_last_query_error);
   }
   if (now - *m_outage_since >= m_options.squeue_outage_limit) {
     const double seconds = std::chrono::duration<double>(now - *m_outage_since).count();
@@ -460,9 +460,9 @@ void SlurmExecutor::cancel_all() {
       m_ready.push_back({t.task, exit});
     }
   } else {
-    spdlog::warn("slurm: {}; {} adopted task(s) without a job id cannot be cancelled and stay submitted",
-                 m_last_query_error,
-                 std::count_if(m_tasks.begin(), m_tasks.end(), [](const Tracked& t) { return t.job.empty(); }));
+    util::log::warn("slurm: {}; {} adopted task(s) without a job id cannot be cancelled and stay submitted",
+                    m_last_query_error,
+                    std::count_if(m_tasks.begin(), m_tasks.end(), [](const Tracked& t) { return t.job.empty(); }));
     for (const auto& t : m_tasks)
       if (t.job.empty()) unfound.push_back(t);
   }
@@ -475,7 +475,7 @@ void SlurmExecutor::cancel_all() {
   }
   for (const auto& job : jobs) {
     std::string error;
-    if (!m_client.cancel(job, std::nullopt, &error)) spdlog::warn("slurm: {}", error);
+    if (!m_client.cancel(job, std::nullopt, &error)) util::log::warn("slurm: {}", error);
   }
   const auto deadline = Clock::now() + m_options.cancel_wait;
   while (!m_tasks.empty()) {

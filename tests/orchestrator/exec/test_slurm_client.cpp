@@ -1,6 +1,7 @@
 // The SLURM client without a cluster: quoting, sbatch arguments, parsing squeue and sentinels, and the batch
 // script itself run by bash with the variables SLURM would set.
 #include "orchestrator/exec/slurm/client.hpp"
+#include "orchestrator/util/process.hpp"
 
 #include "support/test_support.hpp"
 
@@ -30,24 +31,26 @@ void write_run_sh(const fs::path& folder, const std::string& body) {
 
 TEST(SlurmClient, ShellQuoteSurvivesBash) {
   for (const std::string text : {"plain", "a b", "it's", "$HOME `x` \"q\" \\ ;|&", "", "'''"}) {
-    const auto r = run_program({"bash", "-c", "printf %s " + shell_quote(text)});
+    const auto r = util::run_capture({"bash", "-c", "printf %s " + shell_quote(text)});
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_EQ(r.out, text);
   }
 }
 
 TEST(SlurmClient, RunProgramCapturesOutputAndStatus) {
-  const auto r = run_program({"bash", "-c", "echo out; echo err >&2; exit 7"});
+  const auto r = util::run_capture({"bash", "-c", "echo out; echo err >&2; exit 7"});
   EXPECT_EQ(r.exit_code, 7);
   EXPECT_EQ(r.out, "out\n");
   EXPECT_EQ(r.err, "err\n");
   EXPECT_FALSE(r.timed_out);
-  EXPECT_EQ(run_program({"/nonexistent/program"}).exit_code, 127);
+  EXPECT_EQ(util::run_capture({"/nonexistent/program"}).exit_code, 127);
 }
 
 TEST(SlurmClient, RunProgramKillsAHangingProgram) {
   const auto start = std::chrono::steady_clock::now();
-  const auto r = run_program({"sleep", "30"}, std::chrono::milliseconds(300));
+  util::CaptureOptions options;
+  options.timeout = std::chrono::milliseconds(300);
+  const auto r = util::run_capture({"sleep", "30"}, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_TRUE(r.timed_out);
   EXPECT_EQ(r.exit_code, 128 + SIGKILL);
