@@ -9,8 +9,6 @@
 
 #include <SQLiteCpp/Exception.h>
 #include <fmt/core.h>
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
 
 #include <exception>
 #include <new>
@@ -84,10 +82,8 @@ int report_error(const std::exception_ptr& error) {
 }
 
 int run_cli(int argc, char** argv) {
-  // Log lines go to standard error: standard output carries results, e.g. the JSON of `demsa status --json`. The
-  // SLURM executor (exec/slurm/executor.cpp) still logs through spdlog's default logger; the CLI's own lines go
-  // through util::log.
-  if (!spdlog::get("demsa")) spdlog::set_default_logger(spdlog::stderr_color_mt("demsa"));
+  // Log lines go to standard error (util/log.hpp): standard output carries results, e.g. the JSON of `demsa
+  // status --json`.
   CLI::App app{
       "demsa: sensitivity analysis and calibration of DEM models in LIGGGHTS\n"
       "(design of experiments, LIGGGHTS cases, observables, metamodels, Sobol' indices, calibration)",

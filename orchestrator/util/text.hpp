@@ -21,6 +21,10 @@ std::optional<double> parse_number(std::string_view text);
 /// The whole of `text` (blanks around it allowed) as a long; nullopt when it is not one or out of range.
 std::optional<long> parse_long(std::string_view text);
 
+/// `text` as one single-quoted bash word: `a b'c` -> `'a b'\''c'` (for the scripts demsa writes: run.sh, the
+/// SLURM batch script).
+std::string shell_quote(std::string_view text);
+
 /// `text` split at every `separator` (an empty text gives one empty field; a trailing separator an empty last one).
 std::vector<std::string> split(std::string_view text, char separator);
 

@@ -83,18 +83,6 @@ std::string complaint(const util::CaptureResult& r, std::chrono::milliseconds ti
 
 }  // namespace
 
-std::string shell_quote(const std::string& text) {
-  std::string out = "'";
-  for (const char c : text) {
-    if (c == '\'')
-      out += "'\\''";
-    else
-      out += c;
-  }
-  out += "'";
-  return out;
-}
-
 fs::path sentinel_dir(const fs::path& work_dir) { return work_dir / "sentinels"; }
 
 fs::path sentinel_path(const fs::path& work_dir, const std::string& job, int task) {
@@ -109,9 +97,9 @@ std::string render_batch_script(const ArraySubmission& submission) {
   s += "# ends, writes its sentinel SENTINELS/JOB_TASK atomically: \"exit N\", or \"signal TERM\" when SLURM\n";
   s += "# stops it (scancel, time limit). The submitting options are on the sbatch command line.\n";
   s += "cases=(\n";
-  for (const auto& folder : submission.case_folders) s += "  " + shell_quote(folder.string()) + "\n";
+  for (const auto& folder : submission.case_folders) s += "  " + util::shell_quote(folder.string()) + "\n";
   s += ")\n";
-  s += "sentinels=" + shell_quote(sentinel_dir(submission.work_dir).string()) + "\n";
+  s += "sentinels=" + util::shell_quote(sentinel_dir(submission.work_dir).string()) + "\n";
   s += R"SH(task=${SLURM_ARRAY_TASK_ID:?not started as a SLURM array task}
 case_dir=${cases[$task]}
 sentinel="$sentinels/${SLURM_ARRAY_JOB_ID}_$task"

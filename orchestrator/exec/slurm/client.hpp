@@ -10,6 +10,7 @@
 // because SLURM sends SIGTERM to the batch shell first. A task that is gone from `squeue` and left no sentinel was
 // cancelled before it started (or purged by the controller): its outcome is unknown.
 #include "orchestrator/study/config.hpp"
+#include "orchestrator/util/text.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -19,9 +20,6 @@
 #include <vector>
 
 namespace demsa::exec {
-
-/// `text` as one single-quoted bash word: `a b'c` -> `'a b'\''c'`.
-std::string shell_quote(const std::string& text);
 
 /// The programs the client runs (names on PATH or paths).
 struct SlurmCommands {

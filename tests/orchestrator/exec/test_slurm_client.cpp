@@ -31,7 +31,7 @@ void write_run_sh(const fs::path& folder, const std::string& body) {
 
 TEST(SlurmClient, ShellQuoteSurvivesBash) {
   for (const std::string text : {"plain", "a b", "it's", "$HOME `x` \"q\" \\ ;|&", "", "'''"}) {
-    const auto r = util::run_capture({"bash", "-c", "printf %s " + shell_quote(text)});
+    const auto r = util::run_capture({"bash", "-c", "printf %s " + util::shell_quote(text)});
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_EQ(r.out, text);
   }
