@@ -5,6 +5,7 @@
 #include "orchestrator/cases/geometry.hpp"
 #include "orchestrator/cases/physics.hpp"
 #include "orchestrator/study/parameters.hpp"
+#include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
 #include "orchestrator/version.hpp"
@@ -40,14 +41,7 @@ void write_text(const fs::path& path, const std::string& text) {
       if (old == text) return;
     }
   }
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw UserError(fmt::format("{}: cannot write the file", tmp.string()));
-    out << text;
-    if (!out.flush()) throw UserError(fmt::format("{}: write failed", tmp.string()));
-  }
-  fs::rename(tmp, path);
+  util::write_file_atomically(path, text);
 }
 
 const std::string& template_text(const std::string& name) {

@@ -1,5 +1,7 @@
 #include "orchestrator/util/csv.hpp"
 
+#include "orchestrator/util/atomic_file.hpp"
+
 #include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
@@ -169,16 +171,7 @@ std::string format_csv(const std::vector<std::string>& header, const Eigen::Matr
 
 void write_csv(const std::filesystem::path& file, const std::vector<std::string>& header,
                const Eigen::MatrixXd& values) {
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw UserError(file.string(), 0, "cannot write the file");
-    out << format_csv(header, values);
-    if (!out.flush()) throw UserError(file.string(), 0, "write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) throw UserError(file.string(), 0, fmt::format("cannot write the file: {}", ec.message()));
+  write_file_atomically(file, format_csv(header, values));
 }
 
 std::vector<std::string> split_list(const std::string& text) {

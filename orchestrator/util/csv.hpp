@@ -59,7 +59,7 @@ CsvTable parse_csv(const std::string& text, const std::string& file, const CsvRe
 
 /// CSV text: header row, then the rows of `values` (%.17g). values.cols() == header.size() (asserted).
 std::string format_csv(const std::vector<std::string>& header, const Eigen::MatrixXd& values);
-/// Writes format_csv(...) to `file` (through a temporary file renamed into place); throws UserError on I/O failure.
+/// Writes format_csv(...) to `file` durably (util::write_file_atomically); throws IoError on I/O failure.
 void write_csv(const std::filesystem::path& file, const std::vector<std::string>& header,
                const Eigen::MatrixXd& values);
 
