@@ -1,5 +1,7 @@
 #include "sobol/design.hpp"
 
+#include "sobol/enum_names.hpp"
+
 #include "sobol/error.hpp"
 #include "sobol/random.hpp"
 
@@ -265,42 +267,32 @@ Eigen::MatrixXd optimise_lhs(Criterion criterion, const DesignOptions& options, 
 
 }  // namespace
 
-DesignKind design_kind_from_string(const std::string& name) {
-  if (name == "lhs") return DesignKind::lhs;
-  if (name == "lhs-centred" || name == "lhs-centered") return DesignKind::lhs_centred;
-  if (name == "lhs-maximin") return DesignKind::lhs_maximin;
-  if (name == "lhs-cl2") return DesignKind::lhs_cl2;
-  if (name == "sobol") return DesignKind::sobol;
-  std::string valid;
-  for (const std::string& kind : design_kind_names()) valid += (valid.empty() ? "" : ", ") + kind;
-  throw InputError(fmt::format("unknown design '{}' (valid: {})", name, valid));
+namespace {
+
+const EnumNames<DesignKind>& design_kind_table() {
+  static const EnumNames<DesignKind> names{"design",
+                                           {{DesignKind::lhs, "lhs"},
+                                            {DesignKind::lhs_centred, "lhs-centred"},
+                                            {DesignKind::lhs_maximin, "lhs-maximin"},
+                                            {DesignKind::lhs_cl2, "lhs-cl2"},
+                                            {DesignKind::sobol, "sobol"}},
+                                           {{"lhs-centered", DesignKind::lhs_centred}}};
+  return names;
 }
 
-std::string to_string(DesignKind kind) {
-  switch (kind) {
-    case DesignKind::lhs:
-      return "lhs";
-    case DesignKind::lhs_centred:
-      return "lhs-centred";
-    case DesignKind::lhs_maximin:
-      return "lhs-maximin";
-    case DesignKind::lhs_cl2:
-      return "lhs-cl2";
-    case DesignKind::sobol:
-      return "sobol";
-  }
-  assert(false && "unhandled DesignKind");
-  return {};
+const EnumNames<DesignKind>& lhs_criterion_table() {
+  static const EnumNames<DesignKind> names{"LHS criterion",
+                                           {{DesignKind::lhs_maximin, "maximin"}, {DesignKind::lhs_cl2, "cl2"}}};
+  return names;
 }
 
-std::vector<std::string> design_kind_names() { return {"lhs", "lhs-centred", "lhs-maximin", "lhs-cl2", "sobol"}; }
+}  // namespace
 
-DesignKind lhs_criterion_from_string(const std::string& name) {
-  if (name == "maximin") return DesignKind::lhs_maximin;
-  if (name == "cl2") return DesignKind::lhs_cl2;
-  throw InputError(fmt::format("unknown LHS criterion '{}' (valid: maximin, cl2)", name));
-}
+DesignKind design_kind_from_string(const std::string& name) { return design_kind_table().from_string(name); }
+std::string to_string(DesignKind kind) { return design_kind_table().to_string(kind); }
+std::vector<std::string> design_kind_names() { return design_kind_table().names(); }
 
+DesignKind lhs_criterion_from_string(const std::string& name) { return lhs_criterion_table().from_string(name); }
 void DesignOptions::validate() const {
   const int min_samples = kind == DesignKind::sobol ? 1 : 2;
   if (samples < min_samples)

@@ -3,6 +3,7 @@
 // names on error), to_string and the list of names (after Ceres's types.cc, without its macros).
 #include "sobol/error.hpp"
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,13 +19,24 @@ class EnumNames {
             std::vector<std::pair<std::string, Enum>> aliases = {})
       : m_what(std::move(what)), m_names(std::move(names)), m_aliases(std::move(aliases)) {}
 
-  /// The value of a canonical name or alias; throws InputError "unknown WHAT 'NAME' (valid: a, b, c)".
-  Enum from_string(const std::string& name) const {
+  /// The value of a canonical name or alias; nullopt for any other name.
+  std::optional<Enum> find(const std::string& name) const {
     for (const auto& [value, text] : m_names)
       if (text == name) return value;
     for (const auto& [text, value] : m_aliases)
       if (text == name) return value;
-    throw InputError("unknown " + m_what + " '" + name + "' (valid: " + valid() + ")");
+    return std::nullopt;
+  }
+
+  /// The value of a canonical name or alias; throws InputError "unknown WHAT 'NAME' (valid: a, b, c)".
+  Enum from_string(const std::string& name) const {
+    if (const std::optional<Enum> value = find(name)) return *value;
+    throw InputError(unknown(name));
+  }
+
+  /// "unknown WHAT 'NAME' (valid: a, b, c)".
+  std::string unknown(const std::string& name) const {
+    return "unknown " + m_what + " '" + name + "' (valid: " + valid() + ")";
   }
 
   /// The canonical name of a value ("" for a value not in the table, which is a programming error).

@@ -130,10 +130,22 @@ void CalibrateOptions::validate() const {
   if (dir.empty()) throw UserError("calibrate: a study folder is required");
   if (global_evaluations < 1) throw UserError(fmt::format("--global-evaluations {}: must be >= 1", global_evaluations));
   if (local_evaluations < 1) throw UserError(fmt::format("--local-evaluations {}: must be >= 1", local_evaluations));
-  // Each throws sobol::InputError naming the valid names: a user error (cli::run_cli).
-  sobol::global_algorithm_from_string(global);
-  sobol::local_algorithm_from_string(local);
-  if (!model.empty()) sobol::metamodel_kind_from_string(model);
+  // CalibrateOptions promises a UserError naming the option; sobol's error names the value and the valid ones.
+  try {
+    sobol::global_algorithm_from_string(global);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--global: {}", e.what()));
+  }
+  try {
+    sobol::local_algorithm_from_string(local);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--local: {}", e.what()));
+  }
+  try {
+    if (!model.empty()) sobol::metamodel_kind_from_string(model);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--model: {}", e.what()));
+  }
 }
 
 CalibrationOutcome calibrate_study(const CalibrateOptions& options) {

@@ -2,6 +2,7 @@
 
 #include "orchestrator/study/parameters.hpp"
 #include "sobol/design.hpp"
+#include "sobol/enum_names.hpp"
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
 #include "sobol/scaling.hpp"
@@ -823,39 +824,23 @@ std::string markdown_cell(std::string text) {
 }  // namespace
 
 std::string to_string(SettingType type) {
-  switch (type) {
-    case SettingType::number:
-      return "number";
-    case SettingType::integer:
-      return "integer";
-    case SettingType::boolean:
-      return "boolean";
-    case SettingType::string:
-      return "string";
-    case SettingType::string_list:
-      return "string list";
-    case SettingType::number_list:
-      return "number list";
-    case SettingType::enumeration:
-      return "enum";
-    case SettingType::table:
-      return "table";
-  }
-  assert(false && "unhandled SettingType");
-  return {};
+  static const sobol::EnumNames<SettingType> names{"setting type",
+                                                   {{SettingType::number, "number"},
+                                                    {SettingType::integer, "integer"},
+                                                    {SettingType::boolean, "boolean"},
+                                                    {SettingType::string, "string"},
+                                                    {SettingType::string_list, "string list"},
+                                                    {SettingType::number_list, "number list"},
+                                                    {SettingType::enumeration, "enum"},
+                                                    {SettingType::table, "table"}}};
+  return names.to_string(type);
 }
 
 std::string to_string(SettingEffect effect) {
-  switch (effect) {
-    case SettingEffect::cases:
-      return "cases";
-    case SettingEffect::measurement:
-      return "measurement";
-    case SettingEffect::none:
-      return "none";
-  }
-  assert(false && "unhandled SettingEffect");
-  return {};
+  static const sobol::EnumNames<SettingEffect> names{
+      "setting effect",
+      {{SettingEffect::cases, "cases"}, {SettingEffect::measurement, "measurement"}, {SettingEffect::none, "none"}}};
+  return names.to_string(effect);
 }
 
 bool SettingBounds::contains(double value) const {

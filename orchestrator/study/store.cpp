@@ -1,6 +1,7 @@
 #include "orchestrator/study/store.hpp"
 
 #include "orchestrator/util/errors.hpp"
+#include "sobol/enum_names.hpp"
 
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/core.h>
@@ -19,12 +20,14 @@ namespace {
 
 constexpr int k_busy_timeout_ms = 30000;
 
-constexpr std::array<std::pair<RunState, const char*>, 4> k_state_names{{
-    {RunState::submitted, "submitted"},
-    {RunState::done, "done"},
-    {RunState::failed, "failed"},
-    {RunState::requeued, "requeued"},
-}};
+const sobol::EnumNames<RunState>& run_state_names() {
+  static const sobol::EnumNames<RunState> names{"run state",
+                                                {{RunState::submitted, "submitted"},
+                                                 {RunState::done, "done"},
+                                                 {RunState::failed, "failed"},
+                                                 {RunState::requeued, "requeued"}}};
+  return names;
+}
 
 constexpr const char* k_run_columns =
     "id, sample, attempt, state, job_id, exit_code, signal, failure, message, wall_seconds, cpu_seconds, host, "
@@ -223,15 +226,13 @@ constexpr const char* k_update_outcome =
 }  // namespace
 
 std::string to_string(RunState state) {
-  for (const auto& [s, name] : k_state_names)
-    if (s == state) return name;
-  return "unknown";
+  const std::string name = run_state_names().to_string(state);
+  return name.empty() ? "unknown" : name;
 }
 
 RunState run_state_from_string(const std::string& name) {
-  for (const auto& [s, text] : k_state_names)
-    if (name == text) return s;
-  throw std::invalid_argument(fmt::format("unknown run state '{}' (valid: submitted, done, failed, requeued)", name));
+  if (const auto state = run_state_names().find(name)) return *state;
+  throw std::invalid_argument(run_state_names().unknown(name));
 }
 
 double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
@@ -246,7 +247,7 @@ std::unique_ptr<SQLite::Database> open_database(const std::string& path, int fla
     db->exec("SELECT count(*) FROM sqlite_master");
     return db;
   } catch (const SQLite::Exception& e) {
-    throw util::InternalError(fmt::format("{}: cannot open the study store: {}", path, e.what()));
+    throw util::InternalError(fmt::format("{}: cannot open the study store (SQLite: {})", path, e.what()));
   }
 }
 

@@ -51,6 +51,7 @@ TEST(CliErrors, StudyStoreThatCannotBeOpenedExits3) {
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("demsa: internal error: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("SQLite"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find((dir / "study" / "study.db").string()), std::string::npos) << r.err;
 }
 
 TEST(CliErrors, StudyAnalyzesOnceTheFolderCanBeWritten) {
