@@ -6,6 +6,7 @@
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
+#include "orchestrator/util/text.hpp"
 #include "sobol/error.hpp"
 #include "sobol/saltelli.hpp"
 #include "sobol/scaling.hpp"
@@ -55,11 +56,8 @@ struct Parameters {
 };
 
 double parse_number(const std::string& text, const std::string& what) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end == text.c_str() || *end != '\0')
-    throw UserError(fmt::format("{}: '{}' is not a number", what, text));
-  return v;
+  if (const std::optional<double> v = util::parse_number(text)) return *v;
+  throw UserError(fmt::format("{}: '{}' is not a number", what, text));
 }
 
 /// --param NAME:LOW:HIGH[:log|uniform] (repeatable) or --dim D (names x1..xD on the unit cube).

@@ -2,6 +2,7 @@
 
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/text.hpp"
 #include "sobol/design.hpp"
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
@@ -23,13 +24,6 @@ namespace demsa::study {
 using namespace demsa::util;
 
 namespace {
-
-template <typename Range>
-std::string join(const Range& items, const std::string& separator = ", ") {
-  std::string out;
-  for (const auto& item : items) out += (out.empty() ? "" : separator) + std::string(item);
-  return out;
-}
 
 /// Reads one TOML table key by key: every key must be known (a row of settings.hpp), every value of the right
 /// type. Messages are "study.toml:LINE: [section] key: ...".

@@ -3,6 +3,7 @@
 #include "orchestrator/util/atomic_file.hpp"
 
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
 
@@ -18,13 +19,6 @@
 namespace demsa::util {
 
 namespace {
-
-std::string trim(const std::string& s) {
-  const std::size_t begin = s.find_first_not_of(" \t\r");
-  if (begin == std::string::npos) return {};
-  const std::size_t end = s.find_last_not_of(" \t\r");
-  return s.substr(begin, end - begin + 1);
-}
 
 std::vector<std::string> split_fields(const std::string& line) {
   std::vector<std::string> fields;

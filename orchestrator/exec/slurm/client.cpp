@@ -1,6 +1,7 @@
 #include "orchestrator/exec/slurm/client.hpp"
 
 #include "orchestrator/util/process.hpp"
+#include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
 
@@ -20,23 +21,10 @@ using namespace demsa::study;
 
 namespace fs = std::filesystem;
 
+using util::parse_long;
+using util::trim;
+
 namespace {
-
-std::string trim(const std::string& text) {
-  const auto begin = text.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return "";
-  const auto end = text.find_last_not_of(" \t\r\n");
-  return text.substr(begin, end - begin + 1);
-}
-
-std::optional<long> parse_long(const std::string& text) {
-  if (text.empty()) return std::nullopt;
-  char* end = nullptr;
-  errno = 0;
-  const long value = std::strtol(text.c_str(), &end, 10);
-  if (errno != 0 || end == text.c_str() || *end != '\0') return std::nullopt;
-  return value;
-}
 
 std::optional<double> parse_double(const std::string& text) {
   if (text.empty()) return std::nullopt;
