@@ -151,11 +151,9 @@ void CalibrateOptions::validate() const {
 CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
   options.validate();
   const fs::path& dir = options.dir;
-  if (!fs::exists(dir / "study.toml") || !fs::exists(dir / "study.db"))
-    throw UserError(
-        fmt::format("{}: not a study folder (no study.toml and study.db); run `demsa run` first", dir.string()));
-  const StudyConfig config = load_study(dir / "study.toml");
-  const Store store = Store::open_read_only((dir / "study.db").string());
+  require_study_folder(dir);
+  const StudyConfig config = load_study(dir / k_frozen_study);
+  const Store store = Store::open_read_only((dir / k_store_file).string());
   const std::vector<SampleRow> samples = store.samples();
   const std::map<int, std::map<std::string, double>> observables = store.observables();
 

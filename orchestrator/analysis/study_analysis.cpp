@@ -54,11 +54,9 @@ void AnalyzeOptions::validate() const {
 AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   options.validate();
   const fs::path& dir = options.dir;
-  const fs::path study_file = dir / "study.toml";
-  const fs::path db = dir / "study.db";
-  if (!fs::exists(study_file) || !fs::exists(db))
-    throw UserError(
-        fmt::format("{}: not a study folder (no study.toml and study.db); run `demsa run` first", dir.string()));
+  require_study_folder(dir);
+  const fs::path study_file = dir / k_frozen_study;
+  const fs::path db = dir / k_store_file;
   const StudyConfig config = load_study(study_file);
   const Store store = Store::open_read_only(db.string());
   const std::vector<SampleRow> samples = store.samples();

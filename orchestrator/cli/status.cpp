@@ -39,10 +39,10 @@ struct StatusArgs {
 /// the study is not a SLURM study. A problem here (no sbatch on this machine, squeue failing, the study file no
 /// longer parsing) is a warning on stderr and leaves status read-only: the counts below are still worth showing.
 int collect_submitted(const fs::path& dir) {
-  const fs::path frozen = dir / "study.toml";
+  const fs::path frozen = dir / k_frozen_study;
   try {
     if (StudyLock::holder(dir) != 0) return 0;
-    if (Store::open_read_only((dir / "study.db").string()).counts().running == 0) return 0;
+    if (Store::open_read_only((dir / k_store_file).string()).counts().running == 0) return 0;
     ExecutorKind kind = ExecutorKind::local;
     try {
       kind = load_study(frozen).run.executor;
@@ -69,7 +69,7 @@ int collect_submitted(const fs::path& dir) {
 
 int do_status(const StatusArgs& args) {
   const fs::path dir = args.dir;
-  const fs::path db = dir / "study.db";
+  const fs::path db = dir / k_store_file;
   if (!fs::exists(db)) throw UserError(fmt::format("{}: not a study folder (no study.db)", dir.string()));
   const int collected = collect_submitted(dir);
   const Store store = Store::open_read_only(db.string());
@@ -84,7 +84,7 @@ int do_status(const StatusArgs& args) {
   }
   int parallel = 1;
   try {
-    const StudyConfig config = load_study(dir / "study.toml");
+    const StudyConfig config = load_study(dir / k_frozen_study);
     if (config.run.executor == ExecutorKind::local) parallel = local_parallel(config.run, machine_cores());
   } catch (const UserError&) {
     parallel = 1;  // status still works on a study whose file no longer parses here

@@ -159,7 +159,9 @@ namespace {
 Store open_study(const StudyConfig& config, const fs::path& study_file, const fs::path& dir, bool new_study) {
   const fs::path db = dir / k_store_file;
   if (new_study) {
-    for (const char* name : {"study.db", "study.db-wal", "study.db-shm", k_design_file, "cases", "analysis"})
+    const std::string store = k_store_file;
+    for (const std::string& name : {store, store + "-wal", store + "-shm", std::string(k_design_file),
+                                    std::string(k_cases_folder), std::string(k_analysis_folder)})
       fs::remove_all(dir / name);
   }
   Store store(db.string());

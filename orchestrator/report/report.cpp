@@ -692,13 +692,11 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
 ReportSummary write_study_report(const ReportOptions& options) {
   options.validate();
   const fs::path& dir = options.dir;
-  if (!fs::exists(dir / "study.toml") || !fs::exists(dir / "study.db"))
-    throw UserError(
-        fmt::format("{}: not a study folder (no study.toml and study.db); run `demsa run` first", dir.string()));
+  require_study_folder(dir);
   StudyData s;
-  s.config = load_study(dir / "study.toml");
+  s.config = load_study(dir / k_frozen_study);
   {
-    const Store store = Store::open_read_only((dir / "study.db").string());
+    const Store store = Store::open_read_only((dir / k_store_file).string());
     s.samples = store.samples();
     s.observables = store.observables();
     s.runs = store.runs();

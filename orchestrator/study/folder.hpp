@@ -40,6 +40,10 @@ inline std::filesystem::path default_study_dir(const std::filesystem::path& stud
   return dir;
 }
 
+/// Throws UserError "DIR: not a study folder (no study.toml and study.db); run `demsa run` first" unless `dir`
+/// holds a frozen study file and a store.
+void require_study_folder(const std::filesystem::path& dir);
+
 /// Folder of a sample's case: DIR/cases/NNNNNN.
 std::filesystem::path case_dir(const std::filesystem::path& study_dir, int sample);
 
