@@ -32,20 +32,6 @@ fs::path copy_previous_version_study(const test::TempDir& tmp) {
   return dir;
 }
 
-/// Environment of the fake for one test: no failures, every start appended to STATE/starts.log.
-struct FakeEnvironment {
-  explicit FakeEnvironment(const fs::path& state) {
-    ::setenv("FAKE_LIGGGHTS_PLAN", "", 1);
-    ::setenv("FAKE_LIGGGHTS_STATE", state.c_str(), 1);
-    ::setenv("FAKE_LIGGGHTS_SECONDS", "0", 1);
-  }
-  ~FakeEnvironment() {
-    ::unsetenv("FAKE_LIGGGHTS_PLAN");
-    ::unsetenv("FAKE_LIGGGHTS_STATE");
-    ::unsetenv("FAKE_LIGGGHTS_SECONDS");
-  }
-};
-
 std::map<int, int> starts_per_sample(const fs::path& state) {
   std::map<int, int> starts;
   if (!fs::exists(state / "starts.log")) return starts;
@@ -91,7 +77,7 @@ TEST(PreviousVersion, RunMigratesTheStoreAndFinishesOnlyTheMissingSamples) {
   test::write_file(dir / k_frozen_study, toml);
   const fs::path state = tmp / "state";
   fs::create_directories(state);
-  const FakeEnvironment env(state);
+  const test::FakeLiggghtsEnvironment env("", state, 0);
 
   const test::CommandResult run =
       test::run_demsa({"run", (dir / k_frozen_study).string(), "--dir", dir.string(), "--quiet"});

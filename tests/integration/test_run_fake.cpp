@@ -62,27 +62,6 @@ std::string study_toml(const StudyText& s) {
 /// TMP/study.toml, the study of `s`.
 void write_study(const test::TempDir& tmp, const StudyText& s) { test::write_file(tmp / "study.toml", study_toml(s)); }
 
-/// `demsa run TMP/study.toml --dir TMP/study` followed by `more`.
-std::vector<std::string> run_args(const test::TempDir& tmp, const std::vector<std::string>& more) {
-  std::vector<std::string> args{"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string()};
-  args.insert(args.end(), more.begin(), more.end());
-  return args;
-}
-
-/// Environment of the fake for one test; removed again at the end.
-struct FakeEnvironment {
-  FakeEnvironment(const std::string& plan, const fs::path& state, double seconds) {
-    ::setenv("FAKE_LIGGGHTS_PLAN", plan.c_str(), 1);
-    ::setenv("FAKE_LIGGGHTS_STATE", state.c_str(), 1);
-    ::setenv("FAKE_LIGGGHTS_SECONDS", fmt::format("{}", seconds).c_str(), 1);
-  }
-  ~FakeEnvironment() {
-    ::unsetenv("FAKE_LIGGGHTS_PLAN");
-    ::unsetenv("FAKE_LIGGGHTS_STATE");
-    ::unsetenv("FAKE_LIGGGHTS_SECONDS");
-  }
-};
-
 /// The file's text, or "" when it does not exist (yet, or any more).
 std::string read_if_exists(const fs::path& path) {
   std::ifstream in(path);
@@ -146,9 +125,9 @@ TEST(RunFake, EveryFailureClassRetriesTimeoutAndAnalysis) {
   s.timeout = 4.0;
   s.retries = 1;
   write_study(tmp, s);
-  FakeEnvironment env("1:error,2:nan,3:exit,4:signal,5:hang,6:nodump,7:truncated,8:lost,9:flaky,10:offpedestal",
-                      tmp.path(), 0.0);
-  const test::CommandResult run = test::run_demsa(run_args(tmp, {"--progress-interval", "1"}));
+  test::FakeLiggghtsEnvironment env(
+      "1:error,2:nan,3:exit,4:signal,5:hang,6:nodump,7:truncated,8:lost,9:flaky,10:offpedestal", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--progress-interval", "1"}));
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;  // failures left
   EXPECT_NE(run.out.find("5 of 14 samples done"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("Sobol' S1 of angle"), std::string::npos) << run.out;
@@ -192,7 +171,7 @@ TEST(RunFake, EveryFailureClassRetriesTimeoutAndAnalysis) {
   EXPECT_NE(booted.dump().find("design-bootstrap refits of rbf-cubic succeeded"), std::string::npos);
 
   // A second run retries the failed samples (same plan: they fail again) and repeats no done sample.
-  const test::CommandResult again = test::run_demsa(run_args(tmp, {"--no-analyze", "--quiet"}));
+  const test::CommandResult again = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
   EXPECT_EQ(again.exit_code, 1);
   const std::map<int, int> after = starts_per_sample(tmp.path());
   EXPECT_EQ(after.at(0), 1);
@@ -205,8 +184,8 @@ TEST(RunFake, ResumeAfterSigkillAtRandomMomentsDoesEachSampleExactlyOnce) {
   StudyText s;
   s.samples = 10;
   write_study(tmp, s);
-  FakeEnvironment env("", tmp.path(), 0.4);
-  const std::vector<std::string> args = run_args(tmp, {"--no-analyze", "--quiet"});
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.4);
+  const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
   std::mt19937 rng(2024);
   std::uniform_int_distribution<int> delay_ms(150, 1200);
   for (int round = 0; round < 6; ++round) {
@@ -231,8 +210,8 @@ TEST(RunFake, GpSettingsOfTheStudyReachAnalyzeAndCalibrate) {
       "metamodels = [\"gp\"]\nbootstrap = 0\nbase_samples = 512\nsecond_order = false\ngp_kernel = \"matern52\"\n"
       "gp_trend = \"linear\"\ngp_nugget = true\n";
   write_study(tmp, s);
-  FakeEnvironment env("", tmp.path(), 0.0);
-  const test::CommandResult run = test::run_demsa(run_args(tmp, {"--quiet"}));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet"}));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const nlohmann::json analysis = nlohmann::json::parse(test::read_file(tmp / "study" / "analysis" / "analysis.json"));
   const std::string text = analysis.dump();
@@ -254,9 +233,9 @@ TEST(RunFake, SigintStopsTheCasesAndTheStudyResumes) {
   StudyText s;
   s.samples = 4;
   write_study(tmp, s);
-  const std::vector<std::string> args = run_args(tmp, {"--no-analyze", "--quiet"});
+  const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
   {
-    FakeEnvironment env("", tmp.path(), 30.0);
+    test::FakeLiggghtsEnvironment env("", tmp.path(), 30.0);
     const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
     wait_until([&] { return starts_per_sample(tmp.path()).size() >= 2; }, 4s);
     ASSERT_EQ(starts_per_sample(tmp.path()).size(), 2u);  // two cases at once
@@ -278,7 +257,7 @@ TEST(RunFake, SigintStopsTheCasesAndTheStudyResumes) {
     EXPECT_EQ(store.counts().running, 0);
     EXPECT_EQ(store.runs_in_state(RunState::requeued).size(), 2u);
   }
-  FakeEnvironment env("", tmp.path(), 0.0);
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
   const test::CommandResult resumed = test::run_demsa(args);
   EXPECT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
   expect_each_sample_done_exactly_once(tmp / "study", tmp.path(), s.samples);
@@ -291,8 +270,8 @@ TEST(RunFake, OedometerPlateNotConvergedIsAFailureClass) {
   s.samples = 6;
   s.extra = "\n[oedometer]\nparticles = 200\n";
   write_study(tmp, s);
-  FakeEnvironment env("2:plate", tmp.path(), 0.0);
-  const test::CommandResult run = test::run_demsa(run_args(tmp, {"--no-analyze", "--quiet"}));
+  test::FakeLiggghtsEnvironment env("2:plate", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   const test::CommandResult status = test::run_demsa({"status", (tmp / "study").string(), "--json"});
   const nlohmann::json j = nlohmann::json::parse(status.out);
@@ -313,8 +292,8 @@ TEST(RunFake, DryRunWritesEveryCaseAndRunsNothing) {
   StudyText s;
   s.samples = 5;
   write_study(tmp, s);
-  FakeEnvironment env("", tmp.path(), 0.0);
-  const test::CommandResult run = test::run_demsa(run_args(tmp, {"--dry-run"}));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--dry-run"}));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   for (int k = 0; k < 5; ++k) EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / fmt::format("{:06d}", k) / "run.sh"));
   EXPECT_TRUE(fs::exists(tmp / "study" / "design.csv"));
@@ -326,20 +305,20 @@ TEST(RunFake, ChangedDesignIsRefusedUnlessNew) {
   StudyText s;
   s.samples = 4;
   write_study(tmp, s);
-  ASSERT_EQ(test::run_demsa(run_args(tmp, {"--dry-run"})).exit_code, 0);
+  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--dry-run"})).exit_code, 0);
   s.samples = 6;
   write_study(tmp, s);
-  const test::CommandResult refused = test::run_demsa(run_args(tmp, {}));
+  const test::CommandResult refused = test::run_demsa(test::run_args(tmp, {}));
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("design-relevant settings differ"), std::string::npos) << refused.err;
   // [run] settings may change freely.
   s.samples = 4;
   s.retries = 3;
   write_study(tmp, s);
-  EXPECT_EQ(test::run_demsa(run_args(tmp, {"--dry-run"})).exit_code, 0);
+  EXPECT_EQ(test::run_demsa(test::run_args(tmp, {"--dry-run"})).exit_code, 0);
   s.samples = 6;
   write_study(tmp, s);
-  const test::CommandResult renewed = test::run_demsa(run_args(tmp, {"--dry-run", "--new"}));
+  const test::CommandResult renewed = test::run_demsa(test::run_args(tmp, {"--dry-run", "--new"}));
   EXPECT_EQ(renewed.exit_code, 0) << renewed.err;
   EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / "000005" / "run.sh"));
 }

@@ -34,41 +34,21 @@ std::string study_text(const std::string& pile) {
       .text();
 }
 
-std::vector<std::string> run_args(const test::TempDir& tmp, std::vector<std::string> more) {
-  std::vector<std::string> args{"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string()};
-  args.insert(args.end(), more.begin(), more.end());
-  return args;
-}
-
-/// The fake's environment for one test: no failures, instant cases.
-struct FakeEnvironment {
-  explicit FakeEnvironment(const fs::path& state) {
-    ::setenv("FAKE_LIGGGHTS_PLAN", "", 1);
-    ::setenv("FAKE_LIGGGHTS_STATE", state.c_str(), 1);
-    ::setenv("FAKE_LIGGGHTS_SECONDS", "0", 1);
-  }
-  ~FakeEnvironment() {
-    ::unsetenv("FAKE_LIGGGHTS_PLAN");
-    ::unsetenv("FAKE_LIGGGHTS_STATE");
-    ::unsetenv("FAKE_LIGGGHTS_SECONDS");
-  }
-};
-
 TEST(RunSettings, FinishedStudyWithChangedLevelsIsRefusedNamingTheKey) {
   test::TempDir tmp;
-  FakeEnvironment env(tmp.path());
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0);
   test::write_file(tmp / "study.toml", study_text("particles = 300\n"));
-  const test::CommandResult first = test::run_demsa(run_args(tmp, {"--no-analyze", "--quiet"}));
+  const test::CommandResult first = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
   ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
   // The angle of every finished case was measured on 10 levels; 12 would mix two measurements in one table.
   test::write_file(tmp / "study.toml", study_text("particles = 300\nlevels = 12\n"));
-  const test::CommandResult refused = test::run_demsa(run_args(tmp, {"--no-analyze", "--quiet"}));
+  const test::CommandResult refused = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
   EXPECT_EQ(refused.exit_code, 2) << refused.out << refused.err;
   EXPECT_NE(refused.err.find("design-relevant settings differ"), std::string::npos) << refused.err;
   EXPECT_NE(refused.err.find("changed: [pile] levels: 10 -> 12"), std::string::npos) << refused.err;
   // [run] may change; the study as it was resumes.
   test::write_file(tmp / "study.toml", study_text("particles = 300\n") + "\n");
-  const test::CommandResult again = test::run_demsa(run_args(tmp, {"--no-analyze", "--quiet"}));
+  const test::CommandResult again = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
   EXPECT_EQ(again.exit_code, 0) << again.out << again.err;
 }
 
@@ -76,9 +56,9 @@ TEST(RunSettings, StoreOfThePreviousVersionResumes) {
   // 08d437ffe546bf8f: the design hash the previous version (commit 6807f91) stored for this study (its demsa run
   // --dry-run, read from study.db). A store that holds it must resume.
   test::TempDir tmp;
-  FakeEnvironment env(tmp.path());
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0);
   test::write_file(tmp / "study.toml", study_text("particles = 300\n"));
-  ASSERT_EQ(test::run_demsa(run_args(tmp, {"--dry-run"})).exit_code, 0);
+  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--dry-run"})).exit_code, 0);
   const fs::path db = tmp / "study" / "study.db";
   {
     SQLite::Database store(db.string(), SQLite::OPEN_READWRITE);
@@ -87,7 +67,7 @@ TEST(RunSettings, StoreOfThePreviousVersionResumes) {
     EXPECT_EQ(q.getColumn(0).getString(), "08d437ffe546bf8f");
     store.exec("UPDATE meta SET value = '08d437ffe546bf8f' WHERE key = 'design_hash'");
   }
-  const test::CommandResult resumed = test::run_demsa(run_args(tmp, {"--no-analyze", "--quiet"}));
+  const test::CommandResult resumed = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
   EXPECT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
   const Store store = Store::open_read_only(db.string());
   EXPECT_EQ(store.design_hash().value_or(""), "08d437ffe546bf8f");

@@ -110,6 +110,24 @@ void write_file(const fs::path& path, const std::string& text) {
 
 fs::path data_path(const std::string& relative) { return fs::path(DEMSA_TEST_DATA_DIR) / relative; }
 
+FakeLiggghtsEnvironment::FakeLiggghtsEnvironment(const std::string& plan, const fs::path& state, double seconds) {
+  ::setenv("FAKE_LIGGGHTS_PLAN", plan.c_str(), 1);
+  ::setenv("FAKE_LIGGGHTS_STATE", state.c_str(), 1);
+  ::setenv("FAKE_LIGGGHTS_SECONDS", fmt::format("{}", seconds).c_str(), 1);
+}
+
+FakeLiggghtsEnvironment::~FakeLiggghtsEnvironment() {
+  ::unsetenv("FAKE_LIGGGHTS_PLAN");
+  ::unsetenv("FAKE_LIGGGHTS_STATE");
+  ::unsetenv("FAKE_LIGGGHTS_SECONDS");
+}
+
+std::vector<std::string> run_args(const TempDir& tmp, const std::vector<std::string>& more) {
+  std::vector<std::string> args{"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string()};
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
 std::string fake_liggghts_run_lines() {
   const fs::path dir = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
   return fmt::format("liggghts = \"{}\"\nmpirun = \"{}\"\n", (dir / "liggghts").string(), (dir / "mpirun").string());

@@ -50,6 +50,19 @@ std::string message_of(F&& f) {
 /// Path of a file under tests/data.
 std::filesystem::path data_path(const std::string& relative);
 
+/// The fake LIGGGHTS's environment (tests/integration/fake_liggghts) for one test, removed again at the end: `plan`
+/// (FAKE_LIGGGHTS_PLAN, "" = no failures), `state` (FAKE_LIGGGHTS_STATE: its starts.log and markers) and the
+/// seconds each case takes (FAKE_LIGGGHTS_SECONDS).
+struct FakeLiggghtsEnvironment {
+  FakeLiggghtsEnvironment(const std::string& plan, const std::filesystem::path& state, double seconds);
+  ~FakeLiggghtsEnvironment();
+  FakeLiggghtsEnvironment(const FakeLiggghtsEnvironment&) = delete;
+  FakeLiggghtsEnvironment& operator=(const FakeLiggghtsEnvironment&) = delete;
+};
+
+/// `demsa run TMP/study.toml --dir TMP/study` followed by `more`.
+std::vector<std::string> run_args(const TempDir& tmp, const std::vector<std::string>& more);
+
 /// [run] lines that run the cases with the fake LIGGGHTS and mpirun of tests/integration/fake_liggghts
 /// (`liggghts = ...` and `mpirun = ...`).
 std::string fake_liggghts_run_lines();
