@@ -85,22 +85,10 @@ std::string data_header(const std::string& title, int atoms, double half_x, doub
 
 double smallest_radius(const std::vector<double>& radii) { return *std::min_element(radii.begin(), radii.end()); }
 
-/// The member of Material that holds each contact parameter (study/parameters.hpp names them).
-constexpr std::array<std::pair<std::string_view, double Material::*>, 7> k_material_members{{
-    {"E", &Material::E},
-    {"nu", &Material::nu},
-    {"mu_pp", &Material::mu_pp},
-    {"mu_pw", &Material::mu_pw},
-    {"e_r", &Material::e_r},
-    {"mu_r_pp", &Material::mu_r_pp},
-    {"mu_r_pw", &Material::mu_r_pw},
-}};
-
 double contact_value(const Material& m, std::string_view key) {
-  for (const auto& [name, member] : k_material_members)
-    if (name == key) return m.*member;
-  assert(false && "contact parameter without a Material member");
-  return 0.0;
+  const auto member = material_member(key);
+  assert(member && "contact parameter without a Material member");
+  return m.*member;
 }
 
 /// "Young's modulus [Pa], LIGGGHTS youngsModulus": the comment of a contact parameter in params.liggghts.

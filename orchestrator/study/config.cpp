@@ -12,6 +12,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <fstream>
@@ -371,28 +372,29 @@ StudyConfig load_study(const std::filesystem::path& file) {
   return c;
 }
 
+double Material::*material_member(std::string_view key) {
+  // One entry per contact parameter of study/parameters.hpp, in the paper's order.
+  static constexpr std::array<std::pair<std::string_view, double Material::*>, 7> members{{
+      {"E", &Material::E},
+      {"nu", &Material::nu},
+      {"mu_pp", &Material::mu_pp},
+      {"mu_pw", &Material::mu_pw},
+      {"e_r", &Material::e_r},
+      {"mu_r_pp", &Material::mu_r_pp},
+      {"mu_r_pw", &Material::mu_r_pw},
+  }};
+  for (const auto& [name, member] : members)
+    if (name == key) return member;
+  return nullptr;
+}
+
 Material material_for(const StudyConfig& config, const std::vector<double>& physical) {
   assert(physical.size() == config.parameters.size());
   Material m = config.material;
   for (std::size_t i = 0; i < physical.size(); ++i) {
-    const std::string& n = config.parameters[i].name;
-    const double v = physical[i];
-    if (n == "E")
-      m.E = v;
-    else if (n == "nu")
-      m.nu = v;
-    else if (n == "mu_pp")
-      m.mu_pp = v;
-    else if (n == "mu_pw")
-      m.mu_pw = v;
-    else if (n == "e_r")
-      m.e_r = v;
-    else if (n == "mu_r_pp")
-      m.mu_r_pp = v;
-    else if (n == "mu_r_pw")
-      m.mu_r_pw = v;
-    else
-      assert(false && "unknown parameter name in config.parameters");
+    const auto member = material_member(config.parameters[i].name);
+    assert(member && "unknown parameter name in config.parameters");
+    m.*member = physical[i];
   }
   return m;
 }

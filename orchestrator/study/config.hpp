@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace demsa::study {
@@ -180,6 +181,10 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
 /// A stable hash (16 hex digits, FNV-1a 64) of the settings whose effect is cases or measurement (settings.hpp:
 /// design_hash_text): everything but [run] and [analysis], except run.ranks (a result depends on the rank count).
 std::string design_hash(const StudyConfig& config);
+
+/// The member of Material that holds the contact parameter `key` (a key of contact_parameters()); nullptr for any
+/// other name.
+double Material::*material_member(std::string_view key);
 
 /// Material values for one sample: config.material with the varied parameters set from `physical`
 /// (ordered as config.parameters).
