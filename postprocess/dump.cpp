@@ -1,5 +1,7 @@
 #include "postprocess/dump.hpp"
 
+#include "postprocess/text.hpp"
+
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -35,21 +37,6 @@ std::vector<std::string_view> split(std::string_view s) {
     if (i > start) out.push_back(s.substr(start, i - start));
   }
   return out;
-}
-
-/// A value from the user's file, fit to print: at most 40 characters, non-printable bytes as \xNN.
-std::string shown(std::string_view s) {
-  std::string out;
-  const std::size_t limit = 40;
-  for (std::size_t i = 0; i < s.size() && i < limit; ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    if (c >= 0x20 && c < 0x7f)
-      out += static_cast<char>(c);
-    else
-      out += fmt::format("\\x{:02x}", c);
-  }
-  if (s.size() > limit) out += "...";
-  return "'" + out + "'";
 }
 
 std::string join(const std::vector<std::string_view>& parts) {
@@ -136,6 +123,7 @@ struct DumpReader::Impl {
   bool line_base_known = true;     // false when reading started mid-file (read_last_frame)
   long line_base = 0;              // lines before start_offset, once known
   std::size_t frames = 0;
+  std::size_t previous_atoms = 0;  // atom rows of the frame read last (for messages about what follows it)
 
   ~Impl() {
     if (file != nullptr) std::fclose(file);
@@ -277,7 +265,7 @@ bool DumpReader::Impl::read_frame(DumpFrame& frame) {
       fail(line, fmt::format("expected 'ITEM: TIMESTEP', found {}: not a LIGGGHTS text dump", shown(trim(text))));
     fail(line, fmt::format("expected 'ITEM: TIMESTEP' after the {} atom rows of the previous frame, found {} "
                            "(more rows than NUMBER OF ATOMS?)",
-                           frame.atom_count, shown(trim(text))));
+                           previous_atoms, shown(trim(text))));
   }
   const long frame_line = line;
   frame.file = name;
@@ -337,6 +325,7 @@ bool DumpReader::Impl::read_frame(DumpFrame& frame) {
 
   frame.atom_count = static_cast<std::size_t>(count);
   read_rows(frame);
+  previous_atoms = frame.atom_count;
   ++frames;
   return true;
 }
@@ -562,6 +551,22 @@ Particles particles_from_frame(const DumpFrame& frame, int only_type) {
     p.z.push_back(c[2]);
     p.radius.push_back(radius[i]);
   }
+  // An id names one atom (LAMMPS atom_modify id yes): two rows with one id are a corrupt dump, and every observable
+  // matched or counted by id would silently take one of them.
+  std::vector<std::pair<double, std::size_t>> by_id(n);
+  for (std::size_t i = 0; i < n; ++i) by_id[i] = {id[i], i};
+  std::sort(by_id.begin(), by_id.end());
+  for (std::size_t k = 1; k < n; ++k)
+    if (by_id[k].first == by_id[k - 1].first) {
+      const std::size_t first = by_id[k - 1].second, second = by_id[k].second;
+      const long line = frame.atoms_line > 0 ? frame.atoms_line + static_cast<long>(second) + 1 : 0;
+      const std::string where =
+          frame.atoms_line > 0 ? fmt::format("lines {} and {}", frame.atoms_line + static_cast<long>(first) + 1, line)
+                               : fmt::format("atom rows {} and {}", first + 1, second + 1);
+      throw ParseError(frame.file, line,
+                       fmt::format("atom id {} appears twice in the frame of time step {} ({})",
+                                   static_cast<std::int64_t>(by_id[k].first), frame.timestep, where));
+    }
   return p;
 }
 

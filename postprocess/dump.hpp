@@ -129,8 +129,9 @@ struct Particles {
 };
 
 /// Particles from a frame that has `id type radius` and either `x y z`, unwrapped `xu yu zu`, or scaled `xs ys zs`
-/// (scaled coordinates are unscaled with the box; orthogonal boxes only). Rows whose id or type is not an integer
-/// throw ParseError. `only_type` > 0 keeps only atoms of that type (demsa: type 1 = particles, 2 = walls).
+/// (scaled coordinates are unscaled with the box; orthogonal boxes only). Rows whose id or type is not an integer,
+/// and an id on two rows (file, line, time step and id in the message), throw ParseError. `only_type` > 0 keeps only
+/// atoms of that type (demsa: type 1 = particles, 2 = walls).
 Particles particles_from_frame(const DumpFrame& frame, int only_type = 0);
 
 /// particles_from_frame(read_last_frame(path, options), only_type) with `id type radius` added to the required

@@ -94,8 +94,16 @@ DumpComparison compare_particles(const Particles& a, const Particles& b, const C
                                          out.radius_mismatches, options.radius_tolerance, out.max_radius_difference));
 
   if (options.pile) {
-    const PileAngleResult pa = measure_pile_angle(a, options.pile_options);
-    const PileAngleResult pb = measure_pile_angle(b, options.pile_options);
+    // The pile measure knows particles, not files: say which of the two it failed on.
+    auto measure = [&options](const Particles& p, const std::string& name) {
+      try {
+        return measure_pile_angle(p, options.pile_options);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", name, e.what()));
+      }
+    };
+    const PileAngleResult pa = measure(a, name_a);
+    const PileAngleResult pb = measure(b, name_b);
     PileDifference d;
     d.angle_a = pa.angle_mean;
     d.angle_b = pb.angle_mean;

@@ -6,12 +6,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <istream>
-#include <sstream>
 #include <string_view>
 
 namespace demsa::postprocess {
@@ -72,32 +68,30 @@ class ThermoParser {
   std::vector<double> m_values;
 };
 
+/// Lines of a log: a LIGGGHTS log never has a line near 1 MiB; a longer one is binary data, not a log.
+constexpr std::size_t k_max_line_bytes = std::size_t{1} << 20;
+/// read_liggghts_log keeps every thermo row (about as many bytes as the text): larger logs are streamed by
+/// scan_thermo instead.
+constexpr std::uint64_t k_max_log_bytes = std::uint64_t{1} << 30;
+
 /// Calls `line(text, line_no)` for every line of `in`, without its '\n' and a '\r' before it.
 template <class F>
-void for_each_line(std::istream& in, const std::string& name, F&& line) {
+void for_each_line(LineReader& in, F&& line) {
+  std::string_view view;
   std::string raw;
-  long line_no = 0;
-  while (std::getline(in, raw)) {
-    ++line_no;
-    if (!raw.empty() && raw.back() == '\r') raw.pop_back();
-    if (!line(raw, line_no)) return;
+  while (in.next(view)) {
+    raw.assign(view);
+    if (!line(raw, in.line())) return;
   }
-  if (in.bad()) throw ParseError(name, line_no + 1, "read error");
 }
 
-std::ifstream open_log(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path.string(), 0, fmt::format("cannot open: {}", std::strerror(errno)));
-  return in;
-}
-
-LiggghtsLog parse_log(std::istream& in, const std::string& name) {
+LiggghtsLog parse_log(LineReader& in) {
   LiggghtsLog log;
   ThermoParser thermo;
   bool have_atoms = false;
   double last_atoms = 0.0;
   long lost_reported = -1;
-  for_each_line(in, name, [&](const std::string& raw, long line_no) {
+  for_each_line(in, [&](const std::string& raw, long line_no) {
     const ThermoParser::Kind kind = thermo.feed(raw, line_no);
     if (kind == ThermoParser::Kind::row) {
       ThermoBlock& block = log.thermo.back();
@@ -178,33 +172,38 @@ int ThermoBlock::kinetic_energy_column() const {
 }
 
 LiggghtsLog parse_liggghts_log(const std::string& text) {
-  std::istringstream in(text);
-  return parse_log(in, "log text");
+  LineReader in = LineReader::of_text(text, "log text", {k_max_line_bytes, k_max_log_bytes});
+  return parse_log(in);
 }
 
 LiggghtsLog read_liggghts_log(const std::filesystem::path& path) {
-  std::ifstream in = open_log(path);
-  return parse_log(in, path.string());
+  LineReader in(path, {k_max_line_bytes, k_max_log_bytes});
+  return parse_log(in);
 }
 
 void scan_thermo(const std::filesystem::path& path, const std::function<bool(const ThermoRow&)>& visit) {
-  std::ifstream in = open_log(path);
+  LineReader in(path, {k_max_line_bytes, 0});
   ThermoParser thermo;
-  for_each_line(in, path.string(), [&](const std::string& raw, long line_no) {
+  for_each_line(in, [&](const std::string& raw, long line_no) {
     if (thermo.feed(raw, line_no) != ThermoParser::Kind::row) return true;
     return visit(ThermoRow{thermo.block(), line_no, thermo.words(), thermo.values()});
   });
 }
 
 std::string first_error_line(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec) || !std::filesystem::exists(path, ec)) return {};
   std::string found;
-  for_each_line(in, path.string(), [&](const std::string& raw, long) {
-    const std::string trimmed = trim_left(raw);
-    if (is_error_line(trimmed)) found = trimmed;
-    return found.empty();
-  });
+  try {
+    LineReader in(path, {k_max_line_bytes, 0});
+    for_each_line(in, [&](const std::string& raw, long) {
+      const std::string trimmed = trim_left(raw);
+      if (is_error_line(trimmed)) found = trimmed;
+      return found.empty();
+    });
+  } catch (const ParseError&) {
+    // Unreadable, or binary data after the lines read (a node that died mid-write): no ERROR line before it.
+  }
   return found;
 }
 

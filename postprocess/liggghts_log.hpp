@@ -56,7 +56,8 @@ struct LiggghtsLog {
 /// Reads the log at `path`. Lines it does not recognise are skipped (a log also echoes the input script); a thermo
 /// row that is cut short (a killed run) ends its block. A thermo row is a line of as many numbers as the header
 /// names columns, `nan` and `inf` included (a blown-up run prints them). An ERROR line starts, after blanks, with
-/// `ERROR:` or `ERROR on proc N:`. Throws ParseError only when the file cannot be read.
+/// `ERROR:` or `ERROR on proc N:`. Throws ParseError when the file cannot be read, has a line over 1 MiB (binary
+/// data, not a log) or is over 1 GiB (every thermo row is kept: stream such a log with scan_thermo).
 LiggghtsLog read_liggghts_log(const std::filesystem::path& path);
 
 /// The same from text held in memory.
@@ -72,12 +73,12 @@ struct ThermoRow {
 
 /// Streams the thermo rows of the log at `path` in file order with the rules of read_liggghts_log, holding one row
 /// at a time (a log can be hundreds of MB). `visit` returns false to stop the scan. Throws ParseError when the
-/// file cannot be read.
+/// file cannot be read or has a line over 1 MiB.
 void scan_thermo(const std::filesystem::path& path, const std::function<bool(const ThermoRow&)>& visit);
 
 /// The first ERROR line of a LIGGGHTS log, screen output or any text file (the rule of read_liggghts_log), as
 /// written without its leading blanks (`ERROR: Lost atoms: ... (../thermo.cpp:407)`); "" when it has none or does
-/// not exist. Streams the file.
+/// not exist. Streams the file; a line over 1 MiB (binary data) ends the search.
 std::string first_error_line(const std::filesystem::path& path);
 
 }  // namespace demsa::postprocess

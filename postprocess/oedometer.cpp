@@ -18,15 +18,9 @@ namespace demsa::postprocess {
 
 namespace {
 
-std::string read_text(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw ParseError(path.string(), 0, "is a directory, not a plate file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path.string(), 0, fmt::format("cannot open: {}", std::strerror(errno)));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+/// Plate files are small (one short row per output step, a few MB for millions of steps): a longer line or a larger
+/// file is not a plate file. 64 MiB of rows of 4 values hold at most 8 M rows (≈ 0.6 GB parsed).
+constexpr LineLimits k_plate_limits{std::size_t{1} << 16, std::uint64_t{64} << 20};
 
 /// A whitespace table with `#` comments. `header_key` is the first column name that marks the column header
 /// comment (`# step ...`); the last such comment before the first row names the columns.
@@ -36,16 +30,15 @@ struct Table {
   std::vector<long> lines;  // file line of each row
 };
 
-Table read_table(const std::filesystem::path& path, const std::string& header_key,
-                 const std::vector<std::string>& default_columns) {
-  const std::string text = read_text(path);
-  std::istringstream in(text);
+Table read_table(LineReader& in, const std::string& header_key, const std::vector<std::string>& default_columns) {
+  const std::string& path = in.name();
+  std::string_view view;
   std::string raw;
-  long line_no = 0;
   Table table;
   bool have_header = false;
-  while (std::getline(in, raw)) {
-    ++line_no;
+  while (in.next(view)) {
+    const long line_no = in.line();
+    raw.assign(view);
     const std::size_t first = raw.find_first_not_of(" \t\r");
     if (first == std::string::npos) continue;
     if (raw[first] == '#') {
@@ -60,7 +53,7 @@ Table read_table(const std::filesystem::path& path, const std::string& header_ke
     if (!have_header) {
       if (default_columns.empty())
         throw ParseError(
-            path.string(), line_no,
+            path, line_no,
             fmt::format("data row before the column header (a comment line starting with '# {}')", header_key));
       table.columns = default_columns;
       have_header = true;
@@ -68,13 +61,12 @@ Table read_table(const std::filesystem::path& path, const std::string& header_ke
     const std::vector<std::string> words = split_words(raw);
     if (words.size() != table.columns.size())
       throw ParseError(
-          path.string(), line_no,
+          path, line_no,
           fmt::format("row has {} values, the header names {} columns", words.size(), table.columns.size()));
     std::vector<double> row(words.size());
     for (std::size_t c = 0; c < words.size(); ++c)
       if (!parse_double(words[c], row[c], true))
-        throw ParseError(path.string(), line_no,
-                         fmt::format("column '{}': '{}' is not a number", table.columns[c], words[c]));
+        throw ParseError(path, line_no, fmt::format("column '{}': '{}' is not a number", table.columns[c], words[c]));
     table.rows.push_back(std::move(row));
     table.lines.push_back(line_no);
   }
@@ -87,28 +79,50 @@ int find_column(const Table& table, const std::string& name) {
   return -1;
 }
 
-int require_column(const Table& table, const std::filesystem::path& path, const std::string& name) {
+int require_column(const Table& table, const std::string& path, const std::string& name) {
   const int c = find_column(table, name);
   if (c < 0) {
     std::string names;
     for (const std::string& n : table.columns) names += " " + n;
-    throw ParseError(path.string(), 0, fmt::format("no column '{}' (columns:{})", name, names));
+    throw ParseError(path, 0, fmt::format("no column '{}' (columns:{})", name, names));
   }
   return c;
 }
 
-long whole(const std::filesystem::path& path, long line, const std::string& column, double value) {
+long whole(const std::string& path, long line, const std::string& column, double value) {
   if (value != std::floor(value) || std::fabs(value) > 9.0e15)
-    throw ParseError(path.string(), line, fmt::format("column '{}': {} is not an integer", column, value));
+    throw ParseError(path, line, fmt::format("column '{}': {} is not an integer", column, value));
   return static_cast<long>(value);
 }
 
-}  // namespace
+/// Bounds of a plausible plate row: the loads of an oedometer only grow (paper §4: 100 N, then larger steps), and
+/// no DEM box holding a plate is a kilometre across. A value outside is a corrupt or foreign file, and would give
+/// settlements that are wrong without a sign in the numbers.
+constexpr double k_max_position_m = 1.0e3;
 
-PlateHistory read_plate_history(const std::filesystem::path& path) {
-  const Table table = read_table(path, "step", {});
+void check_row(const std::string& path, const Table& table, std::size_t i, int c_load, int c_z, const char* what) {
+  const std::vector<double>& row = table.rows[i];
+  const long line = table.lines[i];
+  const double load = row[static_cast<std::size_t>(c_load)];
+  const double z = row[static_cast<std::size_t>(c_z)];
+  if (load < 0.0) throw ParseError(path, line, fmt::format("column 'load_N': {} is negative", load));
+  if (std::fabs(z) > k_max_position_m)
+    throw ParseError(path, line,
+                     fmt::format("column 'plate_z_m': {} m is not a plate position (|z| > {} m)", z, k_max_position_m));
+  if (i > 0) {
+    const double previous = table.rows[i - 1][static_cast<std::size_t>(c_load)];
+    if (load < previous)
+      throw ParseError(path, line,
+                       fmt::format("column 'load_N': {} is below the {} of line {}: the loads of {} must not decrease",
+                                   load, previous, table.lines[i - 1], what));
+  }
+}
+
+PlateHistory plate_history_from(LineReader& in) {
+  const std::string& path = in.name();
+  const Table table = read_table(in, "step", {});
   PlateHistory h;
-  h.file = path.string();
+  h.file = path;
   h.columns = table.columns;
   if (table.columns.empty()) {
     if (table.rows.empty()) return h;
@@ -121,6 +135,7 @@ PlateHistory read_plate_history(const std::filesystem::path& path) {
   const int c_delta = find_column(table, "delta_m");
   const int c_acc = find_column(table, "accepted");
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    check_row(path, table, i, c_load, c_z, "a plate history");
     const std::vector<double>& row = table.rows[i];
     const long line = table.lines[i];
     h.step.push_back(whole(path, line, "step", row[static_cast<std::size_t>(c_step)]));
@@ -128,19 +143,26 @@ PlateHistory read_plate_history(const std::filesystem::path& path) {
     h.plate_z_m.push_back(row[static_cast<std::size_t>(c_z)]);
     h.force_N.push_back(row[static_cast<std::size_t>(c_force)]);
     if (c_trial >= 0) h.trial.push_back(whole(path, line, "trial", row[static_cast<std::size_t>(c_trial)]));
-    if (c_delta >= 0) h.delta_m.push_back(row[static_cast<std::size_t>(c_delta)]);
+    if (c_delta >= 0) {
+      const double delta = row[static_cast<std::size_t>(c_delta)];
+      if (std::fabs(delta) > k_max_position_m)
+        throw ParseError(
+            path, line,
+            fmt::format("column 'delta_m': {} m is not a trial step (|delta| > {} m)", delta, k_max_position_m));
+      h.delta_m.push_back(delta);
+    }
     if (c_acc >= 0) {
       const double a = row[static_cast<std::size_t>(c_acc)];
-      if (a != 0.0 && a != 1.0)
-        throw ParseError(path.string(), line, fmt::format("column 'accepted': {} is not 0 or 1", a));
+      if (a != 0.0 && a != 1.0) throw ParseError(path, line, fmt::format("column 'accepted': {} is not 0 or 1", a));
       h.accepted.push_back(static_cast<int>(a));
     }
   }
   return h;
 }
 
-std::vector<PlateState> read_plate_states(const std::filesystem::path& path) {
-  const Table table = read_table(path, "load_N", {"load_N", "plate_z_m", "force_N", "converged"});
+std::vector<PlateState> plate_states_from(LineReader& in) {
+  const std::string& path = in.name();
+  const Table table = read_table(in, "load_N", {"load_N", "plate_z_m", "force_N", "converged"});
   std::vector<PlateState> states;
   if (table.rows.empty()) return states;
   const int c_load = require_column(table, path, "load_N");
@@ -148,6 +170,7 @@ std::vector<PlateState> read_plate_states(const std::filesystem::path& path) {
   const int c_force = require_column(table, path, "force_N");
   const int c_conv = require_column(table, path, "converged");
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    check_row(path, table, i, c_load, c_z, "the load states");
     const std::vector<double>& row = table.rows[i];
     PlateState s;
     s.load_N = row[static_cast<std::size_t>(c_load)];
@@ -155,11 +178,33 @@ std::vector<PlateState> read_plate_states(const std::filesystem::path& path) {
     s.force_N = row[static_cast<std::size_t>(c_force)];
     const double conv = row[static_cast<std::size_t>(c_conv)];
     if (conv != 0.0 && conv != 1.0)
-      throw ParseError(path.string(), table.lines[i], fmt::format("column 'converged': {} is not 0 or 1", conv));
+      throw ParseError(path, table.lines[i], fmt::format("column 'converged': {} is not 0 or 1", conv));
     s.converged = conv == 1.0;
     states.push_back(s);
   }
   return states;
+}
+
+}  // namespace
+
+PlateHistory read_plate_history(const std::filesystem::path& path) {
+  LineReader in(path, k_plate_limits);
+  return plate_history_from(in);
+}
+
+PlateHistory parse_plate_history(std::string_view text, const std::string& name) {
+  LineReader in = LineReader::of_text(text, name, k_plate_limits);
+  return plate_history_from(in);
+}
+
+std::vector<PlateState> read_plate_states(const std::filesystem::path& path) {
+  LineReader in(path, k_plate_limits);
+  return plate_states_from(in);
+}
+
+std::vector<PlateState> parse_plate_states(std::string_view text, const std::string& name) {
+  LineReader in = LineReader::of_text(text, name, k_plate_limits);
+  return plate_states_from(in);
 }
 
 std::vector<PlateState> states_from_history(const PlateHistory& history, double load_tolerance) {

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace demsa::postprocess {
@@ -38,10 +39,15 @@ struct PlateState {
   bool converged = false;
 };
 
-/// Throws ParseError (file, line, value) on a missing column header, a missing required column, a short row or a
-/// non-numeric field. A file without rows is valid (empty result).
+/// Throws ParseError (file, line, value) on a missing column header, a missing required column, a short row, a
+/// non-numeric or non-finite field, a negative load, a load below the row before (loads never decrease), a plate
+/// position or trial step beyond 1 km, a line over 64 KiB or a file over 64 MiB (not a plate file). A file without
+/// rows is valid (empty result).
 PlateHistory read_plate_history(const std::filesystem::path& path);
 std::vector<PlateState> read_plate_states(const std::filesystem::path& path);
+/// The same from text held in memory; `name` stands for the file in messages.
+PlateHistory parse_plate_history(std::string_view text, const std::string& name);
+std::vector<PlateState> parse_plate_states(std::string_view text, const std::string& name);
 
 /// Load states from a history alone: the last row of each consecutive run of equal load (in trial-step mode the
 /// last accepted row); converged when |force − load| ≤ load_tolerance.

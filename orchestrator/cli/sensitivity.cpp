@@ -100,7 +100,9 @@ void write_json(const std::string& target, const nlohmann::json& j) {
 
 void run_saltelli(const SensitivityArgs& args) {
   if (args.responses.empty()) throw UserError("--saltelli needs --responses Y.csv (the outputs of every design row)");
-  const CsvTable design = read_csv(args.saltelli);
+  CsvReadOptions design_options;
+  design_options.require_varying = true;  // a parameter held constant was not sampled: its indices would be noise
+  const CsvTable design = read_csv(args.saltelli, design_options);
   const int block_column = design.column_index("block");
   std::vector<std::string> names;
   std::vector<int> parameter_columns;  // column of names[k] in the file

@@ -10,11 +10,15 @@
 #include <cassert>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
+#include <stdexcept>
+#include <string_view>
 
 namespace demsa::util {
 
@@ -38,6 +42,8 @@ bool blank_or_comment(const std::string& line) {
   const std::string t = trim(line);
   return t.empty() || t.front() == '#';
 }
+
+constexpr std::string_view k_bom = "\xEF\xBB\xBF";  // UTF-8 byte-order mark (editors on Windows write one)
 
 }  // namespace
 
@@ -77,45 +83,39 @@ void CsvTable::fail(int row, int column_index_, const std::string& message) cons
   throw UserError(file, line, text);
 }
 
-CsvTable parse_csv(const std::string& text, const std::string& file, const CsvReadOptions& options) {
-  CsvTable table;
-  table.file = file;
-  std::istringstream in(text);
-  std::string line;
-  int line_number = 0;
-  bool have_header = false;
-  std::vector<std::vector<double>> rows;
-  std::vector<bool> numeric;  // per column: parse its cells
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (blank_or_comment(line)) continue;
-    std::vector<std::string> fields = split_fields(line);
-    if (!have_header) {
-      std::set<std::string> seen;
-      for (std::size_t k = 0; k < fields.size(); ++k) {
-        const std::string name = unquote(fields[k]);
-        if (name.empty()) throw UserError(file, line_number, fmt::format("header: column {} has no name", k + 1));
-        if (!seen.insert(name).second)
-          throw UserError(file, line_number, fmt::format("duplicate column name '{}'", name));
-        table.columns.push_back(name);
-      }
-      table.header_line = line_number;
-      have_header = true;
-      numeric.assign(table.columns.size(), options.numeric_columns.empty());
-      for (const std::string& name : options.numeric_columns)
-        for (std::size_t k = 0; k < table.columns.size(); ++k)
-          if (table.columns[k] == name) numeric[k] = true;
-      continue;
+namespace {
+
+/// Builds a CsvTable from lines fed one at a time (the rules of csv.hpp), holding the numbers in one flat array.
+class CsvBuilder {
+ public:
+  CsvBuilder(const std::string& file, const CsvReadOptions& options) : m_options(options) { m_table.file = file; }
+
+  void feed(std::string_view text, int line_number) {
+    if (line_number == 1 && text.substr(0, k_bom.size()) == k_bom) text.remove_prefix(k_bom.size());
+    const std::string line(text);
+    if (blank_or_comment(line)) return;
+    const std::vector<std::string> fields = split_fields(line);
+    if (!m_have_header) {
+      header(fields, line_number);
+      return;
     }
-    if (fields.size() != table.columns.size())
+    const std::string& file = m_table.file;
+    const std::vector<std::string>& columns = m_table.columns;
+    if (fields.size() != columns.size())
       throw UserError(file, line_number,
-                      fmt::format("{} values for {} columns ({})", fields.size(), table.columns.size(),
-                                  fields.size() < table.columns.size() ? "missing values" : "too many values"));
-    std::vector<double> row(fields.size(), std::numeric_limits<double>::quiet_NaN());
+                      fmt::format("{} values for {} columns ({})", fields.size(), columns.size(),
+                                  fields.size() < columns.size() ? "missing values" : "too many values"));
+    if (m_values.size() + fields.size() > m_options.max_values)
+      throw UserError(
+          file, line_number,
+          fmt::format("more than {} values: larger than this reader holds in memory", m_options.max_values));
     for (std::size_t k = 0; k < fields.size(); ++k) {
-      if (!numeric[k]) continue;
+      if (!m_numeric[k]) {
+        m_values.push_back(std::numeric_limits<double>::quiet_NaN());
+        continue;
+      }
       const std::string& cell = fields[k];
-      const std::string where = fmt::format("column '{}'", table.columns[k]);
+      const std::string where = fmt::format("column '{}'", columns[k]);
       if (cell.empty()) throw UserError(file, line_number, where + ": empty cell");
       errno = 0;
       char* end = nullptr;
@@ -124,28 +124,143 @@ CsvTable parse_csv(const std::string& text, const std::string& file, const CsvRe
         throw UserError(file, line_number, fmt::format("{}: '{}' is not a number", where, cell));
       if (errno == ERANGE && std::isinf(v))
         throw UserError(file, line_number, fmt::format("{}: '{}' is out of range", where, cell));
-      if (!std::isfinite(v) && !options.allow_non_finite)
+      if (!std::isfinite(v) && !m_options.allow_non_finite)
         throw UserError(file, line_number, fmt::format("{}: '{}' is not a finite number", where, cell));
-      row[k] = v;
+      m_values.push_back(v);
     }
-    rows.push_back(std::move(row));
-    table.lines.push_back(line_number);
+    m_table.lines.push_back(line_number);
   }
-  if (!have_header) throw UserError(file, 0, "empty file (expected a header row of column names)");
-  if (rows.empty() && !options.allow_empty) throw UserError(file, 0, "no data rows after the header");
-  table.values.resize(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(table.columns.size()));
-  for (std::size_t r = 0; r < rows.size(); ++r)
-    for (std::size_t k = 0; k < rows[r].size(); ++k)
-      table.values(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) = rows[r][k];
-  return table;
+
+  CsvTable finish() {
+    const std::string& file = m_table.file;
+    if (!m_have_header) throw UserError(file, 0, "empty file (expected a header row of column names)");
+    const std::size_t rows = m_table.lines.size();
+    if (rows == 0 && !m_options.allow_empty) throw UserError(file, 0, "no data rows after the header");
+    const auto ncol = static_cast<Eigen::Index>(m_table.columns.size());
+    m_table.values = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        m_values.data(), static_cast<Eigen::Index>(rows), ncol);
+    m_values = {};
+    if (m_options.require_varying && rows >= 2)
+      for (Eigen::Index k = 0; k < ncol; ++k) {
+        if (!m_numeric[static_cast<std::size_t>(k)]) continue;
+        const double first = m_table.values(0, k);
+        if ((m_table.values.col(k).array() == first).all())
+          throw UserError(file, m_table.header_line,
+                          fmt::format("column '{}' holds {} on every one of its {} rows: a constant column is not "
+                                      "a sampled parameter",
+                                      m_table.columns[static_cast<std::size_t>(k)], first, rows));
+      }
+    return std::move(m_table);
+  }
+
+ private:
+  void header(const std::vector<std::string>& fields, int line_number) {
+    const std::string& file = m_table.file;
+    std::set<std::string> seen;
+    bool all_numbers = true;
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      const std::string name = unquote(fields[k]);
+      if (name.empty()) throw UserError(file, line_number, fmt::format("header: column {} has no name", k + 1));
+      if (!seen.insert(name).second)
+        throw UserError(file, line_number, fmt::format("duplicate column name '{}'", name));
+      all_numbers = all_numbers && parse_number(name).has_value();
+      m_table.columns.push_back(name);
+    }
+    // A file whose first row is numbers has no header: reading that row as names would lose it and then report
+    // a row count or a missing column that does not say why.
+    if (all_numbers)
+      throw UserError(file, line_number,
+                      fmt::format("the first row holds numbers ({}{}), not column names: the file has no header "
+                                  "row; put the column names on the first line",
+                                  fields.front(), fields.size() > 1 ? ", ..." : ""));
+    m_table.header_line = line_number;
+    m_have_header = true;
+    m_numeric.assign(m_table.columns.size(), m_options.numeric_columns.empty());
+    for (const std::string& name : m_options.numeric_columns)
+      for (std::size_t k = 0; k < m_table.columns.size(); ++k)
+        if (m_table.columns[k] == name) m_numeric[k] = true;
+  }
+
+  const CsvReadOptions& m_options;
+  CsvTable m_table;
+  bool m_have_header = false;
+  std::vector<bool> m_numeric;   // per column: parse its cells
+  std::vector<double> m_values;  // row-major
+};
+
+[[noreturn]] void line_too_long(const std::string& file, int line_number, std::size_t limit) {
+  throw UserError(file, line_number, fmt::format("line longer than {} bytes: not a CSV table (binary data?)", limit));
+}
+
+}  // namespace
+
+void CsvReadOptions::validate() const {
+  if (max_line_bytes < 256)
+    throw std::invalid_argument(
+        fmt::format("CsvReadOptions.max_line_bytes = {}: must be at least 256", max_line_bytes));
+  if (max_bytes < 1) throw std::invalid_argument("CsvReadOptions.max_bytes = 0: must be at least 1");
+}
+
+CsvTable parse_csv(const std::string& text, const std::string& file, const CsvReadOptions& options) {
+  options.validate();
+  if (text.size() > options.max_bytes)
+    throw UserError(file, 0,
+                    fmt::format("{} bytes: larger than the {} this reader accepts", text.size(), options.max_bytes));
+  CsvBuilder builder(file, options);
+  std::string_view rest(text);
+  int line_number = 0;
+  while (!rest.empty()) {
+    const std::size_t nl = rest.find('\n');
+    const std::string_view line = rest.substr(0, nl);
+    ++line_number;
+    if (line.size() > options.max_line_bytes) line_too_long(file, line_number, options.max_line_bytes);
+    builder.feed(line, line_number);
+    rest.remove_prefix(nl == std::string_view::npos ? rest.size() : nl + 1);
+  }
+  return builder.finish();
 }
 
 CsvTable read_csv(const std::filesystem::path& file, const CsvReadOptions& options) {
+  const std::string name = file.string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw UserError(name, 0, "is a folder, not a CSV file");
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw UserError(file.string(), 0, "cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_csv(text.str(), file.string(), options);
+  if (!in) throw UserError(name, 0, fmt::format("cannot open the file: {}", std::strerror(errno)));
+  return read_csv(in, name, options);
+}
+
+CsvTable read_csv(std::istream& in, const std::string& name, const CsvReadOptions& options) {
+  options.validate();
+  // Streamed in blocks, one line at a time: memory stays bounded by the limits whatever the file (/dev/zero too).
+  CsvBuilder builder(name, options);
+  std::vector<char> block(std::size_t{1} << 16);
+  std::string line;
+  std::uint64_t total = 0;
+  int line_number = 0;
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) break;
+    total += got;
+    if (total > options.max_bytes)
+      throw UserError(name, line_number + 1,
+                      fmt::format("the file goes on past {} bytes, the most this reader accepts", options.max_bytes));
+    std::string_view chunk(block.data(), got);
+    while (!chunk.empty()) {
+      const std::size_t nl = chunk.find('\n');
+      const std::string_view piece = chunk.substr(0, nl);
+      if (line.size() + piece.size() > options.max_line_bytes)
+        line_too_long(name, line_number + 1, options.max_line_bytes);
+      line.append(piece);
+      if (nl == std::string_view::npos) break;
+      builder.feed(line, ++line_number);
+      line.clear();
+      chunk.remove_prefix(nl + 1);
+    }
+  }
+  if (in.bad()) throw UserError(name, line_number + 1, "read error");
+  if (!line.empty()) builder.feed(line, ++line_number);
+  return builder.finish();
 }
 
 std::string format_csv(const std::vector<std::string>& header, const Eigen::MatrixXd& values) {

@@ -11,11 +11,17 @@
 //   data.csv:9: 5 values for 6 columns
 //   data.csv:1: duplicate column name 'E'
 //   data.csv: no data rows
+//   data.csv:1: the first row holds numbers (0.5, ...), not column names: the file has no header row; ...
+//   data.csv:3: line longer than 1048576 bytes: not a CSV table (binary data?)
+// A UTF-8 byte-order mark before the header is skipped. The reader streams the file and holds one line and the
+// numbers read so far: a file beyond max_bytes or max_values is refused, whatever its size (/dev/zero included).
 //
 // Writing: a header row, then one row per sample with round-trip precision (%.17g).
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <filesystem>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -27,6 +33,16 @@ struct CsvReadOptions {
   /// When not empty: only these columns are read as numbers; cells of the others (labels, notes) are not parsed and
   /// read as NaN. Names missing from the header are left for column_index() to report.
   std::vector<std::string> numeric_columns;
+  /// Every numeric column must take at least two values when the table has two rows or more (a Saltelli design
+  /// samples each of its parameters); a constant column is a UserError naming it and its value.
+  bool require_varying = false;
+  std::size_t max_line_bytes = std::size_t{1} << 20;  ///< longest line [bytes]; ≥ 256
+  std::uint64_t max_bytes = std::uint64_t{1} << 30;   ///< largest file [bytes]; ≥ 1
+  std::size_t max_values = std::size_t{1} << 27;      ///< most cells held (8 bytes each: 1 GiB); a data set beyond
+                                                      ///< it does not fit the analysis either
+
+  /// Throws std::invalid_argument naming the field, its value and the rule.
+  void validate() const;
 };
 
 /// A numeric table read from a file. `values` is rows x columns; `lines[r]` is the 1-based line number of row r in
@@ -54,6 +70,8 @@ struct CsvTable {
 
 /// Reads a file; throws UserError when it cannot be opened or is malformed (see above).
 CsvTable read_csv(const std::filesystem::path& file, const CsvReadOptions& options = {});
+/// Reads a stream (what read_csv(path) does once the file is open); `file` is the name used in messages.
+CsvTable read_csv(std::istream& in, const std::string& file, const CsvReadOptions& options = {});
 /// Parses CSV text; `file` is the name used in messages.
 CsvTable parse_csv(const std::string& text, const std::string& file, const CsvReadOptions& options = {});
 

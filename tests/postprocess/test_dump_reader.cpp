@@ -344,6 +344,28 @@ TEST(DumpReaderErrors, NonIntegerId) {
   EXPECT_EQ(particles_error_of(text, "ids.dump"), "ids.dump:11: id 2.5 is not an integer");
 }
 
+TEST(DumpReaderErrors, DuplicateIdNamesFileLineTimestepAndId) {
+  // Every observable matches or counts atoms by id: a second row with one id is refused, not silently dropped.
+  const std::string text =
+      frame_with_rows("3", "id type x y z radius", "4 1 0 0 0 0.1\n7 1 1 0 0 0.1\n4 1 2 0 0 0.1\n");
+  EXPECT_EQ(particles_error_of(text, "dup.dump"),
+            "dup.dump:12: atom id 4 appears twice in the frame of time step 5 (lines 10 and 12)");
+  TempDir dir;
+  write_file(dir / "dup.dump", text);
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_particles(dir / "dup.dump"); }),
+            (dir / "dup.dump").string() + ":12: atom id 4 appears twice in the frame of time step 5 (lines 10 and 12)");
+}
+
+TEST(DumpReaderErrors, MoreRowsInTheLastFrameNamesItsRowCount) {
+  // read_last_frame reads the frame after the last one into a fresh frame: the message still counts the rows of
+  // the frame before it.
+  const std::string text = frame_with_rows("2", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0 0 0 0.1\n") +
+                           frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0 0 0 0.1\n");
+  const LastFrameError e = last_frame_error_of(text);
+  EXPECT_EQ(e.line, 22);
+  EXPECT_NE(e.what.find("after the 1 atom rows of the previous frame"), std::string::npos) << e.what;
+}
+
 TEST(DumpReaderErrors, BinaryGarbage) {
   std::string garbage;
   unsigned state = 12345;

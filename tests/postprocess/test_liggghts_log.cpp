@@ -153,6 +153,19 @@ TEST(LiggghtsLog, FirstErrorLine) {
   EXPECT_EQ(log.errors[0].text, "Cannot open file a.stl (../input.cpp:3)");
 }
 
+TEST(LiggghtsLog, LineLimit) {
+  // Binary data in a log (a node that died mid-write, /dev/zero) is refused at 1 MiB, naming the file and line,
+  // instead of growing a line without bound; first_error_line still reports the ERROR lines before it.
+  test::TempDir dir;
+  test::write_file(dir / "log.liggghts", "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, compiled)\nERROR: boom (a.cpp:1)\n" +
+                                             std::string((1 << 20) + 10, '\0'));
+  const std::string message = test::message_of<ParseError>([&] { read_liggghts_log(dir / "log.liggghts"); });
+  EXPECT_EQ(message.rfind((dir / "log.liggghts").string() + ":3: line longer than 1 MiB", 0), 0u) << message;
+  EXPECT_EQ(first_error_line(dir / "log.liggghts"), "ERROR: boom (a.cpp:1)");
+  EXPECT_THROW(scan_thermo(dir / "log.liggghts", [](const ThermoRow&) { return true; }), ParseError);
+  EXPECT_EQ(first_error_line("/dev/zero"), "");
+}
+
 TEST(LiggghtsLog, MissingFile) { EXPECT_THROW(read_liggghts_log("/nonexistent/log.liggghts"), ParseError); }
 
 }  // namespace

@@ -159,6 +159,60 @@ TEST(OedometerErrors, NonNumericAndShortRows) {
   EXPECT_THROW(read_plate_states(dir / "missing.txt"), ParseError);
 }
 
+TEST(OedometerErrors, DecreasingLoadNamesFileLineAndValue) {
+  TempDir dir;
+  write_file(dir / "s.txt", "# load_N plate_z_m force_N converged\n100 0.06 100 1\n400 0.059 400 1\n300 0.058 300 1\n");
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_plate_states(dir / "s.txt"); }),
+            (dir / "s.txt").string() +
+                ":4: column 'load_N': 300 is below the 400 of line 3: the loads of the load states must not decrease");
+  write_file(dir / "h.txt", "# step load_N plate_z_m force_N\n1000 400 0.06 390\n2000 100 0.059 99\n");
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_plate_history(dir / "h.txt"); }),
+            (dir / "h.txt").string() +
+                ":3: column 'load_N': 100 is below the 400 of line 2: the loads of a plate history must not decrease");
+  // Equal loads (the rows of one load step) are the normal case.
+  write_file(dir / "h.txt", "# step load_N plate_z_m force_N\n1000 100 0.06 90\n2000 100 0.059 99\n");
+  EXPECT_EQ(read_plate_history(dir / "h.txt").size(), 2u);
+}
+
+TEST(OedometerErrors, ImplausiblePositionsAndLoads) {
+  TempDir dir;
+  write_file(dir / "s.txt", "100 0.06 100 1\n400 1e308 400 1\n");
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_plate_states(dir / "s.txt"); }),
+            (dir / "s.txt").string() + ":2: column 'plate_z_m': 1e+308 m is not a plate position (|z| > 1000 m)");
+  write_file(dir / "s.txt", "-100 0.06 100 1\n");
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_plate_states(dir / "s.txt"); }),
+            (dir / "s.txt").string() + ":1: column 'load_N': -100 is negative");
+  write_file(dir / "h.txt", "# step load_N plate_z_m force_N trial delta_m accepted\n1 100 0.06 99 1 -2e3 1\n");
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_plate_history(dir / "h.txt"); }),
+            (dir / "h.txt").string() + ":2: column 'delta_m': -2000 m is not a trial step (|delta| > 1000 m)");
+  write_file(dir / "s.txt", "100 inf 100 1\n");
+  EXPECT_EQ(test::message_of<ParseError>([&] { read_plate_states(dir / "s.txt"); }),
+            (dir / "s.txt").string() + ":1: column 'plate_z_m': 'inf' is not a number");
+}
+
+TEST(OedometerErrors, LongLineAndHugeFileAreRefusedQuickly) {
+  // A line without end (binary data, /dev/zero) stops the reader at 64 KiB instead of growing without bound.
+  TempDir dir;
+  write_file(dir / "s.txt", "100 0.06 100 1\n" + std::string(1 << 20, '7'));
+  const std::string message = test::message_of<ParseError>([&] { read_plate_states(dir / "s.txt"); });
+  EXPECT_EQ(message, (dir / "s.txt").string() +
+                         ":2: line longer than 65536 bytes (it starts '7777777777777777777777777777777777777777...'): "
+                         "not a text file of this kind");
+  EXPECT_EQ(
+      test::message_of<ParseError>([] { read_plate_history("/dev/zero"); }),
+      "/dev/zero:1: line longer than 65536 bytes (it starts "
+      "'\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00"
+      "\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00...'): "
+      "not a text file of this kind");
+}
+
+TEST(OedometerErrors, ByteOrderMarkAndCrLfAreText) {
+  const std::vector<PlateState> states =
+      parse_plate_states("\xEF\xBB\xBF# load_N plate_z_m force_N converged\r\n100 0.06 100 1\r\n", "s.txt");
+  ASSERT_EQ(states.size(), 1u);
+  EXPECT_DOUBLE_EQ(states[0].plate_z_m, 0.06);
+}
+
 TEST(OedometerErrors, OptionsValidate) {
   OedometerOptions o;
   o.box_side = -1;

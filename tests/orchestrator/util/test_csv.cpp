@@ -1,0 +1,99 @@
+// util/csv: the reader's limits (line, size, cell count; /dev/zero), a UTF-8 byte-order mark, a missing header, a
+// constant column, and the agreement of its two ways in (text and stream).
+#include "orchestrator/util/csv.hpp"
+#include "orchestrator/util/errors.hpp"
+
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+
+namespace demsa::util {
+namespace {
+
+std::string parse_error(const std::string& text, const CsvReadOptions& options = {}) {
+  return test::message_of<UserError>([&] { parse_csv(text, "d.csv", options); });
+}
+
+TEST(Csv, ByteOrderMarkBeforeTheHeaderIsSkipped) {
+  const CsvTable t = parse_csv(
+      "\xEF\xBB\xBF"
+      "a,b\r\n1,2\r\n",
+      "d.csv");
+  ASSERT_EQ(t.columns, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(t.column_index("a"), 0);
+  EXPECT_DOUBLE_EQ(t.values(0, 1), 2.0);
+  test::TempDir dir;
+  test::write_file(dir / "d.csv",
+                   "\xEF\xBB\xBF"
+                   "a,b\n1,2\n");
+  EXPECT_EQ(read_csv(dir / "d.csv").column_index("a"), 0);
+}
+
+TEST(Csv, MissingHeaderIsNamed) {
+  EXPECT_EQ(parse_error("# outputs\n1.5,2.5\n3,4\n"),
+            "d.csv:2: the first row holds numbers (1.5, ...), not column names: the file has no header row; put the "
+            "column names on the first line");
+  EXPECT_EQ(parse_error("0.25\n"),
+            "d.csv:1: the first row holds numbers (0.25), not column names: the file has no header row; put the "
+            "column names on the first line");
+  // A header with one numeric name among others is a header.
+  EXPECT_EQ(parse_csv("y,2\n1,2\n", "d.csv").columns.size(), 2u);
+}
+
+TEST(Csv, ConstantColumnRefusedWhenAsked) {
+  const std::string text = "block,a,b\n0,0.5,0.1\n1,0.5,0.9\n2,0.5,0.3\n";
+  EXPECT_EQ(parse_csv(text, "d.csv").rows(), 3);
+  CsvReadOptions options;
+  options.require_varying = true;
+  EXPECT_EQ(parse_error(text, options),
+            "d.csv:1: column 'a' holds 0.5 on every one of its 3 rows: a constant column is not a sampled parameter");
+  EXPECT_EQ(parse_csv("a,b\n0.5,1\n", "d.csv", options).rows(), 1);  // one row: nothing to compare
+}
+
+TEST(Csv, LineAndSizeLimitsNameFileAndLine) {
+  CsvReadOptions options;
+  options.max_line_bytes = 256;
+  const std::string text = "a,b\n1,2\n" + std::string(300, '7') + "\n";
+  EXPECT_EQ(parse_error(text, options), "d.csv:3: line longer than 256 bytes: not a CSV table (binary data?)");
+  std::istringstream in(text);
+  EXPECT_EQ(test::message_of<UserError>([&] { read_csv(in, "d.csv", options); }),
+            "d.csv:3: line longer than 256 bytes: not a CSV table (binary data?)");
+  options.max_bytes = 10;
+  EXPECT_EQ(parse_error("a,b\n1,2\n3,4\n", options), "d.csv: 12 bytes: larger than the 10 this reader accepts");
+  std::istringstream in2(std::string(100000, '\n'));
+  EXPECT_EQ(test::message_of<UserError>([&] { read_csv(in2, "d.csv", options); }),
+            "d.csv:1: the file goes on past 10 bytes, the most this reader accepts");
+  options = {};
+  options.max_values = 4;
+  EXPECT_EQ(parse_error("a,b\n1,2\n3,4\n5,6\n", options),
+            "d.csv:4: more than 4 values: larger than this reader holds in memory");
+}
+
+TEST(Csv, DevZeroEndsQuicklyWithTheFileAndLine) {
+  // Before: the whole of /dev/zero was read into memory until std::bad_alloc.
+  EXPECT_EQ(test::message_of<UserError>([] { read_csv("/dev/zero"); }),
+            "/dev/zero:1: line longer than 1048576 bytes: not a CSV table (binary data?)");
+}
+
+TEST(Csv, TextAndStreamAgree) {
+  std::string text = "# comment\nname,x,y\n";
+  for (int i = 0; i < 20000; ++i) text += "p" + std::to_string(i) + "," + std::to_string(i) + ",0.5e-3\n";
+  text += "last,1,2";  // no end of line
+  CsvReadOptions options;
+  options.numeric_columns = {"x", "y"};
+  const CsvTable a = parse_csv(text, "d.csv", options);
+  std::istringstream in(text);
+  const CsvTable b = read_csv(in, "d.csv", options);
+  EXPECT_EQ(a.rows(), 20001);
+  EXPECT_EQ(a.lines, b.lines);
+  EXPECT_EQ(a.header_line, 2);
+  EXPECT_TRUE(a.values.col(1).isApprox(b.values.col(1)));
+  EXPECT_DOUBLE_EQ(b.values(20000, 2), 2.0);
+  EXPECT_EQ(b.lines.back(), 20003);
+}
+
+}  // namespace
+}  // namespace demsa::util
