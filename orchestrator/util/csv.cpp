@@ -45,6 +45,24 @@ bool blank_or_comment(const std::string& line) {
 
 constexpr std::string_view k_bom = "\xEF\xBB\xBF";  // UTF-8 byte-order mark (editors on Windows write one)
 
+/// A name as it can be read in a message: control bytes as \xNN and a byte-order mark (invisible in a terminal) as
+/// <U+FEFF>, so that "no column 'a'" never lists an 'a' that differs from it invisibly.
+std::string visible(const std::string& name) {
+  std::string out;
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    if (name.compare(i, k_bom.size(), k_bom) == 0) {
+      out += "<U+FEFF>";
+      i += k_bom.size() - 1;
+    } else if (c < 0x20 || c == 0x7f) {
+      out += fmt::format("\\x{:02x}", c);
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 bool CsvTable::has_column(const std::string& name) const {
@@ -57,8 +75,8 @@ int CsvTable::column_index(const std::string& name) const {
   for (std::size_t k = 0; k < columns.size(); ++k)
     if (columns[k] == name) return static_cast<int>(k);
   std::string list;
-  for (const std::string& c : columns) list += (list.empty() ? "" : ", ") + c;
-  throw UserError(file, header_line, fmt::format("no column '{}' (columns: {})", name, list));
+  for (const std::string& c : columns) list += (list.empty() ? "" : ", ") + visible(c);
+  throw UserError(file, header_line, fmt::format("no column '{}' (columns: {})", visible(name), list));
 }
 
 Eigen::VectorXd CsvTable::column(const std::string& name) const { return values.col(column_index(name)); }
@@ -91,7 +109,6 @@ class CsvBuilder {
   CsvBuilder(const std::string& file, const CsvReadOptions& options) : m_options(options) { m_table.file = file; }
 
   void feed(std::string_view text, int line_number) {
-    if (line_number == 1 && text.substr(0, k_bom.size()) == k_bom) text.remove_prefix(k_bom.size());
     const std::string line(text);
     if (blank_or_comment(line)) return;
     const std::vector<std::string> fields = split_fields(line);
@@ -208,6 +225,7 @@ CsvTable parse_csv(const std::string& text, const std::string& file, const CsvRe
                     fmt::format("{} bytes: larger than the {} this reader accepts", text.size(), options.max_bytes));
   CsvBuilder builder(file, options);
   std::string_view rest(text);
+  if (rest.substr(0, k_bom.size()) == k_bom) rest.remove_prefix(k_bom.size());
   int line_number = 0;
   while (!rest.empty()) {
     const std::size_t nl = rest.find('\n');
@@ -246,6 +264,7 @@ CsvTable read_csv(std::istream& in, const std::string& name, const CsvReadOption
       throw UserError(name, line_number + 1,
                       fmt::format("the file goes on past {} bytes, the most this reader accepts", options.max_bytes));
     std::string_view chunk(block.data(), got);
+    if (total == got && chunk.substr(0, k_bom.size()) == k_bom) chunk.remove_prefix(k_bom.size());  // first block
     while (!chunk.empty()) {
       const std::size_t nl = chunk.find('\n');
       const std::string_view piece = chunk.substr(0, nl);

@@ -32,6 +32,18 @@ TEST(Csv, ByteOrderMarkBeforeTheHeaderIsSkipped) {
   EXPECT_EQ(read_csv(dir / "d.csv").column_index("a"), 0);
 }
 
+TEST(Csv, InvisibleBytesInNamesAreShown) {
+  // A mark inside the header (two files pasted together) stays in the name, but the message shows it.
+  const CsvTable t = parse_csv(
+      "a,\xEF\xBB\xBF"
+      "b,c\t\n1,2,3\n",
+      "d.csv");
+  EXPECT_EQ(test::message_of<UserError>([&] { t.column_index("b"); }),
+            "d.csv:1: no column 'b' (columns: a, <U+FEFF>b, c)");
+  const CsvTable tab = parse_csv("a,\"c\x01\"\n1,2\n", "d.csv");
+  EXPECT_EQ(test::message_of<UserError>([&] { tab.column_index("c"); }), "d.csv:1: no column 'c' (columns: a, c\\x01)");
+}
+
 TEST(Csv, MissingHeaderIsNamed) {
   EXPECT_EQ(parse_error("# outputs\n1.5,2.5\n3,4\n"),
             "d.csv:2: the first row holds numbers (1.5, ...), not column names: the file has no header row; put the "
