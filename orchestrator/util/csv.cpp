@@ -15,16 +15,22 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 namespace demsa::util {
 
 namespace {
 
 std::vector<std::string> split_fields(const std::string& line) {
+  // Split in place (no stream per line: reading was most of `demsa sensitivity --saltelli` at N = 2^14).
   std::vector<std::string> fields;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) fields.push_back(trim(field));
+  const std::string_view text(line);
+  std::size_t start = 0;
+  for (std::size_t comma = text.find(','); comma != std::string_view::npos; comma = text.find(',', start)) {
+    fields.push_back(trim(text.substr(start, comma - start)));
+    start = comma + 1;
+  }
+  if (start < text.size()) fields.push_back(trim(text.substr(start)));
   if (!line.empty() && line.back() == ',') fields.emplace_back();  // a trailing empty cell
   return fields;
 }
@@ -115,17 +121,17 @@ CsvTable parse_csv(const std::string& text, const std::string& file, const CsvRe
     for (std::size_t k = 0; k < fields.size(); ++k) {
       if (!numeric[k]) continue;
       const std::string& cell = fields[k];
-      const std::string where = fmt::format("column '{}'", table.columns[k]);
-      if (cell.empty()) throw UserError(file, line_number, where + ": empty cell");
+      const auto where = [&] { return fmt::format("column '{}'", table.columns[k]); };  // for errors only
+      if (cell.empty()) throw UserError(file, line_number, where() + ": empty cell");
       errno = 0;
       char* end = nullptr;
       const double v = std::strtod(cell.c_str(), &end);
       if (end == cell.c_str() || *end != '\0')
-        throw UserError(file, line_number, fmt::format("{}: '{}' is not a number", where, cell));
+        throw UserError(file, line_number, fmt::format("{}: '{}' is not a number", where(), cell));
       if (errno == ERANGE && std::isinf(v))
-        throw UserError(file, line_number, fmt::format("{}: '{}' is out of range", where, cell));
+        throw UserError(file, line_number, fmt::format("{}: '{}' is out of range", where(), cell));
       if (!std::isfinite(v) && !options.allow_non_finite)
-        throw UserError(file, line_number, fmt::format("{}: '{}' is not a finite number", where, cell));
+        throw UserError(file, line_number, fmt::format("{}: '{}' is not a finite number", where(), cell));
       row[k] = v;
     }
     rows.push_back(std::move(row));
