@@ -15,7 +15,6 @@
 #include <limits>
 #include <set>
 #include <sstream>
-#include <string_view>
 
 namespace demsa::util {
 
@@ -121,17 +120,17 @@ CsvTable parse_csv(const std::string& text, const std::string& file, const CsvRe
     for (std::size_t k = 0; k < fields.size(); ++k) {
       if (!numeric[k]) continue;
       const std::string& cell = fields[k];
-      const auto where = [&] { return fmt::format("column '{}'", table.columns[k]); };  // for errors only
-      if (cell.empty()) throw UserError(file, line_number, where() + ": empty cell");
+      const std::string where = fmt::format("column '{}'", table.columns[k]);
+      if (cell.empty()) throw UserError(file, line_number, where + ": empty cell");
       errno = 0;
       char* end = nullptr;
       const double v = std::strtod(cell.c_str(), &end);
       if (end == cell.c_str() || *end != '\0')
-        throw UserError(file, line_number, fmt::format("{}: '{}' is not a number", where(), cell));
+        throw UserError(file, line_number, fmt::format("{}: '{}' is not a number", where, cell));
       if (errno == ERANGE && std::isinf(v))
-        throw UserError(file, line_number, fmt::format("{}: '{}' is out of range", where(), cell));
+        throw UserError(file, line_number, fmt::format("{}: '{}' is out of range", where, cell));
       if (!std::isfinite(v) && !options.allow_non_finite)
-        throw UserError(file, line_number, fmt::format("{}: '{}' is not a finite number", where(), cell));
+        throw UserError(file, line_number, fmt::format("{}: '{}' is not a finite number", where, cell));
       row[k] = v;
     }
     rows.push_back(std::move(row));
