@@ -30,6 +30,7 @@ SobolResult point_indices(const Metamodel& model, const SaltelliDesign& design, 
   qmc.second_order = options.second_order;
   qmc.bootstrap = 0;
   qmc.seed = options.seed;
+  qmc.stop = options.stop;
   return sobol_indices([&model](const Eigen::MatrixXd& x) { return model.predict(x); }, design, qmc);
 }
 
@@ -66,7 +67,7 @@ SobolResult rsm_exact_indices(const PolynomialRsm& rsm) {
     if (support.size() == 1) first[static_cast<std::size_t>(support[0])] += c2;
     if (support.size() == 2) pair(support[0], support[1]) += c2;
   }
-  if (!(variance > 0.0))
+  if (negligible_variance(mean, variance))
     throw NumericalError(
         fmt::format("{}: the fitted polynomial is constant: Sobol' indices are undefined", rsm.name()));
   SobolResult r;
@@ -111,14 +112,17 @@ SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions
   SobolResult result = point_indices(fitted, design, options);
   if (!options.second_order) result.second.clear();
 
-  // Design bootstrap: refit on resampled training points, recompute (same QMC design for every replicate).
+  // Design bootstrap: refit on resampled training points, recompute on an independently scrambled design.
   Random rng(options.seed ^ 0xD1B54A32D192ED03ULL);
+  Random design_seeds(options.seed ^ 0x2545F4914F6CDD1DULL);
   const Eigen::Index n = x.rows();
   std::vector<std::vector<double>> first(static_cast<std::size_t>(d)), total(static_cast<std::size_t>(d)),
       second(result.second.size());
   std::vector<double> residual;
   int succeeded = 0;
   for (int b = 0; b < options.bootstrap; ++b) {
+    throw_if_stopped(options.stop);
+    const std::uint64_t design_seed = design_seeds.bits();  // drawn for every refit, fitted or not
     std::vector<Eigen::Index> picks(static_cast<std::size_t>(n));
     for (Eigen::Index& p : picks) p = static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(n)));
     if (fitted.interpolates()) {
@@ -135,7 +139,16 @@ SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions
     SobolResult rep;
     try {
       const std::unique_ptr<Metamodel> model = fitted.refit(xb, yb);
-      rep = point_indices(*model, design, options);
+      SaltelliDesign scrambled;
+      if (!exact) {
+        SaltelliOptions so;
+        so.base = options.base;
+        so.dimension = d;
+        so.second_order = options.second_order;
+        so.seed = design_seed;
+        scrambled = saltelli_design(so);
+      }
+      rep = point_indices(*model, scrambled, options);
     } catch (const InputError&) {
       continue;  // a resample that cannot be fitted (a constant column, too few distinct points)
     } catch (const NumericalError&) {

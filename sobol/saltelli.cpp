@@ -10,6 +10,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace demsa::sobol {
 
@@ -120,6 +121,76 @@ IndexEstimate interval(double value, std::vector<double> replicates, double conf
   return out;
 }
 
+/// Regularised incomplete beta function I_x(a, b) by its continued fraction (modified Lentz), as in Press et al.,
+/// "Numerical Recipes", 3rd ed., §6.4 (betai/betacf).
+double incomplete_beta(double a, double b, double x) {
+  if (x <= 0.0) return 0.0;
+  if (x >= 1.0) return 1.0;
+  const double front =
+      std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x));
+  const auto fraction = [](double p, double q, double z) {
+    constexpr double tiny = 1e-300;
+    double c = 1.0, dd = 1.0 - (p + q) * z / (p + 1.0);
+    if (std::abs(dd) < tiny) dd = tiny;
+    dd = 1.0 / dd;
+    double h = dd;
+    for (int m = 1; m <= 300; ++m) {
+      const double m2 = 2.0 * m;
+      double aa = m * (q - m) * z / ((p - 1.0 + m2) * (p + m2));
+      dd = 1.0 + aa * dd;
+      c = 1.0 + aa / c;
+      if (std::abs(dd) < tiny) dd = tiny;
+      if (std::abs(c) < tiny) c = tiny;
+      dd = 1.0 / dd;
+      h *= dd * c;
+      aa = -(p + m) * (p + q + m) * z / ((p + m2) * (p + 1.0 + m2));
+      dd = 1.0 + aa * dd;
+      c = 1.0 + aa / c;
+      if (std::abs(dd) < tiny) dd = tiny;
+      if (std::abs(c) < tiny) c = tiny;
+      dd = 1.0 / dd;
+      const double del = dd * c;
+      h *= del;
+      if (std::abs(del - 1.0) < 1e-15) break;
+    }
+    return h;
+  };
+  // The fraction converges fast for x < (a + 1) / (a + b + 2); beyond, use I_x(a, b) = 1 - I_{1-x}(b, a).
+  if (x < (a + 1.0) / (a + b + 2.0)) return front * fraction(a, b, x) / a;
+  return 1.0 - front * fraction(b, a, 1.0 - x) / b;
+}
+
+/// Distribution function of Student's t with nu degrees of freedom: for t >= 0, 1 - I_{nu/(nu+t²)}(nu/2, 1/2) / 2.
+double student_cdf(double t, double nu) {
+  const double tail = 0.5 * incomplete_beta(0.5 * nu, 0.5, nu / (nu + t * t));
+  return t >= 0.0 ? 1.0 - tail : tail;
+}
+
+/// Quantile p in (0.5, 1) of Student's t with nu degrees of freedom, by bisection on student_cdf (to 1e-12).
+double student_quantile(double p, double nu) {
+  assert(p > 0.5 && p < 1.0 && nu >= 1.0);
+  double lo = 0.0, hi = 1.0;
+  while (student_cdf(hi, nu) < p) hi *= 2.0;
+  for (int k = 0; k < 200 && hi - lo > 1e-12 * hi; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (student_cdf(mid, nu) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+/// value +- t_{R-1} s / sqrt(R) from R independent replicate estimates (Owen 1997; L'Ecuyer & Lemieux 2002, §2).
+IndexEstimate t_interval(double value, const std::vector<double>& replicates, double confidence) {
+  const double r = static_cast<double>(replicates.size());
+  assert(r >= 2.0);
+  double mean = 0.0;
+  for (const double v : replicates) mean += v;
+  mean /= r;
+  double ss = 0.0;
+  for (const double v : replicates) ss += (v - mean) * (v - mean);
+  const double half = student_quantile(0.5 * (1.0 + confidence), r - 1.0) * std::sqrt(ss / (r - 1.0) / r);
+  return {value, value - half, value + half};
+}
+
 void check_finite(const Eigen::VectorXd& v, int offset) {
   for (Eigen::Index r = 0; r < v.size(); ++r)
     if (!std::isfinite(v(r)))
@@ -135,6 +206,11 @@ void SaltelliOptions::validate() const {
         fmt::format("saltelli dimension = {}: must be in 1..{} (A and B come from one {}-dimensional "
                     "Sobol' sequence)",
                     dimension, k_max_saltelli_dimension, 2 * k_max_saltelli_dimension));
+  if (replicates < 1 || replicates > base / 2 || base % replicates != 0)
+    throw InputError(
+        fmt::format("saltelli replicates = {}: must divide base = {} and leave at least 2 base rows per "
+                    "replicate",
+                    replicates, base));
   const long long rows = static_cast<long long>(base) * (second_order ? 2 * dimension + 2 : dimension + 2);
   if (rows > std::numeric_limits<int>::max())
     throw InputError(fmt::format("saltelli base = {}: the design would have {} rows, more than {}", base, rows,
@@ -172,19 +248,45 @@ std::vector<int> SaltelliDesign::block_codes() const {
 
 int SaltelliDesign::rows() const { return base * (second_order ? 2 * dimension + 2 : dimension + 2); }
 
+std::vector<int> SaltelliDesign::replicate_codes() const {
+  std::vector<int> codes;
+  codes.reserve(static_cast<std::size_t>(rows()));
+  const int blocks = second_order ? 2 * dimension + 2 : dimension + 2;
+  const int per = base / replicates;
+  for (int c = 0; c < blocks; ++c)
+    for (int t = 0; t < base; ++t) codes.push_back(t / per);
+  return codes;
+}
+
 SaltelliDesign saltelli_design(const SaltelliOptions& options) {
   options.validate();
   const int d = options.dimension;
   // One 2d-dimensional sequence: A = its first d coordinates, B = the last d (Saltelli 2010, §3). Consecutive blocks
   // of one d-dimensional sequence would not be independent.
-  const Eigen::MatrixXd sequence = scrambled_sobol(options.base, 2 * d, options.seed);
   SaltelliDesign design;
   design.base = options.base;
   design.dimension = d;
   design.second_order = options.second_order;
   design.seed = options.seed;
-  design.a = sequence.leftCols(d);
-  design.b = sequence.rightCols(d);
+  design.replicates = options.replicates;
+  if (options.replicates == 1) {
+    const Eigen::MatrixXd sequence = scrambled_sobol(options.base, 2 * d, options.seed);
+    design.a = sequence.leftCols(d);
+    design.b = sequence.rightCols(d);
+  } else {
+    // Independent scramblings of the same net (randomised QMC, Owen 1997): replicate 0 is the seed's own design,
+    // the others take seeds drawn from it.
+    const int per = options.base / options.replicates;
+    design.a.resize(options.base, d);
+    design.b.resize(options.base, d);
+    Random seeds(options.seed ^ 0x9E3779B97F4A7C15ULL);
+    for (int r = 0; r < options.replicates; ++r) {
+      const std::uint64_t seed = r == 0 ? options.seed : seeds.bits();
+      const Eigen::MatrixXd sequence = scrambled_sobol(per, 2 * d, seed);
+      design.a.middleRows(static_cast<Eigen::Index>(r) * per, per) = sequence.leftCols(d);
+      design.b.middleRows(static_cast<Eigen::Index>(r) * per, per) = sequence.rightCols(d);
+    }
+  }
   for (int i = 0; i < d; ++i) {
     Eigen::MatrixXd ab = design.a;
     ab.col(i) = design.b.col(i);
@@ -276,6 +378,41 @@ SaltelliResponses group_responses(const Eigen::VectorXd& values, const std::vect
   return y;
 }
 
+std::vector<int> base_row_replicates(const std::vector<int>& codes, const std::vector<long long>& replicates,
+                                     int dimension) {
+  assert(codes.size() == replicates.size());
+  const std::vector<std::vector<int>> blocks = block_rows(codes, dimension);
+  const std::vector<int>& a = blocks[0];
+  std::map<long long, int> index;  // label -> replicate, in order of first appearance in block A
+  std::vector<int> out(a.size());
+  std::vector<int> count;
+  for (std::size_t t = 0; t < a.size(); ++t) {
+    const long long label = replicates[static_cast<std::size_t>(a[t])];
+    const auto [it, added] = index.emplace(label, static_cast<int>(index.size()));
+    if (added) count.push_back(0);
+    out[t] = it->second;
+    ++count[static_cast<std::size_t>(it->second)];
+  }
+  for (std::size_t c = 1; c < blocks.size(); ++c)
+    for (std::size_t t = 0; t < a.size(); ++t) {
+      const int row = blocks[c][t];
+      if (replicates[static_cast<std::size_t>(row)] != replicates[static_cast<std::size_t>(a[t])])
+        throw DataError(row, -1,
+                        fmt::format("replicate {} differs from replicate {} of row {} of block A: row {} of every "
+                                    "block belongs to the replicate of row {} of block A",
+                                    replicates[static_cast<std::size_t>(row)],
+                                    replicates[static_cast<std::size_t>(a[t])], t + 1, t + 1, t + 1));
+    }
+  for (const auto& [label, r] : index)
+    if (count[static_cast<std::size_t>(r)] != count[0] || count[0] < 2)
+      throw DataError(
+          -1, -1,
+          fmt::format("replicate {} has {} base rows and replicate {} has {}: every replicate needs the "
+                      "same number of base rows, at least 2",
+                      label, count[static_cast<std::size_t>(r)], replicates[static_cast<std::size_t>(a[0])], count[0]));
+  return out;
+}
+
 namespace {
 
 /// Ranks 0..n-1 of v (ties get the mean of their ranks), for Spearman's correlation.
@@ -350,6 +487,12 @@ void check_saltelli_inputs(const Eigen::MatrixXd& x, const std::vector<int>& cod
   }
 }
 
+bool negligible_variance(double mean, double variance) {
+  // Round-off in the outputs (values printed with a few digits less than double's, sums in another order) leaves a
+  // variance of order (eps |mean|)² on a constant output; indices computed from it are noise.
+  return !(variance > 0.0) || std::sqrt(variance) <= 1e-12 * std::abs(mean);
+}
+
 SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& options) {
   options.validate();
   const int d = y.dimension;
@@ -362,28 +505,23 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
   check_finite(y.b, n);
   for (int i = 0; i < d; ++i) check_finite(y.ab[static_cast<std::size_t>(i)], (2 + i) * n);
   for (std::size_t i = 0; i < y.ba.size(); ++i) check_finite(y.ba[i], (2 + d + static_cast<int>(i)) * n);
+  assert(y.replicate.empty() || static_cast<int>(y.replicate.size()) == n);
 
   std::vector<int> rows(static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = r;
   const double shift = 0.5 * (y.a.mean() + y.b.mean());
   const Estimates full = estimate(y, rows, options.second_order, shift);
-  if (!(full.variance > 0.0))
-    throw NumericalError(
-        fmt::format("the output has zero variance over the {} base rows: Sobol' indices are "
-                    "undefined",
-                    n));
+  if (negligible_variance(full.mean, full.variance))
+    throw NumericalError(fmt::format(
+        "the output is constant (mean {:.10g}, standard deviation {:.3g} over the {} rows of blocks A "
+        "and B{}): Sobol' indices are undefined",
+        full.mean, std::sqrt(std::max(full.variance, 0.0)), 2 * n, y.second_order() ? " and the others" : ""));
 
-  // Percentile bootstrap over the base rows (Archer, Saltelli, Sobol' 1997).
   const std::size_t s2_count = full.second.size();
   std::vector<std::vector<double>> rep_first(static_cast<std::size_t>(d)), rep_total(static_cast<std::size_t>(d)),
       rep_second(s2_count);
   std::vector<double> rep_residual;
-  Random rng(options.seed);
-  std::vector<int> resample(static_cast<std::size_t>(n));
-  for (int b = 0; b < options.bootstrap; ++b) {
-    for (int& r : resample) r = static_cast<int>(rng.below(static_cast<std::uint64_t>(n)));
-    const Estimates e = estimate(y, resample, options.second_order, shift);
-    if (!(e.variance > 0.0)) continue;
+  const auto keep = [&](const Estimates& e) {
     double sum = 0.0;
     for (int i = 0; i < d; ++i) {
       rep_first[static_cast<std::size_t>(i)].push_back(e.first[static_cast<std::size_t>(i)]);
@@ -392,6 +530,39 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
     }
     rep_residual.push_back(1.0 - sum);
     for (std::size_t k = 0; k < s2_count; ++k) rep_second[k].push_back(e.second[k]);
+  };
+
+  int replicates = 0;
+  if (!y.replicate.empty()) replicates = 1 + *std::max_element(y.replicate.begin(), y.replicate.end());
+  const bool by_replicates = replicates >= 2;
+  if (by_replicates) {
+    // Randomised QMC (Owen 1997; L'Ecuyer & Lemieux 2002): the R replicates are independent scramblings, so their
+    // estimates are i.i.d. and their spread measures the error of QMC sampling, which a bootstrap of the
+    // (negatively correlated) rows of one scrambled net overstates.
+    std::vector<std::vector<int>> members(static_cast<std::size_t>(replicates));
+    for (int r = 0; r < n; ++r)
+      members[static_cast<std::size_t>(y.replicate[static_cast<std::size_t>(r)])].push_back(r);
+    for (const std::vector<int>& m : members) {
+      throw_if_stopped(options.stop);
+      const Estimates e = estimate(y, m, options.second_order, shift);
+      if (negligible_variance(e.mean, e.variance))
+        throw NumericalError(
+            fmt::format("the output is constant within one replicate of {} base rows: Sobol' "
+                        "indices of that replicate are undefined; use fewer, larger replicates",
+                        m.size()));
+      keep(e);
+    }
+  } else {
+    // Percentile bootstrap over the base rows (Archer, Saltelli, Sobol' 1997).
+    Random rng(options.seed);
+    std::vector<int> resample(static_cast<std::size_t>(n));
+    for (int b = 0; b < options.bootstrap; ++b) {
+      throw_if_stopped(options.stop);
+      for (int& r : resample) r = static_cast<int>(rng.below(static_cast<std::uint64_t>(n)));
+      const Estimates e = estimate(y, resample, options.second_order, shift);
+      if (!(e.variance > 0.0)) continue;
+      keep(e);
+    }
   }
 
   SobolResult result;
@@ -401,31 +572,53 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
   result.evaluations = n * (y.second_order() ? 2 * d + 2 : d + 2);
   result.mean = full.mean;
   result.variance = full.variance;
-  result.bootstrap = options.bootstrap;
+  result.bootstrap = by_replicates ? 0 : options.bootstrap;
+  result.replicates = by_replicates ? replicates : 0;
   result.confidence = options.confidence;
   result.seed = options.seed;
+  if (!by_replicates && options.bootstrap > 0)
+    result.note =
+        "bootstrap intervals: they treat the base rows as independent random draws, which the rows of a scrambled "
+        "Sobol' design are not, so for QMC they are conservative (often several times too wide); a design with "
+        "independently scrambled replicates (`demsa design saltelli --replicates R`) gives intervals valid for QMC";
+  const auto interval_of = [&](double value, const std::vector<double>& reps) {
+    return by_replicates ? t_interval(value, reps, options.confidence) : interval(value, reps, options.confidence);
+  };
   double sum = 0.0;
   for (int i = 0; i < d; ++i) {
     result.first.push_back(
-        interval(full.first[static_cast<std::size_t>(i)], rep_first[static_cast<std::size_t>(i)], options.confidence));
+        interval_of(full.first[static_cast<std::size_t>(i)], rep_first[static_cast<std::size_t>(i)]));
     result.total.push_back(
-        interval(full.total[static_cast<std::size_t>(i)], rep_total[static_cast<std::size_t>(i)], options.confidence));
+        interval_of(full.total[static_cast<std::size_t>(i)], rep_total[static_cast<std::size_t>(i)]));
     sum += full.first[static_cast<std::size_t>(i)];
   }
-  result.residual = interval(1.0 - sum, rep_residual, options.confidence);
+  result.residual = interval_of(1.0 - sum, rep_residual);
   std::size_t k = 0;
   for (int i = 0; i < d && options.second_order; ++i)
-    for (int j = i + 1; j < d; ++j, ++k)
-      result.second.push_back({i, j, interval(full.second[k], rep_second[k], options.confidence)});
+    for (int j = i + 1; j < d; ++j, ++k) result.second.push_back({i, j, interval_of(full.second[k], rep_second[k])});
   return result;
 }
 
 SobolResult sobol_indices(const BatchModel& model, const SaltelliDesign& design, const SobolOptions& options) {
-  const Eigen::MatrixXd x = design.stacked();
-  const Eigen::VectorXd y = model(x);
-  assert(y.size() == x.rows());
-  SobolResult result = sobol_indices(split_responses(y, design.dimension, design.second_order), options);
-  return result;
+  // Block by block, so that a stop request is seen between evaluations of N rows.
+  const int d = design.dimension;
+  const auto evaluate = [&](const Eigen::MatrixXd& x) {
+    throw_if_stopped(options.stop);
+    const Eigen::VectorXd y = model(x);
+    assert(y.size() == x.rows());
+    return y;
+  };
+  SaltelliResponses y;
+  y.dimension = d;
+  y.a = evaluate(design.a);
+  y.b = evaluate(design.b);
+  for (const Eigen::MatrixXd& m : design.ab) y.ab.push_back(evaluate(m));
+  for (const Eigen::MatrixXd& m : design.ba) y.ba.push_back(evaluate(m));
+  if (design.replicates > 1) {
+    const int per = design.base / design.replicates;
+    for (int t = 0; t < design.base; ++t) y.replicate.push_back(t / per);
+  }
+  return sobol_indices(y, options);
 }
 
 }  // namespace demsa::sobol

@@ -9,11 +9,21 @@
 //      - f(A))) / 2, unbiased because only B, AB_i and A, BA_i share x_i,
 //      ST averaged over A and B exchanged: VT_i = mean((f(A) - f(AB_i))^2 + (f(B) - f(BA_i))^2) / 4 (Saltelli 2002,
 //      §3), and the mean and variance taken over all 2d + 2 blocks,
-// with percentile-bootstrap confidence intervals (resampling the N base rows, every block together).
+// with confidence intervals
+//   - from R independently scrambled replicates of the design (randomised quasi-Monte Carlo: Owen 1997, "Monte Carlo
+//     variance of scrambled net quadrature", SIAM J. Numer. Anal. 34; L'Ecuyer & Lemieux 2002, "Recent advances in
+//     randomized quasi-Monte Carlo methods"): the estimates of the R replicates are independent and identically
+//     distributed, so a Student-t interval with R - 1 degrees of freedom on their mean is valid whatever the
+//     correlation of the rows inside a replicate; the point estimate is the one of all R N/R rows pooled;
+//   - else by a percentile bootstrap (resampling the N base rows, every block together; Archer, Saltelli & Sobol'
+//     1997), which assumes the base rows are independent random draws. The rows of one scrambled Sobol' sequence
+//     are not (their errors cancel), so that interval is conservative, typically several times too wide, and the
+//     result says so in its note.
 //
 // A and B are the two halves of ONE 2d-dimensional scrambled Sobol' sequence. Taking A and B as consecutive blocks
 // of a d-dimensional sequence correlates them and biases the indices; saltelli_design() never does that.
 #include "sobol/design.hpp"
+#include "sobol/stop.hpp"
 
 #include <Eigen/Core>
 
@@ -32,6 +42,8 @@ struct SaltelliOptions {
   int dimension = 2;           ///< d, number of inputs, 1..20 (the 2d-dimensional sequence has at most 40)
   bool second_order = false;   ///< also build BA_i, needed for S2
   std::uint64_t seed = 12345;  ///< scrambling seed
+  int replicates = 1;          ///< R independently scrambled designs of base N/R each, 1..N/2 dividing N (1: one
+                               ///< design, the seed's; R >= 2 gives intervals valid for QMC, see sobol_indices)
   void validate() const;       ///< throws InputError naming the field, value and rule
 };
 
@@ -40,11 +52,14 @@ struct SaltelliOptions {
 ///   AB[i] (i = 0..d-1)   A with column i taken from B,
 ///   BA[i]                B with column i taken from A (second order only).
 /// Stacked order (for files and batched evaluation): A, B, AB_1..AB_d, then BA_1..BA_d; N(d+2) or N(2d+2) rows.
+/// With R replicates every block holds the R replicates one after the other (N/R rows each): replicate r is rows
+/// r N/R .. (r + 1) N/R - 1 of every block, and replicate 0 is the design of `seed` at base N/R.
 struct SaltelliDesign {
   int base = 0;
   int dimension = 0;
   bool second_order = false;
   std::uint64_t seed = 0;
+  int replicates = 1;
   Eigen::MatrixXd a;
   Eigen::MatrixXd b;
   std::vector<Eigen::MatrixXd> ab;
@@ -56,6 +71,8 @@ struct SaltelliDesign {
   std::vector<int> block_codes() const;
   /// Number of stacked rows.
   int rows() const;
+  /// Replicate (0..R-1) of every stacked row.
+  std::vector<int> replicate_codes() const;
 };
 
 SaltelliDesign saltelli_design(const SaltelliOptions& options);
@@ -70,6 +87,7 @@ struct SaltelliResponses {
   Eigen::VectorXd b;
   std::vector<Eigen::VectorXd> ab;
   std::vector<Eigen::VectorXd> ba;  ///< empty without second order
+  std::vector<int> replicate;       ///< replicate (0..R-1) of every base row; empty for a design of one replicate
   int base() const { return static_cast<int>(a.size()); }
   bool second_order() const { return !ba.empty(); }
 };
@@ -87,6 +105,13 @@ SaltelliResponses group_responses(const Eigen::VectorXd& values, const std::vect
 /// order (A, B, AB_1..AB_d, then BA_1..BA_d when present). Throws DataError for an unknown code or an uneven block.
 std::vector<std::vector<int>> block_rows(const std::vector<int>& codes, int dimension);
 
+/// Replicate of every base row from the replicate column of a design read back from a file (`replicates[r]` for
+/// stacked row r, any integer labels; `codes` as for block_rows): the t-th row of every block must carry the label of
+/// the t-th row of block A, and every replicate must have the same number of base rows, at least 2. Returns the
+/// replicate (0..R-1, in order of first appearance in block A) of each base row. Throws DataError naming the row.
+std::vector<int> base_row_replicates(const std::vector<int>& codes, const std::vector<long long>& replicates,
+                                     int dimension);
+
 /// Checks the inputs of a Saltelli design read back from a file (x: rows x d, any scaling; codes as above): every
 /// AB_i row is its A row with column i taken from its B row (BA_i likewise), and A and B are independent samples
 /// (Spearman's rank correlation of each column within 5/sqrt(N - 1), checked from N = 32). Throws DataError(row,
@@ -95,9 +120,11 @@ void check_saltelli_inputs(const Eigen::MatrixXd& x, const std::vector<int>& cod
 
 struct SobolOptions {
   bool second_order = false;   ///< compute S2 (needs BA blocks)
-  int bootstrap = 200;         ///< percentile-bootstrap resamples, >= 0 (0: no interval, bounds = estimate)
+  int bootstrap = 200;         ///< percentile-bootstrap resamples, >= 0 (0: no interval, bounds = estimate); not
+                               ///< used when the responses carry replicates (their interval is a Student-t one)
   double confidence = 0.95;    ///< interval level, in (0, 1)
   std::uint64_t seed = 12345;  ///< bootstrap seed
+  StopCheck stop;              ///< polled between bootstrap resamples and evaluated blocks (empty: never stops)
   void validate() const;       ///< throws InputError naming the field, value and rule
 };
 
@@ -127,18 +154,26 @@ struct SobolResult {
   std::vector<SecondOrderIndex> second;  ///< S2_ij, i < j, row-major; empty unless second order
   IndexEstimate residual;                ///< 1 - Σ S1_i (the paper's "Res" column, Tables 4-7)
   int bootstrap = 0;                     ///< resamples behind the intervals (0: none)
+  int replicates = 0;                    ///< independent scramblings behind Student-t intervals (0: none)
   double confidence = 0.0;               ///< interval level
   std::uint64_t seed = 0;                ///< seed of the bootstrap (and of the design, where one was drawn)
-  std::string note;  ///< why intervals asked for are missing ("" when they are present or were not asked for)
+  std::string note;  ///< what the intervals assume, or why intervals asked for are missing ("" when nothing to say)
 };
 
-/// Indices from outputs on a Saltelli design.
+/// Whether an output of this mean and variance is constant up to round-off: standard deviation <= 1e-12 |mean|
+/// (about 5000 units in the last place; zero for an exactly constant output). Sobol' indices are then undefined.
+bool negligible_variance(double mean, double variance);
+
+/// Indices from outputs on a Saltelli design. Intervals: with responses.replicate (R >= 2 replicates), the pooled
+/// estimate +- t_{R-1} s / sqrt(R), s the standard deviation of the R replicate estimates; else the percentile
+/// bootstrap of options.bootstrap resamples, with a note saying what it assumes. Throws NumericalError when the
+/// output is constant up to round-off (negligible_variance), Stopped when options.stop says so.
 SobolResult sobol_indices(const SaltelliResponses& responses, const SobolOptions& options);
 
 /// A model evaluated in batches: rows of x (on [0,1]^d) -> outputs.
 using BatchModel = std::function<Eigen::VectorXd(const Eigen::MatrixXd& x)>;
 
-/// Evaluates `model` on every block of `design` and computes the indices.
+/// Evaluates `model` on every block of `design` (polling options.stop between blocks) and computes the indices.
 SobolResult sobol_indices(const BatchModel& model, const SaltelliDesign& design, const SobolOptions& options);
 
 }  // namespace demsa::sobol

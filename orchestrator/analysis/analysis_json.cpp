@@ -36,8 +36,9 @@ std::string analysis_to_json(const AnalysisSummary& summary) {
       }
       models.push_back(entry);
     }
-    observables.push_back(
-        {{"name", o.name}, {"samples", o.samples}, {"mean", o.mean}, {"sd", o.sd}, {"models", models}});
+    json entry{{"name", o.name}, {"samples", o.samples}, {"mean", o.mean}, {"sd", o.sd}, {"models", models}};
+    if (!o.error.empty()) entry["error"] = o.error;
+    observables.push_back(entry);
   }
   all["observables"] = observables;
   return all.dump(2) + "\n";
@@ -65,6 +66,7 @@ AnalysisSummary read_analysis(const std::filesystem::path& file) {
       observable.samples = o.at("samples").get<int>();
       observable.mean = number_from_json(o.at("mean"));
       observable.sd = number_from_json(o.at("sd"));
+      observable.error = o.value("error", std::string());
       for (const json& m : o.at("models")) {
         ModelAnalysis model;
         model.model = m.at("model").get<std::string>();

@@ -4,9 +4,12 @@
 //
 //   {"study", "parameters": [name, ...], "samples_used": [sample, ...], "samples_left_out": [sample, ...],
 //    "seed", "bootstrap", "base_samples", "second_order", "confidence",
-//    "observables": [{"name", "samples", "mean", "sd",
+//    "observables": [{"name", "samples", "mean", "sd", ["error",]
 //                     "models": [{"model", "ok": true, "quality": metamodel, "sobol": Sobol' result}
 //                                or {"model", "ok": false, "error"}, ...]}, ...]}
+//
+// "error" is present when the observable itself could not be analysed (a constant observable); "models" is then
+// empty.
 //
 // with the metamodel and Sobol' result forms of sobol_json.hpp (S1, ST and S2 keyed by parameter name).
 // Non-finite numbers are written as null and read back as NaN.
@@ -33,6 +36,7 @@ struct ObservableAnalysis {
   std::string name;             ///< observable name ("angle", "settlement_1", ...)
   int samples = 0;              ///< done samples with this observable
   double mean = 0.0, sd = 0.0;  ///< of the observable over those samples
+  std::string error;            ///< why the observable has no analysis at all ("" when it has one), e.g. constant
   std::vector<ModelAnalysis> models;
 };
 

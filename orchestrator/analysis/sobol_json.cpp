@@ -45,6 +45,7 @@ nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::ve
                       {"j", inputs.at(static_cast<std::size_t>(s.j))},
                       {"S2", index_estimate_json(s.s)}});
   j["S2"] = second;
+  if (result.replicates > 0) j["replicates"] = result.replicates;
   if (!result.note.empty()) j["note"] = result.note;
   return j;
 }
@@ -96,6 +97,7 @@ sobol::SobolResult sobol_result_from_json(const nlohmann::json& j, const std::ve
   r.confidence = number_from_json(j.at("confidence"));
   r.seed = j.at("seed").get<std::uint64_t>();
   r.note = j.value("note", std::string());
+  r.replicates = j.value("replicates", 0);
   return r;
 }
 

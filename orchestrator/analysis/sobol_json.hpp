@@ -7,7 +7,9 @@
 //                     "S1": {input: estimate, ...}, "ST": {input: estimate, ...},
 //                     "S2": [{"i": input, "j": input, "S2": estimate}, ...],      (i before j in input order)
 //                     "residual": estimate (1 - Σ S1), "bootstrap", "confidence", "seed",
-//                     "note": "..." (only when intervals were asked for but could not be computed)}
+//                     "replicates": R (only for Student-t intervals from R independently scrambled replicates),
+//                     "note": "..." (only when there is something to say: what bootstrap intervals on a QMC design
+//                     assume, or why intervals asked for could not be computed)}
 //   metamodel:       {"name", "samples", "dimension", "terms", "r2", "adjusted_r2", "q2" (leave-one-out),
 //                     "rmse_loo", "mean", "sd", "parameters": {name: value, ...}}
 // Non-finite numbers are written as null and read back as NaN. The readers throw nlohmann::json::exception for a

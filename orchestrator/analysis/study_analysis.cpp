@@ -9,7 +9,9 @@
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/log.hpp"
 #include "sobol/metamodel_sobol.hpp"
+#include "sobol/stop.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -84,11 +86,64 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     throw UserError(fmt::format("{}: {} of {} samples done; the analysis needs at least 2", dir.string(),
                                 summary.samples_used.size(), samples.size()));
 
-  fs::create_directories(summary.out_dir);
   const std::size_t d = summary.parameters.size();
+  std::vector<std::string> names = observable_names(config);
+
+  sobol::MetamodelSobolOptions sobol_options;
+  sobol_options.base = summary.base_samples;
+  sobol_options.second_order = summary.second_order;
+  sobol_options.bootstrap = summary.bootstrap;
+  sobol_options.confidence = config.analysis.confidence;
+  sobol_options.seed = config.seed;
+  sobol_options.stop = options.should_stop;
+
+  const sobol::MetamodelOptions model_options = config.analysis.metamodel_options();
+  for (const std::string& name : names) {
+    const TrainingData data = training_data(config, samples, observables, name);
+    ObservableAnalysis analysis;
+    analysis.name = name;
+    analysis.samples = static_cast<int>(data.size());
+    analysis.mean = mean_of(data.y);
+    analysis.sd = sd_of(data.y);
+    if (data.size() >= 2 && sobol::negligible_variance(analysis.mean, analysis.sd * analysis.sd)) {
+      // A metamodel of a constant would fit it exactly and give indices of round-off (R² NaN, S1 of noise).
+      analysis.error = fmt::format(
+          "constant observable: every one of its {} samples is {:.10g} (standard deviation {:.3g}): no metamodel "
+          "and no Sobol' index can be computed; check its measurement",
+          data.size(), analysis.mean, analysis.sd);
+      log::warn("{}: observable '{}': {}", dir.string(), name, analysis.error);
+      summary.observables.push_back(std::move(analysis));
+      continue;
+    }
+    for (const sobol::MetamodelKind kind : kinds) {
+      sobol::throw_if_stopped(options.should_stop);
+      FittedMetamodel fit = fit_metamodel(kind, model_options, data.unit, data.y);
+      // A model that cannot be fitted to this data (too few samples for an RSM of degree 3, a singular system) is
+      // reported, not fatal: the others still give indices.
+      ModelAnalysis model;
+      model.model = fit.name();
+      model.error = fit.error;
+      if (fit.ok()) {
+        try {
+          model.quality = fit.quality;
+          model.indices = sobol::metamodel_sobol(*fit.model, sobol_options);
+          model.ok = true;
+        } catch (const sobol::Stopped&) {
+          throw;
+        } catch (const std::exception& e) {
+          model.error = e.what();
+        }
+      }
+      analysis.models.push_back(std::move(model));
+    }
+    summary.observables.push_back(std::move(analysis));
+  }
+
+  // Every result is computed before the first file is written: a stopped analysis leaves the folder as it was.
+  sobol::throw_if_stopped(options.should_stop);
+  fs::create_directories(summary.out_dir);
 
   // observables.csv
-  std::vector<std::string> names = observable_names(config);
   std::set<std::string> extra;
   for (const auto& [sample, values] : observables)
     for (const auto& [name, value] : values)
@@ -114,41 +169,6 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
       text += "\n";
     }
     write_text(summary.out_dir / "observables.csv", text);
-  }
-
-  sobol::MetamodelSobolOptions sobol_options;
-  sobol_options.base = summary.base_samples;
-  sobol_options.second_order = summary.second_order;
-  sobol_options.bootstrap = summary.bootstrap;
-  sobol_options.confidence = config.analysis.confidence;
-  sobol_options.seed = config.seed;
-
-  const sobol::MetamodelOptions model_options = config.analysis.metamodel_options();
-  for (const std::string& name : names) {
-    const TrainingData data = training_data(config, samples, observables, name);
-    ObservableAnalysis analysis;
-    analysis.name = name;
-    analysis.samples = static_cast<int>(data.size());
-    analysis.mean = mean_of(data.y);
-    analysis.sd = sd_of(data.y);
-    for (FittedMetamodel& fit : fit_metamodels(kinds, model_options, data.unit, data.y)) {
-      // A model that cannot be fitted to this data (too few samples for an RSM of degree 3, a constant
-      // observable) is reported, not fatal: the others still give indices.
-      ModelAnalysis model;
-      model.model = fit.name();
-      model.error = fit.error;
-      if (fit.ok()) {
-        try {
-          model.quality = fit.quality;
-          model.indices = sobol::metamodel_sobol(*fit.model, sobol_options);
-          model.ok = true;
-        } catch (const std::exception& e) {
-          model.error = e.what();
-        }
-      }
-      analysis.models.push_back(std::move(model));
-    }
-    summary.observables.push_back(std::move(analysis));
   }
 
   // metamodels.json, table_<observable>.csv, analysis.json, sobol_<model>.{csv,json}
@@ -197,10 +217,26 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   return summary;
 }
 
+std::string analysis_failure(const AnalysisSummary& summary) {
+  std::string why;
+  for (const ObservableAnalysis& o : summary.observables) {
+    for (const ModelAnalysis& m : o.models)
+      if (m.ok) return "";
+    if (!o.error.empty()) {
+      why += fmt::format("\n  {}: {}", o.name, o.error);
+      continue;
+    }
+    for (const ModelAnalysis& m : o.models) why += fmt::format("\n  {} ~ {}: {}", o.name, m.model, m.error);
+  }
+  return fmt::format("{}: no observable could be analysed:{}", summary.out_dir.string(),
+                     why.empty() ? std::string(" the study has none") : why);
+}
+
 std::string s1_table_text(const AnalysisSummary& summary, const ObservableAnalysis& observable) {
   std::string text = fmt::format("Sobol' S1 of {} ({} samples", observable.name, observable.samples);
   if (!summary.samples_left_out.empty()) text += fmt::format(", {} left out", summary.samples_left_out.size());
   text += ")\n";
+  if (!observable.error.empty()) return text + fmt::format("not analysed: {}\n", observable.error);
   text += fmt::format("{:<10}", "model");
   for (const std::string& p : summary.parameters) text += fmt::format(" {:>8}", p);
   text += fmt::format(" {:>8} {:>7} {:>7}\n", "Res", "R2", "Q2");

@@ -12,9 +12,19 @@
 //                                   the residual 1 − ΣS1
 //   analysis.json                   everything above in one document (samples used, failed samples, settings;
 //                                   analysis_json.hpp)
+//
+// An observable that is constant over its samples (up to round-off: sobol::negligible_variance) has no metamodel and
+// no Sobol' index: it is reported as an error of that observable (ObservableAnalysis::error, in analysis.json, the
+// printed tables and a warning on standard error) and the other observables are analysed. When no observable gets
+// indices from any metamodel, nothing was analysed: analysis_failure() says why, and the commands exit with an
+// error after writing the files that record it.
+//
+// Stopping: options.should_stop is polled between observables, metamodels, refits and QMC blocks; once it returns
+// true analyze_study throws sobol::Stopped before writing anything, so the folder keeps what it held before.
 #include "orchestrator/analysis/analysis_json.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,12 +36,17 @@ struct AnalyzeOptions {
   int bootstrap = -1;                   ///< design-bootstrap refits; -1: the study's value; >= 0 otherwise
   int base_samples = -1;                ///< QMC base N; -1: the study's value; >= 2 otherwise
   int second_order = -1;                ///< S2: -1 the study's setting, 0 no, 1 yes
+  std::function<bool()> should_stop;    ///< polled in the long loops; true stops them (empty: never)
   void validate() const;                ///< throws std::invalid_argument naming the field
 };
 
 /// Runs the analysis and writes DIR/analysis/. Throws util::UserError when the folder is not a study or fewer than two
 /// samples are done.
 AnalysisSummary analyze_study(const AnalyzeOptions& options);
+
+/// Why nothing was analysed ("" when at least one metamodel of one observable gave indices): one line per observable
+/// with its error, or with the errors of its metamodels.
+std::string analysis_failure(const AnalysisSummary& summary);
 
 /// The paper's table (Tables 4–7) for one observable as aligned text: a header with the parameter names and
 /// "Res", one row per metamodel that worked with its S1 values and residual 1 − ΣS1, and R² and Q² columns.

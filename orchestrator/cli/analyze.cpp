@@ -1,9 +1,13 @@
 // `demsa analyze` (README "Usage"): metamodels and Sobol' indices on a study's observables, written to analysis/.
+// SIGINT/SIGTERM stop it within a step of its loops (exit 128 + N) before it writes any file; an analysis in which no
+// observable got indices is written (it records why) and exits 2.
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/signals.hpp"
+#include "sobol/stop.hpp"
 
 #include <fmt/core.h>
 
@@ -36,11 +40,21 @@ int do_analyze(const AnalyzeArgs& args) {
   options.base_samples = args.base;
   if (args.second_order) options.second_order = 1;
   if (args.no_second_order) options.second_order = 0;
-  const AnalysisSummary summary = analyze_study(options);
+  StopFlag::install();
+  options.should_stop = [] { return StopFlag::raised(); };
+  AnalysisSummary summary;
+  try {
+    summary = analyze_study(options);
+  } catch (const sobol::Stopped&) {
+    fmt::print(stderr, "demsa: analysis of {} stopped by signal {}; nothing written\n", args.dir,
+               StopFlag::signal_number());
+    return k_exit_signal_base + StopFlag::signal_number();
+  }
   if (args.json)
     fmt::print("{}\n", read_file(summary.out_dir / "analysis.json"));
   else
     print_analysis_tables(summary);
+  if (const std::string failure = analysis_failure(summary); !failure.empty()) throw UserError(failure);
   return k_exit_ok;
 }
 

@@ -44,6 +44,7 @@ struct DesignArgs {
   double phi_p = 50.0;
   // saltelli
   bool second_order = false;
+  int replicates = 1;  ///< independently scrambled replicates (column 'replicate' when > 1)
 };
 
 // Points of the Sobol' sequence at most (sobol_sequence's limit, 30 binary digits per coordinate).
@@ -215,14 +216,20 @@ void run_saltelli(const DesignArgs& args) {
   options.dimension = static_cast<int>(p.names.size());
   options.second_order = args.second_order;
   options.seed = args.seed;
+  options.replicates = args.replicates;
   const sobol::SaltelliDesign d = sobol::saltelli_design(options);
   const Eigen::MatrixXd unit = d.stacked();
   const Eigen::MatrixXd values = p.scaled ? sobol::to_physical(unit, p.bounds) : unit;
   const std::vector<int> codes = d.block_codes();
-  Eigen::MatrixXd table(values.rows(), values.cols() + 1);
+  const int extra = d.replicates > 1 ? 2 : 1;  // 'block' and, with replicates, 'replicate' (1..R)
+  Eigen::MatrixXd table(values.rows(), values.cols() + extra);
+  const std::vector<int> replicate = d.replicate_codes();
   for (Eigen::Index r = 0; r < values.rows(); ++r) table(r, 0) = codes[static_cast<std::size_t>(r)];
+  if (extra == 2)
+    for (Eigen::Index r = 0; r < values.rows(); ++r) table(r, 1) = 1 + replicate[static_cast<std::size_t>(r)];
   table.rightCols(values.cols()) = values;
   std::vector<std::string> header{"block"};
+  if (extra == 2) header.emplace_back("replicate");
   header.insert(header.end(), p.names.begin(), p.names.end());
   write_csv(args.output, header, table);
   const sobol::DesignMetrics m = sobol::design_metrics(d.a);
@@ -298,6 +305,11 @@ void register_design_command(CLI::App& app, CliState& state) {
       "saltelli", "Saltelli design for Sobol' indices: blocks A, B, AB_i (and BA_i), column 'block' names them");
   add_common(saltelli, *args, "-N,--base", "Base sample size N (rows of A and of B; a power of two)");
   saltelli->add_flag("--second-order", args->second_order, "Add the BA_i blocks needed for second-order indices");
+  saltelli
+      ->add_option("--replicates", args->replicates,
+                   "Split N into R independently scrambled designs (column 'replicate'): `demsa sensitivity` then "
+                   "gives Student-t intervals valid for QMC")
+      ->check(CLI::PositiveNumber);
   saltelli->callback([args, &state] {
     run_saltelli(*args);
     state.exit_code = k_exit_ok;

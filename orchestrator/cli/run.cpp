@@ -7,6 +7,7 @@
 #include "orchestrator/exec/slurm/executor.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
+#include "sobol/stop.hpp"
 
 #include <fmt/core.h>
 #include <unistd.h>
@@ -94,7 +95,17 @@ int do_run(const RunArgs& args) {
   if (!args.no_analyze && summary.done >= 2) {
     AnalyzeOptions analyze;
     analyze.dir = summary.dir;
-    print_analysis_tables(analyze_study(analyze));
+    analyze.should_stop = [] { return StopFlag::raised(); };
+    AnalysisSummary analysis;
+    try {
+      analysis = analyze_study(analyze);
+    } catch (const sobol::Stopped&) {
+      fmt::print("interrupted during the analysis (nothing written): `demsa analyze {}` runs it again\n",
+                 summary.dir.string());
+      return interrupted_status();
+    }
+    print_analysis_tables(analysis);
+    if (const std::string failure = analysis_failure(analysis); !failure.empty()) throw UserError(failure);
   }
   return summary.failed > 0 ? k_exit_check_failed : k_exit_ok;
 }

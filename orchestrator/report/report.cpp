@@ -348,6 +348,10 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
   section.paragraphs.push_back(fmt::format("{} samples; mean {} {}, standard deviation {} {}.", observable.samples,
                                            short_number(observable.mean * label.factor), label.unit,
                                            short_number(observable.sd * label.factor), label.unit));
+  if (!observable.error.empty()) {
+    section.paragraphs.push_back(fmt::format("Not analysed: {}", observable.error));
+    return section;
+  }
   const TrainingData data = training_data(s.config, s.samples, s.observables, name);
   if (data.y.size() < 2) {
     section.paragraphs.push_back("Too few done samples measure it: no tables and no plots.");

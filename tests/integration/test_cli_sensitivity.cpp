@@ -1,16 +1,21 @@
 // `demsa sensitivity` through the real binary: Ishigami evaluated outside on a Saltelli design, metamodels on data
 // the user already has, and every bad-input path naming file, line, column and value.
 #include "orchestrator/util/csv.hpp"
+#include "support/process.hpp"
 #include "support/test_support.hpp"
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <sstream>
+#include <thread>
 
 using namespace demsa::util;
 
@@ -53,7 +58,8 @@ TEST(CliSensitivity, IshigamiThroughTheCommandLine) {
   EXPECT_EQ(o["S2"][1]["i"], "x1");
   EXPECT_EQ(o["S2"][1]["j"], "x3");
   EXPECT_NEAR(o["S2"][1]["S2"]["value"].get<double>(), 0.2437, 0.01);
-  EXPECT_FALSE(o.contains("note"));
+  // One scrambled design: a bootstrap interval, with what it assumes.
+  EXPECT_NE(o["note"].get<std::string>().find("treat the base rows as independent random draws"), std::string::npos);
   EXPECT_EQ(o["bootstrap"], 100);
 }
 
@@ -275,6 +281,120 @@ TEST(CliSensitivity, GpOptionsAndLabelColumns) {
   EXPECT_GT(gp["quality"]["q2"].get<double>(), 0.95);
   EXPECT_GT(gp["sobol"]["S1"]["a"]["value"].get<double>(), 0.9);
   EXPECT_GT(gp["quality"]["parameters"]["nugget"].get<double>(), 0.0) << gp["quality"].dump();  // estimated
+}
+
+/// `demsa design saltelli` of Ishigami's three inputs in DIR/design.csv and its outputs in DIR/y.csv.
+void ishigami_files(const TempDir& dir, const std::vector<std::string>& design_options) {
+  const std::string p = "-3.14159265358979323846:3.14159265358979323846";
+  std::vector<std::string> args{"design",  "saltelli", "--param", "x1:" + p, "--param",
+                                "x2:" + p, "--param",  "x3:" + p, "-o",      (dir / "design.csv").string()};
+  args.insert(args.end(), design_options.begin(), design_options.end());
+  const CommandResult r = run_demsa(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const CsvTable design = read_csv(dir / "design.csv");
+  const int first = design.column_index("x1");
+  std::ostringstream y;
+  y.precision(17);
+  y << "y\n";
+  for (int i = 0; i < design.rows(); ++i)
+    y << ishigami(design.values(i, first), design.values(i, first + 1), design.values(i, first + 2)) << "\n";
+  write_file(dir / "y.csv", y.str());
+}
+
+TEST(CliSensitivity, ReplicatedDesignGivesStudentTIntervals) {
+  TempDir dir;
+  ishigami_files(dir, {"-N", "1024", "--replicates", "16", "--seed", "3"});
+  const CsvTable design = read_csv(dir / "design.csv");
+  EXPECT_EQ(design.columns[1], "replicate");
+  const CommandResult r = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                     (dir / "y.csv").string(), "--json", (dir / "out.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Student-t intervals from 16 independently scrambled replicates"), std::string::npos) << r.out;
+  const nlohmann::json o = nlohmann::json::parse(read_file(dir / "out.json"))["outputs"][0];
+  EXPECT_EQ(o["replicates"], 16);
+  EXPECT_EQ(o["bootstrap"], 0);
+  EXPECT_FALSE(o.contains("note"));
+  EXPECT_NEAR(o["S1"]["x1"]["value"].get<double>(), 0.3139, 0.03);
+  EXPECT_LT(o["S1"]["x1"]["lower"].get<double>(), o["S1"]["x1"]["upper"].get<double>());
+  // A replicate column that does not follow the blocks is named with its line.
+  std::string text = read_file(dir / "design.csv");
+  const std::size_t line_start = text.find("\n1,1,") + 1;  // first row of block B, replicate 1
+  text.replace(line_start, 4, "1,2,");
+  write_file(dir / "bad.csv", text);
+  const CommandResult bad =
+      run_demsa({"sensitivity", "--saltelli", (dir / "bad.csv").string(), "--responses", (dir / "y.csv").string()});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("bad.csv:1026"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("column 'replicate'"), std::string::npos) << bad.err;
+}
+
+TEST(CliSensitivity, BootstrapOnOneScrambledDesignSaysWhatItAssumes) {
+  TempDir dir;
+  ishigami_files(dir, {"-N", "256"});
+  const CommandResult r = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                     (dir / "y.csv").string(), "--bootstrap", "50"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("bootstrap intervals: they treat the base rows as independent random draws"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("--replicates R"), std::string::npos) << r.out;
+}
+
+TEST(CliSensitivity, BaseThatIsNotAPowerOfTwoIsWarnedAbout) {
+  TempDir dir;
+  ishigami_files(dir, {"-N", "1000"});
+  const CommandResult r = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                     (dir / "y.csv").string(), "--bootstrap", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("the base N = 1000 is not a power of two"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rounds N up to a power of two"), std::string::npos) << r.err;
+  ishigami_files(dir, {"-N", "1024"});
+  const CommandResult fine = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                        (dir / "y.csv").string(), "--bootstrap", "0"});
+  EXPECT_EQ(fine.err.find("power of two"), std::string::npos) << fine.err;
+}
+
+TEST(CliSensitivityErrors, ConstantOutputIsAnErrorOnBothPaths) {
+  TempDir dir;
+  // --data: every y = 1 (the metamodels would fit it with R² NaN and give indices of round-off).
+  std::string data = "a,b,c,y\n";
+  for (int i = 0; i < 30; ++i)
+    data += fmt::format("{},{},{},1\n", std::fmod(0.618034 * i, 1.0), std::fmod(0.7548777 * i + 0.1, 1.0),
+                        std::fmod(0.5698403 * i + 0.3, 1.0));
+  write_file(dir / "c.csv", data);
+  const CommandResult r = run_demsa({"sensitivity", "--data", (dir / "c.csv").string(), "--inputs", "a,b,c", "--output",
+                                     "y", "--metamodels", "rsm2,rbf-cubic"});
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.err.find("c.csv"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("output 'y' is constant (every one of its 30 samples is 1"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("S1"), std::string::npos) << r.out;
+  // --saltelli: outputs equal up to the last bit (0.1 + 0.2 against 0.3).
+  ishigami_files(dir, {"-N", "64"});
+  const CsvTable design = read_csv(dir / "design.csv");
+  std::string y = "y\n";
+  for (int i = 0; i < design.rows(); ++i) y += i % 2 ? "0.30000000000000004\n" : "0.3\n";
+  write_file(dir / "y.csv", y);
+  const CommandResult s =
+      run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "y.csv").string()});
+  EXPECT_EQ(s.exit_code, 2) << s.out;
+  EXPECT_NE(s.err.find("column 'y': the output is constant"), std::string::npos) << s.err;
+}
+
+TEST(CliSensitivity, SigintStopsTheBootstrapAndWritesNoJson) {
+  TempDir dir;
+  ishigami_files(dir, {"-N", "1024"});
+  const pid_t pid =
+      spawn_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "y.csv").string(),
+                   "--bootstrap", "100000000", "--json", (dir / "out.json").string()},
+                  dir / "demsa.log");
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  ::kill(pid, SIGINT);
+  const auto sent = std::chrono::steady_clock::now();
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count(), 3.0);
+  ASSERT_TRUE(WIFEXITED(status)) << read_file(dir / "demsa.log");
+  EXPECT_EQ(WEXITSTATUS(status), 130) << read_file(dir / "demsa.log");
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.json"));
 }
 
 }  // namespace

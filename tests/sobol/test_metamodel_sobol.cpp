@@ -4,11 +4,13 @@
 #include "sobol/error.hpp"
 #include "sobol/metamodel_sobol.hpp"
 #include "sobol/rsm.hpp"
+#include "sobol/stop.hpp"
 #include "tests/sobol/analytic.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 namespace demsa::sobol {
 namespace {
@@ -125,6 +127,48 @@ TEST(MetamodelSobol, OptionsAreValidated) {
   o.base = 64;
   o.confidence = 0.0;
   EXPECT_THROW(o.validate(), InputError);
+}
+
+TEST(MetamodelSobol, IntervalsCarryTheQmcErrorOfTheEstimate) {
+  // A quadratic RSM fitted to an exact quadratic: every refit gives the same polynomial, so the metamodel is
+  // certain and what is left is the QMC error of the estimate at N = 64. Its exact indices are known
+  // (rsm_exact_indices); the intervals, from refits on independently scrambled designs, must cover them.
+  const Eigen::MatrixXd x = latin_hypercube(80, 3, 9);
+  Eigen::VectorXd y(80);
+  for (int i = 0; i < 80; ++i) y(i) = 3.0 * x(i, 0) + 2.0 * x(i, 1) * x(i, 1) + x(i, 0) * x(i, 2) + 0.5 * x(i, 2);
+  auto m = make_metamodel("rsm2");
+  m->fit(x, y);
+  const SobolResult exact = rsm_exact_indices(dynamic_cast<const PolynomialRsm&>(*m));
+  int covered = 0, total = 0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    MetamodelSobolOptions o;
+    o.base = 64;
+    o.bootstrap = 40;
+    o.seed = seed;
+    o.exact_for_rsm = false;
+    const SobolResult r = metamodel_sobol(*m, o);
+    for (int k = 0; k < 3; ++k) {
+      covered += r.first[k].lower <= exact.first[k].value && exact.first[k].value <= r.first[k].upper;
+      covered += r.total[k].lower <= exact.total[k].value && exact.total[k].value <= r.total[k].upper;
+      total += 2;
+    }
+  }
+  EXPECT_GE(covered, 0.85 * total) << covered << " of " << total;
+}
+
+TEST(MetamodelSobol, StopRequestEndsTheRefits) {
+  const Eigen::MatrixXd x = latin_hypercube(40, 2, 4);
+  Eigen::VectorXd y(40);
+  for (int i = 0; i < 40; ++i) y(i) = x(i, 0) + std::sin(3.0 * x(i, 1));
+  auto m = make_metamodel("rbf-cubic");
+  m->fit(x, y);
+  MetamodelSobolOptions o;
+  o.base = 128;
+  o.bootstrap = 1000000;
+  int polls = 0;
+  o.stop = [&polls] { return ++polls > 30; };
+  EXPECT_THROW(metamodel_sobol(*m, o), Stopped);
+  EXPECT_EQ(polls, 31);
 }
 
 }  // namespace

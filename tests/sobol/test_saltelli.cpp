@@ -3,6 +3,7 @@
 #include "sobol/design.hpp"
 #include "sobol/error.hpp"
 #include "sobol/saltelli.hpp"
+#include "sobol/stop.hpp"
 #include "tests/sobol/analytic.hpp"
 #include "tests/sobol/ishigami_seeds.hpp"
 
@@ -11,6 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace demsa::sobol {
@@ -210,6 +214,123 @@ TEST(SaltelliErrors, BadResponses) {
   SaltelliOptions o;
   o.dimension = 21;
   EXPECT_THROW(o.validate(), InputError);
+}
+
+TEST(SaltelliErrors, ConstantUpToRoundOffIsRefused) {
+  // 0.1 + 0.2 and 0.3 differ in their last bit: the variance is (1e-17)², indices of it are noise.
+  Eigen::VectorXd y(40);
+  for (Eigen::Index r = 0; r < y.size(); ++r) y(r) = r % 3 == 0 ? 0.1 + 0.2 : 0.3;
+  SobolOptions so;
+  so.bootstrap = 0;
+  try {
+    sobol_indices(split_responses(y, 2, false), so);
+    FAIL();
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("the output is constant"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(negligible_variance(0.3, 1e-34));
+  EXPECT_TRUE(negligible_variance(0.0, 0.0));
+  EXPECT_FALSE(negligible_variance(0.3, 1e-20));
+  EXPECT_FALSE(negligible_variance(0.0, 1e-300));
+}
+
+TEST(Saltelli, ReplicatedDesignIsRIndependentScramblings) {
+  SaltelliOptions o;
+  o.base = 64;
+  o.dimension = 2;
+  o.replicates = 4;
+  const SaltelliDesign d = saltelli_design(o);
+  EXPECT_EQ(d.a.rows(), 64);
+  const std::vector<int> rep = d.replicate_codes();
+  ASSERT_EQ(rep.size(), static_cast<std::size_t>(d.rows()));
+  EXPECT_EQ(rep[0], 0);
+  EXPECT_EQ(rep[16], 1);
+  EXPECT_EQ(rep[63], 3);
+  EXPECT_EQ(rep[64], 0);  // block B starts again with replicate 0
+  // Replicate 0 is the seed's own design at base N/R; the others are other scramblings of it.
+  SaltelliOptions one = o;
+  one.base = 16;
+  one.replicates = 1;
+  const SaltelliDesign first = saltelli_design(one);
+  EXPECT_TRUE(d.a.topRows(16) == first.a);
+  EXPECT_FALSE(d.a.middleRows(16, 16) == first.a);
+  // Each replicate alone is a net: 16 points, one in each of the 16 intervals of every coordinate.
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < 2; ++k) {
+      std::vector<int> cells(16, 0);
+      for (int t = 0; t < 16; ++t) ++cells[static_cast<std::size_t>(16 * d.a(16 * r + t, k))];
+      EXPECT_EQ(*std::max_element(cells.begin(), cells.end()), 1);
+    }
+  o.replicates = 3;  // does not divide 64
+  EXPECT_THROW(o.validate(), InputError);
+  o.replicates = 64;  // one row per replicate
+  EXPECT_THROW(o.validate(), InputError);
+}
+
+TEST(Saltelli, ReplicatedIntervalsAreHonestForQmc) {
+  // Ishigami at N = 1024 over 20 seeds. The bootstrap treats the rows of one scrambled net as independent and its
+  // intervals are far wider than the error; the Student-t intervals of 16 independent scramblings of 64 rows cover
+  // the analytic values as often as they claim, and are a few times the error, not ten.
+  auto measure = [](int replicates) {
+    int covered = 0, total = 0;
+    double width = 0.0, error = 0.0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+      SaltelliOptions o;
+      o.base = 1024;
+      o.dimension = 3;
+      o.seed = seed;
+      o.replicates = replicates;
+      SobolOptions so;
+      so.bootstrap = 200;
+      so.seed = seed;
+      const SobolResult r = sobol_indices(ishigami, saltelli_design(o), so);
+      EXPECT_EQ(r.replicates, replicates > 1 ? replicates : 0);
+      for (std::size_t k = 0; k < 3; ++k)
+        for (const auto& [e, truth] :
+             {std::pair{r.first[k], test::k_ishigami_s1[k]}, std::pair{r.total[k], test::k_ishigami_st[k]}}) {
+          covered += e.lower <= truth && truth <= e.upper;
+          width += e.upper - e.lower;
+          error += std::abs(e.value - truth);
+          ++total;
+        }
+    }
+    return std::tuple{static_cast<double>(covered) / total, width / error};
+  };
+  const auto [bootstrap_coverage, bootstrap_ratio] = measure(1);
+  const auto [coverage, ratio] = measure(16);
+  EXPECT_GT(bootstrap_ratio, 8.0);  // the old intervals: about 10 times the error
+  EXPECT_GE(coverage, 0.9);
+  EXPECT_LT(ratio, 7.0);
+  EXPECT_LT(ratio, 0.7 * bootstrap_ratio);
+}
+
+TEST(Saltelli, BaseRowReplicatesFromAFile) {
+  // Blocks A, B, AB1 of base 4 in two replicates labelled 7 and 9.
+  const std::vector<int> codes{0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2};
+  const std::vector<long long> labels{7, 7, 9, 9, 7, 7, 9, 9, 7, 7, 9, 9};
+  EXPECT_EQ(base_row_replicates(codes, labels, 1), (std::vector<int>{0, 0, 1, 1}));
+  std::vector<long long> wrong = labels;
+  wrong[9] = 9;  // row 2 of block AB1 claims replicate 9, row 2 of block A is in 7
+  try {
+    base_row_replicates(codes, wrong, 1);
+    FAIL();
+  } catch (const DataError& e) {
+    EXPECT_EQ(e.row(), 9);
+  }
+  const std::vector<long long> uneven{7, 9, 9, 9, 7, 9, 9, 9, 7, 9, 9, 9};
+  EXPECT_THROW(base_row_replicates(codes, uneven, 1), DataError);
+}
+
+TEST(Saltelli, StopRequestEndsTheBootstrap) {
+  SaltelliOptions o;
+  o.base = 256;
+  o.dimension = 3;
+  SobolOptions so;
+  so.bootstrap = 1000000;
+  int polls = 0;
+  so.stop = [&polls] { return ++polls > 20; };
+  EXPECT_THROW(sobol_indices(ishigami, saltelli_design(o), so), Stopped);
+  EXPECT_EQ(polls, 21);
 }
 
 }  // namespace

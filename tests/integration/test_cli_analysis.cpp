@@ -1,0 +1,101 @@
+// `demsa analyze` through the real binary on synthetic studies: SIGINT and SIGTERM stop a long analysis at once
+// (exit 128 + N, nothing written), a constant observable is reported while the others are analysed, and an analysis
+// in which nothing could be analysed exits 2.
+#include "orchestrator/study/store.hpp"
+#include "support/process.hpp"
+#include "support/synthetic_study.hpp"
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <functional>
+#include <thread>
+
+using namespace demsa::study;
+
+namespace demsa::test {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+/// DIR/study.toml and DIR/study.db with 30 done samples of the given angle and pile height.
+void write_study(const fs::path& dir, const std::function<double(double, double)>& angle,
+                 const std::function<double(double, double)>& height) {
+  const StudyToml toml{.name = "synthetic", .seed = 7, .samples = 30};
+  SyntheticStudy study = start_synthetic_study(dir, toml.text(), 3);
+  for (const SampleRow& row : study.samples) {
+    const long run = study.store.add_run(row.sample, 1);
+    RunOutcome outcome;
+    outcome.exit_code = 0;
+    study.store.record_done(
+        run, outcome, {{"angle", angle(row.unit[0], row.unit[1])}, {"pile_height", height(row.unit[0], row.unit[1])}});
+  }
+}
+
+double angle_of(double u1, double u2) { return 22.0 + 14.0 * u2 + 5.0 * u1 * u1 + std::sin(6.0 * u1 * u2); }
+
+class AnalyzeSignal : public ::testing::TestWithParam<int> {};
+
+TEST_P(AnalyzeSignal, StopsWithinASecondAndWritesNothing) {
+  const int signal = GetParam();
+  TempDir tmp;
+  write_study(tmp / "study", angle_of, [](double u1, double u2) { return 0.02 + 0.01 * u1 + 0.004 * u2; });
+  // base 65536 and 200 refits: about a minute and a half of work without the signal.
+  const pid_t pid = spawn_demsa(
+      {"analyze", (tmp / "study").string(), "--base", "65536", "--bootstrap", "200", "--models", "rbf-cubic"},
+      tmp / "demsa.log");
+  std::this_thread::sleep_for(1s);
+  ::kill(pid, signal);
+  const auto sent = std::chrono::steady_clock::now();
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  // Ended by demsa itself with 128 + N (a process killed by the signal's default action would leave its partial
+  // files behind).
+  ASSERT_TRUE(WIFEXITED(status)) << read_file(tmp / "demsa.log");
+  EXPECT_EQ(WEXITSTATUS(status), 128 + signal) << read_file(tmp / "demsa.log");
+  EXPECT_LT(seconds, 3.0);
+  EXPECT_FALSE(fs::exists(tmp / "study" / "analysis")) << "a stopped analysis leaves no file";
+  EXPECT_NE(read_file(tmp / "demsa.log").find("nothing written"), std::string::npos) << read_file(tmp / "demsa.log");
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, AnalyzeSignal, ::testing::Values(SIGINT, SIGTERM));
+
+TEST(CliAnalyze, ConstantObservableIsReportedAndTheOthersAnalysed) {
+  TempDir tmp;
+  write_study(tmp / "study", angle_of, [](double, double) { return 0.025; });
+  const CommandResult r = run_demsa({"analyze", (tmp / "study").string(), "--bootstrap", "5", "--base", "256"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("observable 'pile_height': constant observable: every one of its 30 samples is 0.025"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.out.find("not analysed: constant observable"), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(read_file(tmp / "study" / "analysis" / "analysis.json"));
+  ASSERT_EQ(j["observables"].size(), 2u);
+  EXPECT_FALSE(j["observables"][0].contains("error"));
+  EXPECT_TRUE(j["observables"][0]["models"][0]["ok"].get<bool>());
+  EXPECT_NE(j["observables"][1]["error"].get<std::string>().find("constant observable"), std::string::npos);
+  EXPECT_TRUE(j["observables"][1]["models"].empty());
+}
+
+TEST(CliAnalyze, NothingAnalysedExits2NamingEachObservable) {
+  TempDir tmp;
+  write_study(
+      tmp / "study", [](double, double) { return 31.5; }, [](double, double) { return 0.025; });
+  const CommandResult r = run_demsa({"analyze", (tmp / "study").string(), "--bootstrap", "0", "--base", "64"});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("demsa: error: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no observable could be analysed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("angle: constant observable: every one of its 30 samples is 31.5"), std::string::npos) << r.err;
+  // The files record why, for the report.
+  EXPECT_TRUE(fs::exists(tmp / "study" / "analysis" / "analysis.json"));
+}
+
+}  // namespace
+}  // namespace demsa::test
