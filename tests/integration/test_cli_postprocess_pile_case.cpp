@@ -91,8 +91,8 @@ TEST(CliPostprocessPileCase, CaseJsonWithoutPedestalIsAnError) {
                        "pile's pedestal as --pedestal-radius and --pedestal-top"),
             std::string::npos)
       << r.err;
-  const CommandResult given = run_demsa(
-      {"postprocess", "pile", tmp.path().string(), "--pedestal-radius", "0.03", "--pedestal-top", "0.012"});
+  const CommandResult given =
+      run_demsa({"postprocess", "pile", tmp.path().string(), "--pedestal-radius", "0.03", "--pedestal-top", "0.012"});
   EXPECT_EQ(given.exit_code, 0) << given.err;
 
   write_file(tmp / "case.json", R"({"experiment": "pile", "pile": {"pedestal_radius_m": "wide"}})");
@@ -118,8 +118,8 @@ TEST(CliPostprocessPileCase, DumpWithoutCaseJsonWarnsAndUsesTheOptions) {
             std::string::npos)
       << r.err;
   EXPECT_TRUE(nlohmann::json::parse(r.out)["case_json"].is_null());
-  const CommandResult given = run_demsa(
-      {"postprocess", "pile", tmp.path().string(), "--pedestal-radius", "0.05", "--pedestal-top", "0.005"});
+  const CommandResult given =
+      run_demsa({"postprocess", "pile", tmp.path().string(), "--pedestal-radius", "0.05", "--pedestal-top", "0.005"});
   ASSERT_EQ(given.exit_code, 0) << given.err;
   EXPECT_EQ(given.err.find("no case.json"), std::string::npos) << given.err;
 }
