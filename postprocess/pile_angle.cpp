@@ -31,6 +31,25 @@ std::string to_string(BoundaryPointKind kind) {
   return {};
 }
 
+AngleEstimator angle_estimator_from_string(const std::string& name) {
+  if (name == "paper") return AngleEstimator::paper;
+  if (name == "robust") return AngleEstimator::robust;
+  throw std::invalid_argument(fmt::format("unknown angle estimator '{}' (valid: paper, robust)", name));
+}
+
+std::string to_string(AngleEstimator estimator) {
+  switch (estimator) {
+    case AngleEstimator::paper:
+      return "paper";
+    case AngleEstimator::robust:
+      return "robust";
+  }
+  assert(false && "unhandled AngleEstimator");
+  return {};
+}
+
+std::vector<std::string> angle_estimator_names() { return {"paper", "robust"}; }
+
 void PileAngleOptions::validate() const {
   auto bad = [](const char* field, double value, const char* rule) {
     return std::invalid_argument(fmt::format("PileAngleOptions.{} = {}: {}", field, value, rule));
@@ -91,8 +110,41 @@ TlsLine fit_tls_line(const std::vector<double>& u, const std::vector<double>& v)
   return line;
 }
 
-PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOptions& options) {
-  options.validate();
+namespace {
+
+double median_of(std::vector<double>& values) {
+  assert(!values.empty());
+  const std::size_t n = values.size();
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(n / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  if (n % 2 == 1) return *mid;
+  return 0.5 * (*mid + *std::max_element(values.begin(), mid));
+}
+
+}  // namespace
+
+TheilSenLine fit_theil_sen_line(const std::vector<double>& u, const std::vector<double>& v) {
+  assert(u.size() == v.size() && u.size() >= 2);
+  // Theil (1950), Sen (1968): the median of the slopes of all pairs of points, then the median intercept.
+  std::vector<double> slopes;
+  slopes.reserve(u.size() * (u.size() - 1) / 2);
+  for (std::size_t j = 0; j < u.size(); ++j)
+    for (std::size_t k = j + 1; k < u.size(); ++k)
+      if (v[k] != v[j]) slopes.push_back((u[k] - u[j]) / (v[k] - v[j]));
+  assert(!slopes.empty() && "Theil-Sen needs two distinct v");
+  TheilSenLine line;
+  line.slope = median_of(slopes);
+  std::vector<double> intercepts(u.size());
+  for (std::size_t j = 0; j < u.size(); ++j) intercepts[j] = u[j] - line.slope * v[j];
+  line.intercept = median_of(intercepts);
+  return line;
+}
+
+PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOptions& requested) {
+  requested.validate();
+  PileAngleOptions options = requested;
+  const bool robust = options.estimator == AngleEstimator::robust;
+  if (robust) options.point = BoundaryPointKind::surface;  // exact heights: the roughness is all radial
   PileAngleResult result;
   result.options = options;
   for (std::size_t j = 0; j < particles.size(); ++j)
@@ -212,7 +264,29 @@ PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOp
         !u.empty() &&
         (*std::max_element(u.begin(), u.end()) - *std::min_element(u.begin(), u.end()) > 1e-9 * result.pile_height ||
          *std::max_element(v.begin(), v.end()) - *std::min_element(v.begin(), v.end()) > 1e-9 * result.pile_height);
-    if (line.points >= options.min_points && distinct) {
+    const bool two_heights =
+        !v.empty() && *std::max_element(v.begin(), v.end()) > *std::min_element(v.begin(), v.end());
+    if (robust && line.points >= options.min_points && two_heights) {
+      // Radial distance on height: the heights are the exact level heights, so ordinary (not orthogonal)
+      // regression of u on v is the right model, made robust by Theil-Sen.
+      const TheilSenLine fit = fit_theil_sen_line(u, v);
+      line.used = true;
+      // u = a + b v falls outwards when b < 0: angle atan(1/|b|); a flank leaning inwards gives a negative angle.
+      line.angle =
+          (fit.slope <= 0.0 ? std::atan2(1.0, -fit.slope) : -std::atan2(1.0, fit.slope)) * 180.0 / std::numbers::pi;
+      const double norm = std::sqrt(1.0 + fit.slope * fit.slope);
+      double ss = 0.0;
+      for (std::size_t p = 0; p < u.size(); ++p) {
+        const double d = (u[p] - fit.intercept - fit.slope * v[p]) / norm;
+        ss += d * d;
+      }
+      line.rms_distance = std::sqrt(ss / static_cast<double>(u.size()));
+      line.height_low = *std::min_element(v.begin(), v.end());
+      line.height_high = *std::max_element(v.begin(), v.end());
+      line.radial_low = fit.intercept + fit.slope * line.height_low;
+      line.radial_high = fit.intercept + fit.slope * line.height_high;
+      angles.push_back(line.angle);
+    } else if (!robust && line.points >= options.min_points && distinct) {
       const TlsLine fit = fit_tls_line(u, v);
       line.used = true;
       line.angle = std::atan2(-fit.dv, fit.du) * 180.0 / std::numbers::pi;

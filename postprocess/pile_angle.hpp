@@ -11,6 +11,7 @@
 //  6. one orthogonal (total least squares) line per direction through the boundary points in the (radial distance,
 //     height) plane; its angle against the horizontal;
 //  7. the mean angle over the directions is φ; E_φ = (φ̂ − φ)² against the target φ̂.
+// AngleEstimator::robust replaces steps 5–6 by surface points at the exact level heights and a Theil–Sen line.
 #include "postprocess/dump.hpp"
 
 #include <cstdint>
@@ -30,6 +31,24 @@ enum class BoundaryPointKind {
 BoundaryPointKind boundary_point_kind_from_string(const std::string& name);
 std::string to_string(BoundaryPointKind kind);
 
+/// How the boundary points of a direction become its angle, and the directions the pile's angle.
+enum class AngleEstimator {
+  paper,   ///< §3.3 as published: the outermost particle per direction and level (its centre, or its surface with
+           ///< `point`), one orthogonal (TLS) line per direction, the mean over the directions. Reads low on rough
+           ///< flanks: the roughness is mostly radial, which an orthogonal fit turns into a flatter line, and one
+           ///< particle sticking out at an end level tilts the line (synthetic cones with 1–2 mm of surface
+           ///< jitter: 0.2–1 deg low on average, docs/benchmarks.md "Angle estimators").
+  robust,  ///< the outermost surface point per direction at each level's exact height (`point` is ignored), so all
+           ///< roughness is in the radial distance; per direction a Theil–Sen line of radial distance on height
+           ///< (median of the pairwise slopes: Theil 1950, Sen 1968), which a few levels caught on a particle sticking
+           ///< out (or a gap) do not tilt; the mean over the directions.
+};
+/// "paper" / "robust"; throws std::invalid_argument listing the valid names.
+AngleEstimator angle_estimator_from_string(const std::string& name);
+std::string to_string(AngleEstimator estimator);
+/// The valid names, in the order the docs list them.
+std::vector<std::string> angle_estimator_names();
+
 struct PileAngleOptions {
   double pedestal_radius = 0.050;  ///< r_cy: particles with centre further from the axis are dropped [m] (> 0)
   double pedestal_top = 0.005;     ///< z of the pedestal top (= its height on a ground at 0): lower centres are
@@ -42,7 +61,8 @@ struct PileAngleOptions {
   double level_low = 0.20;         ///< lowest level as a fraction of h_P (paper: 0.2); in (0, level_high)
   double level_high = 0.75;        ///< highest level as a fraction of h_P (paper: 0.75); in (level_low, 1)
   int min_points = 3;              ///< a direction with fewer boundary points is skipped; ≥ 2
-  BoundaryPointKind point = BoundaryPointKind::centre;  ///< which point of a boundary particle is fitted
+  BoundaryPointKind point = BoundaryPointKind::centre;  ///< which point of a boundary particle is fitted (paper)
+  AngleEstimator estimator = AngleEstimator::paper;     ///< line fit and averaging (see AngleEstimator)
   double target_angle = 33.5;  ///< φ̂ for E_φ [deg] (paper: mean of the measured 32° and 35°)
 
   /// Throws std::invalid_argument naming the field, its value and the rule.
@@ -74,7 +94,7 @@ struct DirectionLine {
 };
 
 struct PileAngleResult {
-  PileAngleOptions options;         ///< echo of the options used
+  PileAngleOptions options;         ///< echo of the options used (robust: point = surface, the points it fits)
   std::size_t particles_total = 0;  ///< atoms given (of particle_type)
   std::size_t particles_on_pedestal = 0;
   double pile_height = 0;                  ///< h_P above the pedestal top [m]
@@ -94,6 +114,14 @@ std::vector<std::size_t> pedestal_particles(const Particles& particles, const Pi
 /// Measures the angle of repose. Throws InputError when no particle is on the pedestal or no direction has
 /// min_points boundary points; std::invalid_argument for invalid options.
 PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOptions& options = {});
+
+/// Theil–Sen line u = intercept + slope·v through points (u_j, v_j) (Theil 1950, Sen 1968): the slope is the median
+/// of the pairwise slopes (u_k − u_j)/(v_k − v_j) over the pairs with v_j ≠ v_k, the intercept the median of
+/// u_j − slope·v_j. Unaffected by up to about 29 % of the points lying anywhere. Requires two distinct v.
+struct TheilSenLine {
+  double intercept = 0, slope = 0;
+};
+TheilSenLine fit_theil_sen_line(const std::vector<double>& u, const std::vector<double>& v);
 
 /// Orthogonal (total least squares) line through points (u_j, v_j): the line through their centroid along the
 /// principal axis of their scatter (Golub & Van Loan, §12.3 on TLS; SVD of the centred points). Returns the unit

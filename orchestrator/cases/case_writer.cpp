@@ -209,6 +209,9 @@ Written write_pile(const StudyConfig& c, const Material& m, const TimestepChoice
   w.experiment = {
       {"append_time_s", t_append}, {"append_steps", append_steps},           {"settle_steps", settle_steps},
       {"ke_stop_J", s.ke_stop},    {"pedestal_radius_m", s.pedestal_radius}, {"pedestal_height_m", s.pedestal_height}};
+  // How the finished pile is measured (exec/measure.cpp), so `demsa postprocess pile CASE` measures it the same way.
+  w.experiment["angle_measurement"] = {
+      {"directions", s.directions}, {"levels", s.levels}, {"estimator", s.angle_estimator}};
   return w;
 }
 

@@ -1,8 +1,12 @@
 // `demsa postprocess pile DUMP` and `demsa postprocess oedometer PLATEFILE...`: the observables of one case
-// (paper §3.3 angle of repose, §4 settlements), as text or JSON.
+// (paper §3.3 angle of repose, §4 settlements), as text or JSON. A pile of a case folder is measured with the
+// pedestal and the measurement settings its case.json records (cases/case_writer.cpp), as `demsa run` measured it
+// (exec/measure.cpp); options given on the command line override them.
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/log.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/oedometer.hpp"
 #include "postprocess/pile_angle.hpp"
@@ -11,9 +15,12 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace demsa::cli {
@@ -25,9 +32,10 @@ namespace pp = demsa::postprocess;
 
 namespace {
 
-nlohmann::json to_json(const pp::PileAngleResult& r, const std::string& dump) {
+nlohmann::json to_json(const pp::PileAngleResult& r, const std::string& dump, const std::string& case_json) {
   nlohmann::json j;
   j["dump"] = dump;
+  j["case_json"] = case_json.empty() ? nlohmann::json(nullptr) : nlohmann::json(case_json);
   j["options"] = {{"pedestal_radius_m", r.options.pedestal_radius},
                   {"pedestal_top_m", r.options.pedestal_top},
                   {"axis_x_m", r.options.axis_x},
@@ -39,6 +47,7 @@ nlohmann::json to_json(const pp::PileAngleResult& r, const std::string& dump) {
                   {"level_high", r.options.level_high},
                   {"min_points", r.options.min_points},
                   {"point", pp::to_string(r.options.point)},
+                  {"estimator", pp::to_string(r.options.estimator)},
                   {"target_angle_deg", r.options.target_angle}};
   j["particles_total"] = r.particles_total;
   j["particles_on_pedestal"] = r.particles_on_pedestal;
@@ -130,13 +139,111 @@ struct PileArgs {
   std::string dump;
   pp::PileAngleOptions options;
   std::string point = "centre";
+  std::string estimator = "paper";
   bool json = false;
+  // Given on the command line (then they override the case's case.json).
+  const CLI::Option* pedestal_radius = nullptr;
+  const CLI::Option* pedestal_top = nullptr;
+  const CLI::Option* directions = nullptr;
+  const CLI::Option* levels = nullptr;
+  const CLI::Option* estimator_option = nullptr;
 };
+
+bool given(const CLI::Option* option) { return option != nullptr && option->count() > 0; }
+
+/// The number at `section`.`key` of a case.json, if the key is there; a key holding anything but a number is an error
+/// naming the file, the key and the value.
+std::optional<double> case_number(const nlohmann::json& doc, const fs::path& file, const char* section,
+                                  const char* key) {
+  if (!doc.contains(section) || !doc[section].is_object() || !doc[section].contains(key)) return std::nullopt;
+  const nlohmann::json& v = doc[section][key];
+  if (!v.is_number())
+    throw UserError(file.string(), 0, fmt::format("{}.{} = {}: not a number", section, key, v.dump()));
+  return v.get<double>();
+}
+
+/// Takes the pile's pedestal and measurement settings from the case.json of the case that holds `dump` (the folder
+/// given, or the dump's own folder); command-line options win. Returns the case.json read, or "" when there is none.
+///
+/// Without a case.json (a dump not written by a demsa case) the options stand, defaults included, with a warning when
+/// the pedestal was not given. A case.json without the pedestal (written before demsa recorded it) is an error unless
+/// both --pedestal-radius and --pedestal-top are given: the defaults would measure another pedestal silently.
+std::string apply_case_settings(const PileArgs& a, const fs::path& dump, pp::PileAngleOptions& options) {
+  const fs::path folder = dump.parent_path().empty() ? fs::path(".") : dump.parent_path();
+  const fs::path file = folder / study::k_case_json;
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    if (!given(a.pedestal_radius) || !given(a.pedestal_top))
+      log::warn(
+          "{}: no {} beside the dump: measured on the pedestal of the options (radius {} m, top at z = {} m); "
+          "give --pedestal-radius and --pedestal-top if the pile stood on another",
+          dump.string(), study::k_case_json, options.pedestal_radius, options.pedestal_top);
+    return {};
+  }
+  std::ifstream in(file);
+  if (!in) throw UserError(file.string(), 0, "cannot be read");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw UserError(file.string(), 0, fmt::format("not valid JSON: {}", e.what()));
+  }
+  if (!doc.is_object()) throw UserError(file.string(), 0, "not a case description (a JSON object)");
+  if (doc.contains("experiment") && doc["experiment"] != "pile")
+    throw UserError(file.string(), 0,
+                    fmt::format("experiment = {}: not a pile case; `demsa postprocess oedometer` measures it",
+                                doc["experiment"].dump()));
+  const std::optional<double> radius = case_number(doc, file, "pile", "pedestal_radius_m");
+  const std::optional<double> height = case_number(doc, file, "pile", "pedestal_height_m");
+  for (const auto& [value, key, option] : {std::tuple{radius, "pile.pedestal_radius_m", a.pedestal_radius},
+                                           std::tuple{height, "pile.pedestal_height_m", a.pedestal_top}}) {
+    if (!value && !given(option))
+      throw UserError(file.string(), 0,
+                      fmt::format("records no {} (a case written by an older demsa): give the pile's pedestal as "
+                                  "--pedestal-radius and --pedestal-top",
+                                  key));
+  }
+  if (radius && !given(a.pedestal_radius)) {
+    if (!(*radius > 0.0))
+      throw UserError(file.string(), 0, fmt::format("pile.pedestal_radius_m = {}: must be > 0", *radius));
+    options.pedestal_radius = *radius;
+  }
+  if (height && !given(a.pedestal_top)) options.pedestal_top = *height;  // the ground is at z = 0
+  // The measurement settings of the study (absent from cases written before demsa recorded them: the defaults).
+  if (doc.contains("pile") && doc["pile"].is_object() && doc["pile"].contains("angle_measurement")) {
+    const nlohmann::json& m = doc["pile"]["angle_measurement"];
+    const auto integer = [&](const char* key, int& field, const CLI::Option* option) {
+      if (!m.contains(key) || given(option)) return;
+      if (!m[key].is_number_integer())
+        throw UserError(file.string(), 0,
+                        fmt::format("pile.angle_measurement.{} = {}: not an integer", key, m[key].dump()));
+      field = m[key].get<int>();
+    };
+    integer("directions", options.directions, a.directions);
+    integer("levels", options.levels, a.levels);
+    if (m.contains("estimator") && !given(a.estimator_option)) {
+      try {
+        options.estimator = pp::angle_estimator_from_string(
+            m["estimator"].is_string() ? m["estimator"].get<std::string>() : m["estimator"].dump());
+      } catch (const std::invalid_argument& e) {
+        throw UserError(file.string(), 0, fmt::format("pile.angle_measurement.estimator: {}", e.what()));
+      }
+    }
+  }
+  try {
+    options.validate();
+  } catch (const std::invalid_argument& e) {
+    throw UserError(file.string(), 0, e.what());
+  }
+  return file.string();
+}
 
 void run_pile(const PileArgs& a) {
   pp::PileAngleOptions options = a.options;
   options.point = pp::boundary_point_kind_from_string(a.point);
+  options.estimator = pp::angle_estimator_from_string(a.estimator);
   const fs::path dump = resolve_dump(a.dump, "pile_final.dump");
+  const std::string case_json = apply_case_settings(a, dump, options);
   const pp::Particles particles = pp::read_particles(dump);
   pp::PileAngleResult r;
   try {
@@ -145,10 +252,13 @@ void run_pile(const PileArgs& a) {
     throw UserError(dump.string(), 0, e.what());
   }
   if (a.json) {
-    fmt::print("{}\n", to_json(r, dump.string()).dump(2));
+    fmt::print("{}\n", to_json(r, dump.string(), case_json).dump(2));
     return;
   }
   fmt::print("dump                   {}\n", dump.string());
+  fmt::print("pedestal               radius {:.6g} m, top at z = {:.6g} m ({})\n", options.pedestal_radius,
+             options.pedestal_top, case_json.empty() ? std::string("options") : case_json);
+  fmt::print("estimator              {}\n", pp::to_string(options.estimator));
   fmt::print("particles on pedestal  {} of {}\n", r.particles_on_pedestal, r.particles_total);
   fmt::print("pile height h_P        {:.6g} m\n", r.pile_height);
   fmt::print("levels                 {} between {:.4g} m and {:.4g} m above the pedestal top\n", r.level_heights.size(),
@@ -254,22 +364,31 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
 
   auto pile = std::make_shared<PileArgs>();
   CLI::App* p = sub->add_subcommand("pile", "Angle of repose and pile height of a pile dump (paper §3.3)");
-  p->add_option("DUMP", pile->dump, "Final pile dump, or a case folder holding pile_final.dump")->required();
-  p->add_option("--pedestal-radius", pile->options.pedestal_radius, "Pedestal radius r_cy [m]")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  p->add_option("--pedestal-top", pile->options.pedestal_top, "z of the pedestal top [m]")->capture_default_str();
+  p->add_option("DUMP", pile->dump,
+                "Final pile dump, or a case folder holding pile_final.dump; a case.json beside the dump gives the "
+                "pedestal and the measurement settings of the case")
+      ->required();
+  pile->pedestal_radius = p->add_option("--pedestal-radius", pile->options.pedestal_radius,
+                                        "Pedestal radius r_cy [m] (default: the case's case.json, else this value)")
+                              ->check(CLI::PositiveNumber)
+                              ->capture_default_str();
+  pile->pedestal_top = p->add_option("--pedestal-top", pile->options.pedestal_top,
+                                     "z of the pedestal top [m] (default: the case's case.json, else this value)")
+                           ->capture_default_str();
   p->add_option("--axis-x", pile->options.axis_x, "x of the pile axis [m]")->capture_default_str();
   p->add_option("--axis-y", pile->options.axis_y, "y of the pile axis [m]")->capture_default_str();
   p->add_option("--type", pile->options.particle_type, "Atom type of the particles (0 = all atoms)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  p->add_option("--directions", pile->options.directions, "Number of directions phi_N")
-      ->check(CLI::Range(1, 100000))
-      ->capture_default_str();
-  p->add_option("--levels", pile->options.levels, "Number of height levels between --level-low and --level-high")
-      ->check(CLI::Range(2, 100000))
-      ->capture_default_str();
+  pile->directions = p->add_option("--directions", pile->options.directions,
+                                   "Number of directions phi_N (default: the case's case.json, else this value)")
+                         ->check(CLI::Range(1, 100000))
+                         ->capture_default_str();
+  pile->levels = p->add_option("--levels", pile->options.levels,
+                               "Number of height levels between --level-low and --level-high (default: the case's "
+                               "case.json, else this value)")
+                     ->check(CLI::Range(2, 100000))
+                     ->capture_default_str();
   p->add_option("--level-low", pile->options.level_low, "Lowest level as a fraction of h_P")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
@@ -282,6 +401,12 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
   p->add_option("--point", pile->point, "Fitted point of a boundary particle: centre or surface")
       ->check(CLI::IsMember({"surface", "centre", "center"}))
       ->capture_default_str();
+  pile->estimator_option =
+      p->add_option("--estimator", pile->estimator,
+                    "Angle estimator: paper (§3.3) or robust (Theil-Sen lines on surface points; default: the "
+                    "case's case.json, else this value)")
+          ->check(CLI::IsMember(pp::angle_estimator_names()))
+          ->capture_default_str();
   p->add_option("--target-angle", pile->options.target_angle, "Target angle for E_phi [deg]")->capture_default_str();
   p->add_flag("--json", pile->json, "Print the whole result (lines and boundary particles included) as JSON");
   p->callback([pile] {

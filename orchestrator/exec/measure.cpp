@@ -23,6 +23,7 @@ std::map<std::string, double> measure_case(const StudyConfig& config, const fs::
     options.directions = config.pile.directions;
     options.levels = config.pile.levels;
     options.target_angle = config.pile.target_angle;
+    options.estimator = postprocess::angle_estimator_from_string(config.pile.angle_estimator);
     const postprocess::PileAngleResult result = postprocess::measure_pile_angle(particles, options);
     values[std::string(k_angle)] = result.angle_mean;
     values[std::string(k_pile_height)] = result.pile_height;

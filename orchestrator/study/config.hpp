@@ -74,6 +74,9 @@ struct PileSettings {
   int levels = 10;                  ///< height levels between 0.2 h_P and 0.75 h_P
   double settle_check_time = 0.02;  ///< with ke_stop > 0: kinetic energy checked every this long [s]
   double domain_half_width = 0.15;  ///< simulation box half width in x and y [m]; particles leaving it are lost
+
+  /// "paper" (§3.3) or "robust": the angle estimator of the measurement (postprocess::AngleEstimator)
+  std::string angle_estimator = "paper";
 };
 
 /// Radii of the paper's oedometer assembly one (§4; derivation in apply_oedometer_preset): the `paper` preset and the

@@ -537,6 +537,13 @@ std::vector<Setting> build_settings() {
           .integer(FIELD(pile.levels), at_least(2))
           .measurement("pile.levels")
           .doc("height levels between 0.2 h_P and 0.75 h_P at which the angle is measured"));
+  add(Row("pile", "angle_estimator")
+          .choice(FIELD(pile.angle_estimator),
+                  std::vector<std::pair<std::string, std::string>>{{"paper", "paper"}, {"robust", "robust"}})
+          .measurement("pile.angle_estimator")
+          .doc("`paper`: §3.3 (outermost particle per direction and level, orthogonal line, mean over directions), "
+               "which reads up to 1° low on rough flanks; `robust`: surface points at the exact level heights and a "
+               "Theil–Sen line per direction (docs/benchmarks.md, angle estimators)"));
 
   // [oedometer]
   add(preset("oedometer", FIELD(oedometer.preset), {"paper"},

@@ -150,7 +150,7 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
       {"pile",
        "preset, particles, r_min, r_max, r_mean, r_sd, disc_radius, fill_height, pedestal_radius, "
        "pedestal_height, settle_time, ke_stop, settle_check_time, domain_half_width, target_angle, directions, "
-       "levels"},
+       "levels, angle_estimator"},
       {"oedometer",
        "preset, particles, r_min, r_max, r_mean, r_sd, box_side, box_height, fill_time, loads, "
        "measured_settlements, plate_mode, plate_gap, load_tolerance, servo_vel_max, servo_kp, servo_ki, "

@@ -1,0 +1,128 @@
+// `demsa postprocess pile CASE` measures a pile with the pedestal and the measurement settings its case.json records
+// (written by `demsa case`), options override them, and a case.json without the pedestal is an error.
+#include "support/test_support.hpp"
+#include "tests/postprocess/synthetic_cone.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <string>
+
+namespace demsa::test {
+namespace {
+
+/// A 30° synthetic cone whose flank meets a pedestal of radius 30 mm and top at z = 12 mm 28 mm from the axis.
+postprocess::Particles small_pedestal_cone() {
+  SyntheticConeOptions cone;
+  cone.angle_deg = 30.0;
+  cone.base_radius = 0.028;
+  cone.pedestal_radius = 0.030;
+  cone.pedestal_top = 0.012;
+  cone.cap_radius = 0.004;
+  return make_synthetic_cone(cone);
+}
+
+/// h_P of the cone above a pedestal top at z = top: the highest particle top.
+double height_above(const postprocess::Particles& p, double top) {
+  double highest = 0.0;
+  for (std::size_t j = 0; j < p.size(); ++j) highest = std::max(highest, p.z[j] + p.radius[j]);
+  return highest - top;
+}
+
+/// `demsa case` of a pile study on that pedestal (8 levels, the robust estimator) with the cone as its final dump.
+void write_small_pedestal_case(const TempDir& tmp, const postprocess::Particles& cone) {
+  StudyToml study;
+  study.tables =
+      "[pile]\nparticles = 300\npedestal_radius = 0.03\npedestal_height = 0.012\nlevels = 8\n"
+      "angle_estimator = \"robust\"\n";
+  write_file(tmp / "study.toml", study.text());
+  const CommandResult c =
+      run_demsa({"case", (tmp / "study.toml").string(), "--sample", "0", "-o", (tmp / "case").string()});
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  write_file(tmp / "case" / "pile_final.dump", synthetic_dump_text(cone));
+}
+
+TEST(CliPostprocessPileCase, MeasuresWithTheCasesOwnPedestal) {
+  TempDir tmp;
+  const postprocess::Particles cone = small_pedestal_cone();
+  write_small_pedestal_case(tmp, cone);
+  const CommandResult r = run_demsa({"postprocess", "pile", (tmp / "case").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_DOUBLE_EQ(j["options"]["pedestal_radius_m"].get<double>(), 0.03);
+  EXPECT_DOUBLE_EQ(j["options"]["pedestal_top_m"].get<double>(), 0.012);
+  EXPECT_EQ(j["options"]["levels"].get<int>(), 8);
+  EXPECT_EQ(j["options"]["estimator"], "robust");
+  EXPECT_NE(j["case_json"].get<std::string>().find("case.json"), std::string::npos);
+  EXPECT_NEAR(j["pile_height_m"].get<double>(), height_above(cone, 0.012), 1e-9);
+  EXPECT_NEAR(j["angle_deg"].get<double>(), 30.0, 1.0);
+
+  // The dump path itself finds the case.json beside it; the text names the pedestal and where it came from.
+  const CommandResult text = run_demsa({"postprocess", "pile", (tmp / "case" / "pile_final.dump").string()});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("radius 0.03 m, top at z = 0.012 m"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("estimator              robust"), std::string::npos) << text.out;
+}
+
+TEST(CliPostprocessPileCase, OptionsOverrideTheCase) {
+  TempDir tmp;
+  const postprocess::Particles cone = small_pedestal_cone();
+  write_small_pedestal_case(tmp, cone);
+  const CommandResult r = run_demsa({"postprocess", "pile", (tmp / "case").string(), "--json", "--pedestal-radius",
+                                     "0.05", "--pedestal-top", "0.005", "--levels", "10", "--estimator", "paper"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_DOUBLE_EQ(j["options"]["pedestal_radius_m"].get<double>(), 0.05);
+  EXPECT_DOUBLE_EQ(j["options"]["pedestal_top_m"].get<double>(), 0.005);
+  EXPECT_EQ(j["options"]["levels"].get<int>(), 10);
+  EXPECT_EQ(j["options"]["estimator"], "paper");
+  // Measured from the wrong pedestal top, the pile is 7 mm higher than it is.
+  EXPECT_NEAR(j["pile_height_m"].get<double>(), height_above(cone, 0.005), 1e-9);
+}
+
+TEST(CliPostprocessPileCase, CaseJsonWithoutPedestalIsAnError) {
+  TempDir tmp;
+  write_file(tmp / "pile_final.dump", synthetic_dump_text(small_pedestal_cone()));
+  write_file(tmp / "case.json", R"({"experiment": "pile", "pile": {"settle_steps": 1000}})");
+  const CommandResult r = run_demsa({"postprocess", "pile", tmp.path().string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("case.json: records no pile.pedestal_radius_m (a case written by an older demsa): give the "
+                       "pile's pedestal as --pedestal-radius and --pedestal-top"),
+            std::string::npos)
+      << r.err;
+  const CommandResult given =
+      run_demsa({"postprocess", "pile", tmp.path().string(), "--pedestal-radius", "0.03", "--pedestal-top", "0.012"});
+  EXPECT_EQ(given.exit_code, 0) << given.err;
+
+  write_file(tmp / "case.json", R"({"experiment": "pile", "pile": {"pedestal_radius_m": "wide"}})");
+  const CommandResult typed = run_demsa({"postprocess", "pile", tmp.path().string()});
+  EXPECT_EQ(typed.exit_code, 2);
+  EXPECT_NE(typed.err.find("case.json: pile.pedestal_radius_m = \"wide\": not a number"), std::string::npos)
+      << typed.err;
+
+  write_file(tmp / "case.json", R"({"experiment": "oedometer"})");
+  const CommandResult oedometer = run_demsa({"postprocess", "pile", tmp.path().string()});
+  EXPECT_EQ(oedometer.exit_code, 2);
+  EXPECT_NE(oedometer.err.find("case.json: experiment = \"oedometer\": not a pile case"), std::string::npos)
+      << oedometer.err;
+}
+
+TEST(CliPostprocessPileCase, DumpWithoutCaseJsonWarnsAndUsesTheOptions) {
+  TempDir tmp;
+  write_file(tmp / "pile_final.dump", read_file(data_path("postprocess/liggghts_pile/pile_final.dump")));
+  const CommandResult r = run_demsa({"postprocess", "pile", tmp.path().string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("no case.json beside the dump: measured on the pedestal of the options (radius 0.05 m, top at "
+                       "z = 0.005 m)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["case_json"].is_null());
+  const CommandResult given =
+      run_demsa({"postprocess", "pile", tmp.path().string(), "--pedestal-radius", "0.05", "--pedestal-top", "0.005"});
+  ASSERT_EQ(given.exit_code, 0) << given.err;
+  EXPECT_EQ(given.err.find("no case.json"), std::string::npos) << given.err;
+}
+
+}  // namespace
+}  // namespace demsa::test
