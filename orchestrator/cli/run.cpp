@@ -5,6 +5,7 @@
 #include "orchestrator/exec/progress.hpp"
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/exec/slurm/executor.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
 
@@ -94,6 +95,8 @@ int do_run(const RunArgs& args) {
   if (!args.no_analyze && summary.done >= 2) {
     AnalyzeOptions analyze;
     analyze.dir = summary.dir;
+    // run_study() let go of the study; the analysis holds it again, as `demsa analyze` does.
+    const study::StudyLock lock(summary.dir);
     print_analysis_tables(analyze_study(analyze));
   }
   return summary.failed > 0 ? k_exit_check_failed : k_exit_ok;
@@ -118,7 +121,7 @@ void register_run_command(CLI::App& app, CliState& state) {
                 "them running)");
   run->add_option("--progress-interval", args->progress_interval,
                   "Seconds between progress lines when stderr is not a terminal")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   run->callback([&state, args] { state.exit_code = do_run(*args); });
 }
 
