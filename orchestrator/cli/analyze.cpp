@@ -4,6 +4,7 @@
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
@@ -40,6 +41,9 @@ int do_analyze(const AnalyzeArgs& args) {
   options.base_samples = args.base;
   if (args.second_order) options.second_order = 1;
   if (args.no_second_order) options.second_order = 0;
+  // A `demsa run` holding the study would leave an analysis of the samples done so far: refused, as a second run is.
+  study::require_study_folder(options.dir);
+  const study::StudyLock lock(options.dir);
   StopFlag::install();
   options.should_stop = [] { return StopFlag::raised(); };
   AnalysisSummary summary;
@@ -67,8 +71,8 @@ void register_analyze_command(CLI::App& app, CliState& state) {
   analyze->add_option("dir", args->dir, "Study folder")->required();
   analyze->add_option("--models", args->models, "Metamodels (default: the study's [analysis] metamodels)");
   analyze->add_option("--bootstrap", args->bootstrap, "Design-bootstrap refits for the intervals")
-      ->check(CLI::NonNegativeNumber);
-  analyze->add_option("--base", args->base, "QMC base sample size N")->check(CLI::Range(2, 1 << 24));
+      ->check(non_negative_number());
+  analyze->add_option("--base", args->base, "QMC base sample size N")->check(number_in(2, 1 << 24));
   analyze->add_flag("--second-order", args->second_order, "Also compute S2");
   analyze->add_flag("--no-second-order", args->no_second_order, "Do not compute S2");
   analyze->add_flag("--json", args->json, "Print analysis.json");

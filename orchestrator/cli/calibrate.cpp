@@ -3,6 +3,7 @@
 #include "orchestrator/analysis/calibration.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/exec/point_run.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
@@ -26,6 +27,9 @@ struct CalibrateArgs {
 int do_calibrate(CalibrateArgs& args) {
   args.options.dir = args.dir;
   args.options.run_point = exec::run_point;
+  // Not while a `demsa run` holds the study: it writes analysis/calibration.json (and --verify a case) into it.
+  study::require_study_folder(args.options.dir);
+  const study::StudyLock lock(args.options.dir);
   const CalibrationOutcome outcome = calibrate_study(args.options);
   if (args.json)
     fmt::print("{}", calibration_to_json(outcome));

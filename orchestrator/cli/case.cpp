@@ -2,6 +2,7 @@
 // run.sh of a trial-step oedometer case starts under mpirun.
 #include "orchestrator/cases/case_writer.hpp"
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
 #include "orchestrator/driver/oedometer_driver.hpp"
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/exec/runner.hpp"
@@ -56,6 +57,11 @@ std::vector<std::pair<std::string, double>> parse_sets(const std::vector<std::st
       const double value = std::strtod(text.c_str(), &end);
       if (text.empty() || *end != '\0' || !std::isfinite(value))
         throw UserError(fmt::format("--set: {}: '{}' is not a number", name, text));
+      // A name given twice would silently take its last value.
+      for (const auto& [given, first] : out)
+        if (given == name)
+          throw UserError(fmt::format("--set: {} is given twice ({}={} and {}={}); give each parameter once", name,
+                                      name, first, name, text));
       out.emplace_back(name, value);
     }
   }
@@ -118,7 +124,7 @@ void register_case_commands(CLI::App& app, CliState& state) {
       "case", "Write one LIGGGHTS case folder of a study, runnable by hand with `cd DIR && ./run.sh`");
   sub->add_option("study", options->study, "Study file (TOML)")->required()->check(CLI::ExistingFile);
   CLI::Option* sample =
-      sub->add_option("--sample", options->sample, "Design sample K (0-based)")->check(CLI::NonNegativeNumber);
+      sub->add_option("--sample", options->sample, "Design sample K (0-based)")->check(non_negative_number());
   CLI::Option* set = sub->add_option("--set", options->sets,
                                      "Parameter values name=value[,name=value...]; varied parameters not named take "
                                      "the middle of their range");

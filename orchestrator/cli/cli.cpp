@@ -46,9 +46,22 @@ int internal_error(const std::string& message) {
   return k_exit_internal;
 }
 
+/// "demsa postprocess oedometer": the command line's subcommands, as far as they were parsed.
+std::string command_name(const CLI::App& app) {
+  std::string name = "demsa";
+  const CLI::App* at = &app;
+  while (true) {
+    const std::vector<const CLI::App*> subs = at->get_subcommands([](const CLI::App*) { return true; });
+    if (subs.empty()) break;
+    at = subs.front();
+    name += " " + at->get_name();
+  }
+  return name;
+}
+
 }  // namespace
 
-int report_error(const std::exception_ptr& error) {
+int report_error(const std::exception_ptr& error, const std::string& command) {
   // The libraries' own input errors (sobol, postprocess) know nothing of demsa's CLI; they are the user's to fix
   // like util::UserError.
   try {
@@ -73,7 +86,11 @@ int report_error(const std::exception_ptr& error) {
   } catch (const std::system_error& e) {  // std::filesystem::filesystem_error names its paths
     return internal_error(e.what());
   } catch (const std::bad_alloc&) {
-    return internal_error("out of memory");
+    // The sizes a user gives are bounded where they are read; this is the backstop for any other allocation.
+    return internal_error(
+        fmt::format("out of memory while running `{}`: an input asks for more memory than this "
+                    "machine has",
+                    command.empty() ? std::string("demsa") : command));
   } catch (const std::exception& e) {
     return internal_error(e.what());
   } catch (...) {
@@ -118,7 +135,7 @@ int run_cli(int argc, char** argv) {
     fmt::print(stderr, "demsa: error: {}\nRun with --help for more information.\n", e.what());
     return k_exit_usage;
   } catch (...) {
-    return report_error(std::current_exception());
+    return report_error(std::current_exception(), command_name(app));
   }
   if (version) {
     print_version();

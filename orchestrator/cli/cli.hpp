@@ -2,6 +2,7 @@
 // The command line of README "Usage". main() calls run_cli() and returns its status; each subcommand is registered
 // by its own cli/<command>.cpp file through the functions in commands.hpp.
 #include <exception>
+#include <string>
 
 namespace demsa::cli {
 
@@ -16,7 +17,7 @@ namespace demsa::cli {
 int run_cli(int argc, char** argv);
 
 /// What run_cli() does with an exception a command threw: prints it on standard error as above and returns its exit
-/// status (k_exit_usage or k_exit_internal).
-int report_error(const std::exception_ptr& error);
+/// status (k_exit_usage or k_exit_internal). `command` ("demsa run") names what ran out of memory on std::bad_alloc.
+int report_error(const std::exception_ptr& error, const std::string& command = "");
 
 }  // namespace demsa::cli

@@ -129,7 +129,11 @@ int run_compare(const CompareArgs& args) {
   for (const auto& [pa, pb] : pairs) {
     pp::CompareOptions options = args.options;
     if (pa.filename() == "pile_final.dump") options.pile = true;
-    validate_command_line(options);
+    validate_command_line(options, {{"position_tolerance", "--tol-pos"},
+                                    {"radius_tolerance", "--tol-radius"},
+                                    {"angle_tolerance", "--tol-angle"},
+                                    {"pedestal_radius", "--pedestal-radius"},
+                                    {"pedestal_top", "--pedestal-top"}});
     const pp::Particles particles_a = pp::read_particles(pa);
     const pp::Particles particles_b = pp::read_particles(pb);
     compared.push_back({pa, pb, pp::compare_particles(particles_a, particles_b, options, pa.string(), pb.string())});
@@ -159,18 +163,18 @@ void register_compare_command(CLI::App& app, CliState& state) {
   sub->add_option("B", args->b, "Dump file or case folder compared with A")->required();
   sub->add_option("--tol-pos", args->options.position_tolerance,
                   "Largest accepted displacement of a particle, and of h_P [m]")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number())
       ->capture_default_str();
   sub->add_option("--tol-angle", args->options.angle_tolerance, "Largest accepted angle-of-repose difference [deg]")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number())
       ->capture_default_str();
   sub->add_option("--tol-radius", args->options.radius_tolerance, "Radius difference that counts as a mismatch [m]")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number())
       ->capture_default_str();
   sub->add_flag("--pile", args->options.pile,
                 "Also compare the angle of repose and h_P (automatic for pile_final.dump)");
   sub->add_option("--pedestal-radius", args->options.pile_options.pedestal_radius, "Pedestal radius for piles [m]")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   sub->add_option("--pedestal-top", args->options.pile_options.pedestal_top, "z of the pedestal top for piles [m]")
       ->capture_default_str();

@@ -309,7 +309,7 @@ void register_design_command(CLI::App& app, CliState& state) {
       ->add_option("--replicates", args->replicates,
                    "Split N into R independently scrambled designs (column 'replicate'): `demsa sensitivity` then "
                    "gives Student-t intervals valid for QMC")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   saltelli->callback([args, &state] {
     run_saltelli(*args);
     state.exit_code = k_exit_ok;

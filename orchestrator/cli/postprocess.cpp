@@ -325,7 +325,10 @@ void run_oedometer(const OedometerArgs& a) {
   pp::OedometerOptions options = a.options;
   options.measured_settlements = a.measured;
   if (dump_file) options.solid_volume = pp::solid_volume(pp::read_particles(*dump_file, 1));
-  validate_command_line(options);
+  validate_command_line(options, {{"box_side", "--box-side"},
+                                  {"floor_z", "--floor-z"},
+                                  {"measured_settlements", "--measured"},
+                                  {"solid_volume", "the solid volume of --dump"}});
   const std::string source = (states_file ? *states_file : *history_file).string();
   pp::OedometerResult r;
   try {
@@ -370,7 +373,7 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
       ->required();
   pile->pedestal_radius = p->add_option("--pedestal-radius", pile->options.pedestal_radius,
                                         "Pedestal radius r_cy [m] (default: the case's case.json, else this value)")
-                              ->check(CLI::PositiveNumber)
+                              ->check(positive_number())
                               ->capture_default_str();
   pile->pedestal_top = p->add_option("--pedestal-top", pile->options.pedestal_top,
                                      "z of the pedestal top [m] (default: the case's case.json, else this value)")
@@ -378,25 +381,25 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
   p->add_option("--axis-x", pile->options.axis_x, "x of the pile axis [m]")->capture_default_str();
   p->add_option("--axis-y", pile->options.axis_y, "y of the pile axis [m]")->capture_default_str();
   p->add_option("--type", pile->options.particle_type, "Atom type of the particles (0 = all atoms)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number())
       ->capture_default_str();
   pile->directions = p->add_option("--directions", pile->options.directions,
                                    "Number of directions phi_N (default: the case's case.json, else this value)")
-                         ->check(CLI::Range(1, 100000))
+                         ->check(number_in(1, 100000))
                          ->capture_default_str();
   pile->levels = p->add_option("--levels", pile->options.levels,
                                "Number of height levels between --level-low and --level-high (default: the case's "
                                "case.json, else this value)")
-                     ->check(CLI::Range(2, 100000))
+                     ->check(number_in(2, 100000))
                      ->capture_default_str();
   p->add_option("--level-low", pile->options.level_low, "Lowest level as a fraction of h_P")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_in(0.0, 1.0))
       ->capture_default_str();
   p->add_option("--level-high", pile->options.level_high, "Highest level as a fraction of h_P")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_in(0.0, 1.0))
       ->capture_default_str();
   p->add_option("--min-points", pile->options.min_points, "Directions with fewer boundary points are skipped")
-      ->check(CLI::Range(2, 100000))
+      ->check(number_in(2, 100000))
       ->capture_default_str();
   p->add_option("--point", pile->point, "Fitted point of a boundary particle: centre or surface")
       ->check(CLI::IsMember({"surface", "centre", "center"}))
@@ -410,7 +413,17 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
   p->add_option("--target-angle", pile->options.target_angle, "Target angle for E_phi [deg]")->capture_default_str();
   p->add_flag("--json", pile->json, "Print the whole result (lines and boundary particles included) as JSON");
   p->callback([pile] {
-    validate_command_line(pile->options);
+    validate_command_line(pile->options, {{"pedestal_radius", "--pedestal-radius"},
+                                          {"pedestal_top", "--pedestal-top"},
+                                          {"axis_x", "--axis-x"},
+                                          {"axis_y", "--axis-y"},
+                                          {"particle_type", "--type"},
+                                          {"directions", "--directions"},
+                                          {"levels", "--levels"},
+                                          {"level_low", "--level-low"},
+                                          {"level_high", "--level-high"},
+                                          {"min_points", "--min-points"},
+                                          {"target_angle", "--target-angle"}});
     run_pile(*pile);
   });
 
@@ -423,13 +436,13 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
                 "Measured settlements [m] for the loads after the first (comma- or space-separated)")
       ->delimiter(',');
   o->add_option("--box-side", oedo->options.box_side, "Inner side of the square box [m]")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   o->add_option("--floor-z", oedo->options.floor_z, "z of the box floor [m]")->capture_default_str();
   o->add_option("--dump", oedo->dump, "Dump whose type-1 particles give the solid volume for the void ratio");
   o->add_option("--load-tolerance", oedo->load_tolerance,
                 "Without plate_states.txt: |force - load| that counts as converged [N]")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number())
       ->capture_default_str();
   o->add_flag("--json", oedo->json, "Print the result (with the plate history) as JSON");
   o->callback([oedo] { run_oedometer(*oedo); });

@@ -1,6 +1,7 @@
 // `demsa report` (README "Usage"): plots and report.md / report.html for a study.
 #include "orchestrator/report/report.hpp"
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
@@ -36,6 +37,9 @@ int do_report(const ReportArgs& args) {
   options.plot.width = args.width;
   options.plot.height = args.height;
   options.plot.font_size = args.font_size;
+  // Not while a `demsa run` holds the study: the report would describe the samples done so far as the study.
+  study::require_study_folder(options.dir);
+  const study::StudyLock lock(options.dir);
   const ReportSummary summary = write_study_report(options);
   if (args.json) {
     nlohmann::json j{{"dir", summary.out_dir.string()},

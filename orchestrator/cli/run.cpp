@@ -5,6 +5,7 @@
 #include "orchestrator/exec/progress.hpp"
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/exec/slurm/executor.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
 #include "sobol/stop.hpp"
@@ -95,6 +96,8 @@ int do_run(const RunArgs& args) {
   if (!args.no_analyze && summary.done >= 2) {
     AnalyzeOptions analyze;
     analyze.dir = summary.dir;
+    // run_study() let go of the study; the analysis holds it again, as `demsa analyze` does.
+    const study::StudyLock lock(summary.dir);
     analyze.should_stop = [] { return StopFlag::raised(); };
     AnalysisSummary analysis;
     try {
@@ -129,7 +132,7 @@ void register_run_command(CLI::App& app, CliState& state) {
                 "them running)");
   run->add_option("--progress-interval", args->progress_interval,
                   "Seconds between progress lines when stderr is not a terminal")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   run->callback([&state, args] { state.exit_code = do_run(*args); });
 }
 

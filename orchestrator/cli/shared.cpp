@@ -1,8 +1,67 @@
 #include "orchestrator/cli/shared.hpp"
 
+#include "orchestrator/util/text.hpp"
+
 #include <fmt/core.h>
 
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+
 namespace demsa::cli {
+
+namespace {
+
+/// A validator of a finite number for which `rule` holds; `text` is the rule in words ("> 0").
+CLI::Validator number_check(std::function<bool(double)> rule, const std::string& text) {
+  return CLI::Validator(
+      [rule, text](std::string& input) -> std::string {
+        const std::string t = util::trim(input);
+        char* end = nullptr;
+        const double value = std::strtod(t.c_str(), &end);
+        if (t.empty() || end != t.c_str() + t.size()) return fmt::format("'{}' is not a number", input);
+        if (!std::isfinite(value))
+          return fmt::format("{}: must be a finite number{}", input, text.empty() ? "" : " " + text);
+        if (!rule(value)) return fmt::format("{}: must be {}", input, text);
+        return {};
+      },
+      text.empty() ? "NUMBER" : text, text);
+}
+
+}  // namespace
+
+CLI::Validator finite_number() {
+  return number_check([](double) { return true; }, "");
+}
+CLI::Validator positive_number() {
+  return number_check([](double v) { return v > 0; }, "> 0");
+}
+CLI::Validator non_negative_number() {
+  return number_check([](double v) { return v >= 0; }, ">= 0");
+}
+CLI::Validator number_in(double low, double high) {
+  return number_check([low, high](double v) { return v >= low && v <= high; }, fmt::format("in [{}, {}]", low, high));
+}
+
+std::string name_options(std::string message, const OptionNames& names) {
+  const auto identifier = [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; };
+  for (const auto& [field, option] : names) {
+    const std::string key = "Options." + field;
+    for (std::size_t at = message.find(key); at != std::string::npos; at = message.find(key, at)) {
+      const std::size_t end = at + key.size();
+      if (end < message.size() && identifier(message[end])) {
+        at = end;
+        continue;
+      }
+      std::size_t begin = at;  // back over the struct's name: "OedometerOptions"
+      while (begin > 0 && identifier(message[begin - 1])) --begin;
+      message.replace(begin, end - begin, option);
+      at = begin + option.size();
+    }
+  }
+  return message;
+}
 
 std::string sample_list(const std::vector<int>& samples) {
   std::string text;

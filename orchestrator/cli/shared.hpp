@@ -1,11 +1,15 @@
 #pragma once
 // What more than one command of cli/ needs: the Sobol' tables that `demsa run` and `demsa analyze` print, and the
-// check of library options that come from the command line (`demsa postprocess`, `demsa compare`).
+// checks of number options and of library options that come from the command line (`demsa postprocess`, `demsa
+// compare`).
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/util/errors.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace demsa::cli {
@@ -16,15 +20,31 @@ std::string sample_list(const std::vector<int>& samples);
 /// Prints the first-order Sobol' table of every observable, the samples left out, and where the analysis is.
 void print_analysis_tables(const analysis::AnalysisSummary& summary);
 
+/// Checks of number options with rules a user reads ("--box-side: -1: must be > 0"): CLI11's own Range,
+/// PositiveNumber and NonNegativeNumber print DBL_MAX in 309 digits and let nan through. CLI11 puts the option's name
+/// before the message and run_cli() "demsa: error:" before that.
+CLI::Validator finite_number();
+CLI::Validator positive_number();
+CLI::Validator non_negative_number();
+/// A finite number in [low, high].
+CLI::Validator number_in(double low, double high);
+
+/// The command-line option that sets each field of a library's options struct: {"box_side", "--box-side"}.
+using OptionNames = std::vector<std::pair<std::string, std::string>>;
+
+/// `message` with every "SomeOptions.FIELD" of `names` written as its option ("OedometerOptions.box_side = nan" ->
+/// "--box-side = nan"): a user knows the options, not the library's fields.
+std::string name_options(std::string message, const OptionNames& names);
+
 /// Runs `options.validate()` on options filled from the command line. The postprocess library reports a bad option
 /// as std::invalid_argument, a programming error for its other callers; here the value came from the user, so it is
-/// a util::UserError (exit 2), not an internal failure.
+/// a util::UserError (exit 2), not an internal failure, and names the option (`names`) rather than the field.
 template <typename Options>
-void validate_command_line(const Options& options) {
+void validate_command_line(const Options& options, const OptionNames& names = {}) {
   try {
     options.validate();
   } catch (const std::invalid_argument& e) {
-    throw util::UserError(e.what());
+    throw util::UserError(name_options(e.what(), names));
   }
 }
 

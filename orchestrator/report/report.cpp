@@ -27,6 +27,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <string_view>
 
 namespace demsa::report {
 
@@ -144,6 +145,18 @@ std::string md_cell(const std::string& text) {
   return out;
 }
 
+/// Plain text as Markdown that shows it as it is: CommonMark's backslash escapes for the punctuation that could start
+/// emphasis, code, a link, raw HTML or an entity, and no line break (a study name is the user's text).
+std::string md_text(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    if (std::string_view("\\`*_{}[]<>()#+-!|&~").find(c) != std::string_view::npos) out += '\\';
+    out += c;
+  }
+  return out;
+}
+
 std::string read_binary(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw util::IoError(fmt::format("{}: cannot read: {}", path.string(), std::strerror(errno)));
@@ -155,7 +168,7 @@ std::string read_binary(const fs::path& path) {
 }  // namespace
 
 std::string render_markdown(const ReportDocument& document, const fs::path& folder) {
-  std::string md = fmt::format("# {}\n", document.title);
+  std::string md = fmt::format("# {}\n", md_text(document.title));
   for (const ReportSection& s : document.sections) {
     md += fmt::format("\n{} {}\n", std::string(static_cast<size_t>(std::clamp(s.level, 2, 4)), '#'), s.heading);
     for (const std::string& p : s.paragraphs) md += fmt::format("\n{}\n", p);

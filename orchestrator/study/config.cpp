@@ -1,5 +1,6 @@
 #include "orchestrator/study/config.hpp"
 
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
@@ -18,7 +19,6 @@
 #include <fstream>
 #include <functional>
 #include <map>
-#include <sstream>
 
 namespace demsa::study {
 
@@ -321,6 +321,7 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
   const TableReader top(root, name, "");
 
   std::vector<std::string> sections;
+  std::map<std::string, int> section_lines;  ///< the top-level tables given, and their lines
   for (const SettingSection& s : setting_sections())
     if (s.name.find('.') == std::string::npos) sections.push_back(s.name);
   for (const auto& [key, node] : root) {
@@ -331,6 +332,7 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
       throw UserError(name, top.line_of(node), fmt::format("unknown section [{}] (valid: {})", section, join(sorted)));
     }
     const toml::table& table = top.table(section, node);
+    section_lines[section] = top.line_of(node);
     const TableReader r(table, name, section);
     read_section(r, table, c, seen);
     check_section(r, table, c);
@@ -341,16 +343,29 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
     const std::string choices = s.choices.empty() ? "" : " (" + join(s.choices, " or ") + ")";
     throw UserError(name, 0, fmt::format("[{}] {} is required{}", s.section, s.key, choices));
   }
+  // The table of the other experiment would be silently ignored: its values would look used and are not.
+  const char* other = c.experiment == Experiment::pile ? "oedometer" : "pile";
+  if (const auto it = section_lines.find(other); it != section_lines.end()) {
+    const auto at = seen.lines.find("study.experiment");
+    throw UserError(name, it->second,
+                    fmt::format("[{}] does not apply to this study: [study] experiment = \"{}\"{}; remove the table or "
+                                "change the experiment",
+                                other, c.experiment == Experiment::pile ? "pile" : "oedometer",
+                                at == seen.lines.end() ? "" : fmt::format(" (line {})", at->second)));
+  }
   if (c.parameters.empty()) throw UserError(name, 0, "[parameters] must vary at least one parameter");
-  // A Latin hypercube needs two points (sobol::DesignOptions::validate): refused here, at its line, rather than when
-  // `demsa run` draws the design.
-  if (c.samples < 2 && c.design != sobol::to_string(sobol::DesignKind::sobol)) {
+  // The optimised Latin hypercubes keep an N x N matrix of the sample pairs: refused here, at its line, rather than
+  // when `demsa run` draws the design and runs out of memory.
+  const bool optimised = c.design == sobol::to_string(sobol::DesignKind::lhs_maximin) ||
+                         c.design == sobol::to_string(sobol::DesignKind::lhs_cl2);
+  if (optimised && c.samples > k_max_optimised_lhs_samples) {
     const auto at =
         seen.lines.count("design.samples") ? seen.lines.find("design.samples") : seen.lines.find("design.method");
     throw UserError(
         name, at == seen.lines.end() ? 0 : at->second,
-        fmt::format("[design] samples: method \"{}\" needs at least 2 samples (only \"sobol\" draws one), got {}",
-                    c.design, c.samples));
+        fmt::format("[design] samples: method \"{}\" takes at most {} samples (its optimiser keeps an N x N "
+                    "matrix of the sample pairs), got {}; use \"lhs\" or \"sobol\" for more",
+                    c.design, k_max_optimised_lhs_samples, c.samples));
   }
   // Keep the paper's order (eq. 1) whatever order the file lists them in.
   const auto& order = contact_parameter_names();
@@ -363,11 +378,23 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
 }
 
 StudyConfig load_study(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw UserError(fmt::format("{}: is a folder, not a study file (give the study's .toml file{})", file.string(),
+                                std::filesystem::exists(file / k_frozen_study, ec)
+                                    ? fmt::format("; this folder's frozen copy is {}", (file / k_frozen_study).string())
+                                    : ""));
   std::ifstream in(file, std::ios::binary);
   if (!in) throw UserError(file.string() + ": cannot read the study file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  StudyConfig c = parse_study(text.str(), file);
+  // Read at most one byte more than a study file may hold: /dev/zero or a huge file is refused, not read whole.
+  std::string text(k_max_study_file_bytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (in.bad()) throw UserError(file.string() + ": cannot read the study file");
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > k_max_study_file_bytes)
+    throw UserError(fmt::format("{}: larger than {} bytes; a study file is a few kB of TOML", file.string(),
+                                k_max_study_file_bytes));
+  StudyConfig c = parse_study(text, file);
   c.file = file;
   return c;
 }

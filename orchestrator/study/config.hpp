@@ -174,8 +174,11 @@ struct StudyConfig {
   AnalysisSettings analysis;
 };
 
+/// The largest study file load_study() reads (a study file is a few kB).
+inline constexpr std::size_t k_max_study_file_bytes = 1 << 20;
+
 /// Reads and validates a study file. Throws util::UserError "study.toml:LINE: ..." for unknown keys, wrong types and
-/// impossible values.
+/// impossible values, and "FILE: ..." for a folder or a file larger than k_max_study_file_bytes.
 StudyConfig load_study(const std::filesystem::path& file);
 
 /// Parses study text (for tests); `file` is the name used in messages.

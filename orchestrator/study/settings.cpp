@@ -1,6 +1,7 @@
 #include "orchestrator/study/settings.hpp"
 
 #include "orchestrator/study/parameters.hpp"
+#include "orchestrator/util/log.hpp"
 #include "sobol/design.hpp"
 #include "sobol/enum_names.hpp"
 #include "sobol/error.hpp"
@@ -11,8 +12,11 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 namespace demsa::study {
 
@@ -54,6 +58,15 @@ SettingBounds between(double low, bool low_in, double high, bool high_in, std::s
 const SettingBounds k_positive = greater(0);
 const SettingBounds k_non_negative = at_least(0);
 
+// Upper bounds of the settings that size what demsa holds in memory, each far above any DEM study and low enough
+// that what it asks for exists: a typo of a few digits (or a 64-bit value) is refused at its line instead of ending
+// in std::bad_alloc or being narrowed.
+constexpr double k_max_samples = 100000;
+constexpr double k_max_particles = 1e7;
+constexpr double k_max_steps = 1e12;
+constexpr double k_max_base_samples = 1 << 20;
+constexpr double k_max_bootstrap = 100000;
+
 /// Builds one row. The typed setters take the field as a generic lambda `[](auto& c) -> auto& { return c.x; }`
 /// (FIELD below), called with a StudyConfig& to assign and a const StudyConfig& to show and hash.
 class Row {
@@ -87,13 +100,27 @@ class Row {
     m_s.show = [field](const StudyConfig& c) { return shortest(field(c)); };
     return scalar_canonical([field](const StudyConfig& c) { return canonical_number(field(c)); });
   }
+  /// An integer row: `bounds` must lie inside the range of the field's type, so that the parser refuses (at its line)
+  /// every value the field cannot hold instead of narrowing it (4294967304 into an int is 8).
   template <typename F>
   Row& integer(F field, SettingBounds bounds) {
+    using T = std::remove_cvref_t<decltype(field(std::declval<StudyConfig&>()))>;
+    static_assert(std::is_integral_v<T>);
+    // A TOML integer is 64-bit signed: only a field that holds every such value may leave out the upper bound.
+    assert(bounds.low && bounds.low->value >= static_cast<double>(std::numeric_limits<T>::min()) &&
+           "an integer row needs a lower bound inside its field's type");
+    assert((bounds.high
+                ? bounds.high->value <= static_cast<double>(std::numeric_limits<T>::max())
+                : std::cmp_greater_equal(std::numeric_limits<T>::max(), std::numeric_limits<std::int64_t>::max())) &&
+           "an integer row needs an upper bound inside its field's type");
     m_s.type = SettingType::integer;
     m_s.bounds = std::move(bounds);
+    m_s.bounds.integral = true;
     m_s.assign = [field](StudyConfig& c, const SettingValue& v) {
-      using T = std::remove_reference_t<decltype(field(c))>;
-      field(c) = static_cast<T>(std::get<long>(v));
+      const long value = std::get<long>(v);
+      // The parser checked the bounds; this holds whatever a bound says.
+      if (!std::in_range<T>(value)) throw SettingError(fmt::format("{} does not fit the setting", value));
+      field(c) = static_cast<T>(value);
     };
     m_s.show = [field](const StudyConfig& c) { return std::to_string(field(c)); };
     return scalar_canonical(m_s.show);
@@ -207,6 +234,15 @@ class Row {
     };
     return *this;
   }
+  /// Refuses an empty (or blank) string: a name, a path or a command must say something.
+  Row& non_empty() {
+    check([](const SettingValue& v) {
+      const std::string& text = std::get<std::string>(v);
+      if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+        throw SettingError(text.empty() ? "must not be empty" : "must not be blank");
+    });
+    return range("non-empty");
+  }
   /// Replaces the canonical lines of a typed setter (which must come first).
   Row& canonical(std::function<Lines(const StudyConfig&)> canonical) {
     m_s.canonical = std::move(canonical);
@@ -233,6 +269,8 @@ class Row {
       }
     }
     if (m_s.default_text.empty() && m_s.show) m_s.default_text = m_s.show(StudyConfig{});
+    // The reason of a bound is documented where the bound is.
+    if (!m_s.bounds.reason.empty()) m_s.doc += " (bounds: " + m_s.bounds.reason + ")";
     return std::move(m_s);
   }
 
@@ -344,19 +382,14 @@ const Setting& material_row(const std::vector<Setting>& rows, const std::string&
 
 std::vector<Setting> build_settings() {
   using E = SettingEffect;
+  const SettingBounds k_steps = between(1, true, k_max_steps, true,
+                                        "LIGGGHTS reads step counts through variables "
+                                        "printed with 15 significant digits");
   std::vector<Row> rows;
   const auto add = [&](Row& row) { rows.push_back(std::move(row)); };
 
   // [study]
-  add(Row("study", "name")
-          .string(FIELD(name))
-          .check([](const SettingValue& v) {
-            if (std::get<std::string>(v).empty()) throw SettingError("must not be empty");
-          })
-          .required()
-          .default_text("— (required)")
-          .range("non-empty")
-          .doc("study name"));
+  add(Row("study", "name").string(FIELD(name)).non_empty().required().default_text("— (required)").doc("study name"));
   add(Row("study", "experiment")
           .choice(FIELD(experiment),
                   std::vector<std::pair<std::string, Experiment>>{{"pile", Experiment::pile},
@@ -367,6 +400,7 @@ std::vector<Setting> build_settings() {
           .doc("`pile` (paper §3) or `oedometer` (paper §4)"));
   add(Row("study", "seed")
           .integer(FIELD(seed), at_least(0))
+          .range(">= 0")
           .cases("seed")
           .doc("one seed for the design, the radii (GSL MT19937) and the initial positions"));
 
@@ -386,10 +420,15 @@ std::vector<Setting> build_settings() {
           .doc("the design of experiments on the parameter ranges: Latin hypercubes (plain, centred, optimised for "
                "maximin distance or centred L2 discrepancy) or a scrambled Sobol' sequence"));
   add(Row("design", "samples")
-          .integer(FIELD(samples), at_least(1))
-          .range(">= 1 (>= 2 for the `lhs` designs)")
+          .integer(FIELD(samples),
+                   between(2, true, k_max_samples, true,
+                           "the analysis needs 2 samples at least (one case alone: `demsa case`); each sample is a "
+                           "case folder"))
+          .range(fmt::format("[2, {}]; at most {} for `lhs-maximin` and `lhs-cl2`", k_max_samples,
+                             k_max_optimised_lhs_samples))
           .cases("samples")
-          .doc("number of samples (the paper: 160 pile, 200 oedometer)"));
+          .doc("number of samples (the paper: 160 pile, 200 oedometer); the optimised Latin hypercubes keep an "
+               "N × N matrix of the sample pairs"));
 
   // [parameters]: one table row per contact parameter; the admissible values are those of its [material] row.
   for (const ContactParameter& p : contact_parameters()) {
@@ -476,7 +515,9 @@ std::vector<Setting> build_settings() {
           .doc("`set1` (6000 particles, radii [1, 3.5] mm, mean 2, sd 0.5) or `set2` (8000, [0.8, 2.5] mm, 1.5, "
                "0.35): paper Table 2. Other keys override it"));
   add(Row("pile", "particles")
-          .integer(FIELD(pile.particles), at_least(1))
+          .integer(FIELD(pile.particles),
+                   between(1, true, k_max_particles, true,
+                           "the case writer holds every particle, and the text of its data file, in memory"))
           .cases("pile.particles")
           .doc("number of particles"));
   radius_rows(
@@ -530,11 +571,11 @@ std::vector<Setting> build_settings() {
           .doc("φ̂ of E_φ = (φ̂ − φ)²: the calibration target of `demsa calibrate` and the report (not stored with "
                "the cases)"));
   add(Row("pile", "directions")
-          .integer(FIELD(pile.directions), at_least(1))
+          .integer(FIELD(pile.directions), between(1, true, 100000, true))
           .measurement("pile.directions")
           .doc("φ_N of §3.3: the angle of a finished pile is measured in this many directions"));
   add(Row("pile", "levels")
-          .integer(FIELD(pile.levels), at_least(2))
+          .integer(FIELD(pile.levels), between(2, true, 100000, true))
           .measurement("pile.levels")
           .doc("height levels between 0.2 h_P and 0.75 h_P at which the angle is measured"));
   add(Row("pile", "angle_estimator")
@@ -552,7 +593,9 @@ std::vector<Setting> build_settings() {
                "expected solid volume V_S = 301 cm³ gives the paper's void ratio e = V_P/V_S = 0.66 on a 10 × 10 × "
                "5 cm³ sample (the paper gives no radii). Other keys override it"));
   add(Row("oedometer", "particles")
-          .integer(FIELD(oedometer.particles), at_least(1))
+          .integer(FIELD(oedometer.particles),
+                   between(1, true, k_max_particles, true,
+                           "the case writer holds every particle, and the text of its data file, in memory"))
           .cases("oed.particles")
           .doc("number of particles"));
   radius_rows(
@@ -629,12 +672,12 @@ std::vector<Setting> build_settings() {
           .cases("oed.kd")
           .doc("servo derivative gain"));
   add(Row("oedometer", "servo_max_steps")
-          .integer(FIELD(oedometer.servo_max_steps), at_least(1))
+          .integer(FIELD(oedometer.servo_max_steps), k_steps)
           .unit("steps")
           .cases("oed.smax")
           .doc("servo: a load not reached by then is recorded as not converged"));
   add(Row("oedometer", "servo_check_steps")
-          .integer(FIELD(oedometer.servo_check_steps), at_least(1))
+          .integer(FIELD(oedometer.servo_check_steps), k_steps)
           .unit("steps")
           .cases("oed.scheck")
           .doc("servo: force averaged and the load checked every this many steps (rounded up to a multiple of 10)"));
@@ -644,12 +687,12 @@ std::vector<Setting> build_settings() {
           .cases("oed.vrest")
           .doc("servo: the plate is at rest when its mean speed over a check is below this"));
   add(Row("oedometer", "trial_steps")
-          .integer(FIELD(oedometer.trial_steps), at_least(1))
+          .integer(FIELD(oedometer.trial_steps), k_steps)
           .unit("steps")
           .cases("oed.ns")
           .doc("trial-step: n_s"));
   add(Row("oedometer", "relax_steps")
-          .integer(FIELD(oedometer.relax_steps), at_least(1))
+          .integer(FIELD(oedometer.relax_steps), k_steps)
           .unit("steps")
           .cases("oed.nl")
           .doc("trial-step: n_L"));
@@ -667,7 +710,7 @@ std::vector<Setting> build_settings() {
           .cases("oed.floor")
           .doc("trial-step: smallest trial step as a fraction of δ_T0"));
   add(Row("oedometer", "max_trials")
-          .integer(FIELD(oedometer.max_trials), at_least(1))
+          .integer(FIELD(oedometer.max_trials), between(1, true, 1e6, true))
           .cases("oed.maxtrials")
           .doc("trial-step: trials per load before it is recorded as not converged"));
 
@@ -702,18 +745,22 @@ std::vector<Setting> build_settings() {
                                                                     {"slurm", ExecutorKind::slurm}})
           .doc("where cases run: this machine or a SLURM cluster"));
   add(Row("run", "ranks")
-          .integer(FIELD(run.ranks), at_least(1))
+          .integer(FIELD(run.ranks), between(1, true, 1e6, true))
           .cases("ranks")
           .doc("MPI ranks per case; results depend on it, so every case of a study uses the same count"));
-  add(Row("run", "parallel").integer(FIELD(run.parallel), at_least(0)).doc("cases at once (local); 0 = cores / ranks"));
+  add(Row("run", "parallel")
+          .integer(FIELD(run.parallel), between(0, true, 1e6, true))
+          .doc("cases at once (local); 0 = cores / ranks"));
   add(Row("run", "oversubscribe").boolean(FIELD(run.oversubscribe)).doc("allow parallel × ranks > cores"));
   add(Row("run", "timeout").number(FIELD(run.timeout), k_non_negative).unit("s").doc("per case; 0 = none"));
-  add(Row("run", "retries").integer(FIELD(run.retries), at_least(0)).doc("extra attempts after a failure"));
+  add(Row("run", "retries")
+          .integer(FIELD(run.retries), between(0, true, 1000, true))
+          .doc("extra attempts after a failure"));
   add(Row("run", "lost_fraction")
           .number(FIELD(run.lost_fraction), between(0, true, 1, true))
           .doc("a case that loses more than this fraction of its particles fails"));
-  add(Row("run", "liggghts").string(FIELD(run.liggghts)).doc("LIGGGHTS executable (name on PATH or path)"));
-  add(Row("run", "mpirun").string(FIELD(run.mpirun)).doc("MPI launcher"));
+  add(Row("run", "liggghts").string(FIELD(run.liggghts)).non_empty().doc("LIGGGHTS executable (name on PATH or path)"));
+  add(Row("run", "mpirun").string(FIELD(run.mpirun)).non_empty().doc("MPI launcher"));
 
   // [run.slurm]
   add(Row("run.slurm", "partition")
@@ -724,7 +771,7 @@ std::vector<Setting> build_settings() {
           .doc("sbatch `--account` (empty: the cluster's default)"));
   add(Row("run.slurm", "time_limit").string(FIELD(run.slurm.time_limit)).doc("sbatch `--time` per case"));
   add(Row("run.slurm", "throttle")
-          .integer(FIELD(run.slurm.throttle), at_least(0))
+          .integer(FIELD(run.slurm.throttle), between(0, true, 1e6, true))
           .doc("`%N` array throttle, 0 = none"));
   add(Row("run.slurm", "sbatch_options")
           .strings(FIELD(run.slurm.sbatch_options))
@@ -751,14 +798,29 @@ std::vector<Setting> build_settings() {
           .doc("metamodels to fit: `rsm1`–`rsm3` are polynomials of total degree 1–3"));
   add(Row("analysis", "second_order").boolean(FIELD(analysis.second_order)).doc("also S2"));
   add(Row("analysis", "bootstrap")
-          .integer(FIELD(analysis.bootstrap), at_least(0))
+          .integer(FIELD(analysis.bootstrap), between(0, true, k_max_bootstrap, true,
+                                                      "each resample refits every metamodel and computes its indices"))
           .doc("bootstrap resamples for confidence intervals"));
   add(Row("analysis", "confidence")
           .number(FIELD(analysis.confidence), between(0, false, 1, false))
           .doc("confidence level"));
   add(Row("analysis", "base_samples")
-          .integer(FIELD(analysis.base_samples), at_least(16))
-          .doc("QMC base N for metamodel-based indices"));
+          .integer(FIELD(analysis.base_samples),
+                   between(16, true, k_max_base_samples, true,
+                           "the indices' QMC design holds N (2d + 2) points in memory, about 1 GB at 2^20 for 7 "
+                           "parameters"))
+          .assign([](StudyConfig& c, const SettingValue& v) {
+            // Sobol' points are balanced in blocks of 2^m (Owen 2020, "On dropping the first Sobol' point"; Saltelli
+            // et al. 2010 use N = 2^m): another N loses accuracy, so the analysis uses the next power of two.
+            const long given = std::get<long>(v);
+            long used = 1;
+            while (used < given) used *= 2;
+            if (used != given)
+              util::log::warn("[analysis] base_samples = {} is not a power of two; the analysis uses {}", given, used);
+            c.analysis.base_samples = static_cast<int>(used);
+          })
+          .doc("QMC base N for metamodel-based indices; rounded up to a power of two (Sobol' points are balanced in "
+               "blocks of 2^m)"));
   add(Row("analysis", "gp_kernel")
           .choice(FIELD(analysis.gp_kernel),
                   std::vector<sobol::GpKernel>{sobol::GpKernel::squared_exponential, sobol::GpKernel::matern52},
@@ -857,11 +919,13 @@ bool SettingBounds::contains(double value) const {
 }
 
 std::string SettingBounds::text() const {
+  // An integer bound reads as the integer it is (100000, not 1e+05).
+  const auto show = [this](double v) { return integral ? fmt::format("{:.0f}", v) : shortest(v); };
   if (low && high)
-    return fmt::format("{}{}, {}{}", low->inclusive ? "[" : "(", shortest(low->value), shortest(high->value),
+    return fmt::format("{}{}, {}{}", low->inclusive ? "[" : "(", show(low->value), show(high->value),
                        high->inclusive ? "]" : ")");
-  if (low) return fmt::format("{} {}", low->inclusive ? ">=" : ">", shortest(low->value));
-  if (high) return fmt::format("{} {}", high->inclusive ? "<=" : "<", shortest(high->value));
+  if (low) return fmt::format("{} {}", low->inclusive ? ">=" : ">", show(low->value));
+  if (high) return fmt::format("{} {}", high->inclusive ? "<=" : "<", show(high->value));
   return {};
 }
 

@@ -45,13 +45,18 @@ struct SettingBound {
 struct SettingBounds {
   std::optional<SettingBound> low;
   std::optional<SettingBound> high;
-  std::string reason;  ///< why, appended to the message after ": " (may be empty)
+  std::string reason;     ///< why, appended to the message after ": " (may be empty)
+  bool integral = false;  ///< the bounds of an integer row (text() writes them as integers)
   bool contains(double value) const;
   /// "> 0", ">= 1", "(0, 0.5)", "[0, 1]"; "" without bounds.
   std::string text() const;
   /// "must be > 0", "must lie in (0, 0.5)"; "" without bounds.
   std::string rule() const;
 };
+
+/// The most samples of the optimised Latin hypercubes (`lhs-maximin`, `lhs-cl2`): their optimisers keep an N x N
+/// matrix of the sample pairs (800 MB at 10,000).
+inline constexpr int k_max_optimised_lhs_samples = 10000;
 
 /// A value as the parser read it, by type: number -> double, integer -> long, boolean -> bool, string and
 /// enumeration -> std::string, lists -> vectors.

@@ -254,6 +254,15 @@ std::unique_ptr<SQLite::Database> open_database(const std::string& path, int fla
 }  // namespace
 
 Store::Store(const std::string& path) : m_db(open_database(path, SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE)) {
+  // Creating the tables is the first write: a full disk or a read-only folder fails here, named like an open error.
+  try {
+    create_or_migrate();
+  } catch (const SQLite::Exception& e) {
+    throw util::InternalError(fmt::format("{}: cannot open the study store (SQLite: {})", path, e.what()));
+  }
+}
+
+void Store::create_or_migrate() {
   m_db->exec("PRAGMA journal_mode = WAL");
   // FULL: a transaction that returned is on disk, also after a power cut (SIGKILL alone would need only NORMAL).
   m_db->exec("PRAGMA synchronous = FULL");

@@ -166,6 +166,8 @@ class Store {
 
  private:
   explicit Store(std::unique_ptr<SQLite::Database> db);
+  /// Sets the pragmas, migrates a version-1 store and creates the tables (read-write open).
+  void create_or_migrate();
   std::unique_ptr<SQLite::Database> m_db;
 };
 

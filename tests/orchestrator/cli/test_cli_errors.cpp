@@ -23,9 +23,9 @@ struct Reported {
 };
 
 template <typename E>
-Reported report(const E& error) {
+Reported report(const E& error, const std::string& command = "") {
   testing::internal::CaptureStderr();
-  const int status = cli::report_error(std::make_exception_ptr(error));
+  const int status = cli::report_error(std::make_exception_ptr(error), command);
   return {status, testing::internal::GetCapturedStderr()};
 }
 
@@ -79,9 +79,12 @@ TEST(CliReportError, MachineFailuresExit3AndSayWhatFailed) {
   EXPECT_EQ(fs_error.status, util::k_exit_internal);
   EXPECT_NE(fs_error.err.find("study/analysis"), std::string::npos) << fs_error.err;
 
-  const Reported memory = report(std::bad_alloc());
+  // Out of memory names the command that ran out, not the bare what() of std::bad_alloc.
+  const Reported memory = report(std::bad_alloc(), "demsa sensitivity");
   EXPECT_EQ(memory.status, util::k_exit_internal);
-  EXPECT_EQ(memory.err, "demsa: internal error: out of memory\n");
+  EXPECT_EQ(memory.err,
+            "demsa: internal error: out of memory while running `demsa sensitivity`: an input asks for more memory "
+            "than this machine has\n");
 
   // A library's own std::invalid_argument is a programming error, not the user's: exit 3.
   const Reported other = report(std::invalid_argument("dir is empty: a study folder is required"));

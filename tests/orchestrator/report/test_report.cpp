@@ -74,7 +74,7 @@ TEST(Report, MarkdownAndHtmlOfADocument) {
   s.figures.push_back({"the bars", plot_sobol_bars(plotter, chart, dir / "img" / "bars")});
   doc.sections.push_back(s);
   const std::string md = render_markdown(doc, dir.path());
-  EXPECT_NE(md.find("# a <study>\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("# a \\<study\\>\n"), std::string::npos) << md;
   EXPECT_NE(md.find("## Tables & plots"), std::string::npos) << md;
   EXPECT_NE(md.find("| model | E \\| ν |"), std::string::npos) << md;
   EXPECT_NE(md.find("![the bars](img/bars.png)"), std::string::npos) << md;
@@ -86,6 +86,17 @@ TEST(Report, MarkdownAndHtmlOfADocument) {
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,"), 1u);
   EXPECT_NE(html.find(base64_encode(read_file(dir / "img" / "bars.png"))), std::string::npos);
   EXPECT_EQ(count_of(html, "<td>"), 2u);
+}
+
+TEST(Report, MarkdownShowsTheStudyNameAsTextNotMarkup) {
+  // The title carries the user's study name: HTML escapes it, and so does the Markdown (CommonMark backslash
+  // escapes), so that neither raw HTML, a link nor emphasis reaches report.md, nor a line break its heading.
+  ReportDocument doc;
+  doc.title = "demsa report: <img src=x onerror=alert(1)> *b* [l](u) `c` &amp;\n# h";
+  const std::string md = render_markdown(doc, ".");
+  EXPECT_EQ(md.substr(0, md.find('\n') + 1),
+            "# demsa report: \\<img src=x onerror=alert\\(1\\)\\> \\*b\\* \\[l\\]\\(u\\) \\`c\\` \\&amp; \\# h\n")
+      << md;
 }
 
 TEST(Report, HtmlOfAMissingImageFails) {
