@@ -3,6 +3,7 @@
 // metrics (on the unit cube) go to standard output, as JSON with --json.
 #include "sobol/design.hpp"
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
