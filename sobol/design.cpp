@@ -30,14 +30,16 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 // Both criteria are updated incrementally when the values of rows r1 and r2 in column k are exchanged, which is the
 // move of every LHS optimiser (it keeps the Latin property).
 
-/// φ_p = (Σ_{i<j} d_ij^-p)^(1/p) (Morris & Mitchell 1995, eq. 2.3). Stores squared distances.
+/// φ_p = (Σ_{i<j} d_ij^-p)^(1/p) (Morris & Mitchell 1995, eq. 2.3). Stores the squared distances and their terms
+/// d^-p (symmetric matrices, read by columns).
 class PhiPCriterion {
  public:
   PhiPCriterion(const Eigen::MatrixXd& x, double p)
       : m_x(x),
         m_p(p),
         m_half_power(std::floor(0.5 * p) == 0.5 * p && p <= 400 ? static_cast<int>(0.5 * p) : 0),
-        m_d2(x.rows(), x.rows()) {
+        m_d2(x.rows(), x.rows()),
+        m_t(x.rows(), x.rows()) {
     const Eigen::Index n = x.rows();
     for (Eigen::Index i = 0; i < n; ++i)
       for (Eigen::Index j = 0; j < n; ++j) m_d2(i, j) = (x.row(i) - x.row(j)).squaredNorm();
@@ -46,18 +48,22 @@ class PhiPCriterion {
   double value() const { return std::pow(m_sum, 1.0 / m_p); }
   /// Criterion after swapping column k of rows r1, r2 (state unchanged).
   double trial(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
-    return std::pow(sum_after(r1, r2, k), 1.0 / m_p);
+    return std::pow(sum_after(r1, r2, k).value, 1.0 / m_p);
   }
   void apply(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) {
-    m_sum = sum_after(r1, r2, k);
+    const Sum after = sum_after(r1, r2, k);
+    m_sum = after.value;
+    m_scale = after.exact ? m_sum : std::max(m_scale, m_sum);
     const double a = m_x(r1, k), b = m_x(r2, k);
     for (Eigen::Index j = 0; j < m_x.rows(); ++j) {
       if (j == r1 || j == r2) continue;
       const double c = m_x(j, k);
-      m_d2(r1, j) = moved(m_d2(r1, j), a, b, c);
-      m_d2(r2, j) = moved(m_d2(r2, j), b, a, c);
-      m_d2(j, r1) = m_d2(r1, j);
-      m_d2(j, r2) = m_d2(r2, j);
+      m_d2(j, r1) = moved(m_d2(j, r1), a, b, c);
+      m_d2(j, r2) = moved(m_d2(j, r2), b, a, c);
+      m_d2(r1, j) = m_d2(j, r1);
+      m_d2(r2, j) = m_d2(j, r2);
+      m_t(j, r1) = m_t(r1, j) = term(m_d2(j, r1));
+      m_t(j, r2) = m_t(r2, j) = term(m_d2(j, r2));
     }
     std::swap(m_x(r1, k), m_x(r2, k));
     if (++m_updates % 1000 == 0) recompute();  // bound the drift of the running sum
@@ -80,14 +86,24 @@ class PhiPCriterion {
   }
   void recompute() {
     m_sum = 0.0;
-    for (Eigen::Index i = 0; i < m_x.rows(); ++i)
-      for (Eigen::Index j = i + 1; j < m_x.rows(); ++j) m_sum += term(m_d2(i, j));
+    for (Eigen::Index j = 0; j < m_x.rows(); ++j)
+      for (Eigen::Index i = 0; i < m_x.rows(); ++i) {
+        m_t(i, j) = term(m_d2(i, j));
+        if (i < j) m_sum += m_t(i, j);
+      }
+    m_scale = m_sum;
   }
-  /// Σ d^-p after the swap. The terms span many decades (d^-50), so when the running sum loses most of its value
-  /// to cancellation the new sum is summed afresh.
-  double sum_after(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
+  struct Sum {
+    double value;
+    bool exact;  ///< summed afresh
+  };
+  /// Σ d^-p after the swap. The terms span many decades (d^-50): the running sum carries an absolute rounding error
+  /// of a few ulps of the largest value it has held since it was last summed afresh (m_scale), so once it falls
+  /// below 1e-6 of that scale it is summed afresh. (Comparing with the previous value only, one step at a time,
+  /// lets a sum that shrinks by 10^2 per step keep the error of its largest value: φ_p off by 30 %.)
+  Sum sum_after(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
     const double updated = m_sum + delta(r1, r2, k);
-    if (updated > 1e-3 * m_sum) return updated;
+    if (updated > 1e-6 * m_scale) return {updated, false};
     const double a = m_x(r1, k), b = m_x(r2, k);
     double sum = 0.0;
     for (Eigen::Index i = 0; i < m_x.rows(); ++i)
@@ -101,7 +117,7 @@ class PhiPCriterion {
         }
         sum += term(d2);
       }
-    return sum;
+    return {sum, true};
   }
   double delta(Eigen::Index r1, Eigen::Index r2, Eigen::Index k) const {
     const double a = m_x(r1, k), b = m_x(r2, k);
@@ -109,9 +125,9 @@ class PhiPCriterion {
     for (Eigen::Index j = 0; j < m_x.rows(); ++j) {
       if (j == r1 || j == r2) continue;
       const double c = m_x(j, k);
-      const double n1 = moved(m_d2(r1, j), a, b, c);
-      const double n2 = moved(m_d2(r2, j), b, a, c);
-      change += term(n1) + term(n2) - term(m_d2(r1, j)) - term(m_d2(r2, j));
+      const double n1 = moved(m_d2(j, r1), a, b, c);
+      const double n2 = moved(m_d2(j, r2), b, a, c);
+      change += term(n1) + term(n2) - m_t(j, r1) - m_t(j, r2);
     }
     return change;  // d(r1, r2) is unchanged by the swap
   }
@@ -120,7 +136,9 @@ class PhiPCriterion {
   double m_p;
   int m_half_power;  ///< p/2 when it is a whole number, else 0
   Eigen::MatrixXd m_d2;
+  Eigen::MatrixXd m_t;  ///< term(m_d2)
   double m_sum = 0.0;
+  double m_scale = 0.0;  ///< largest running sum since the last exact sum
   long m_updates = 0;
 };
 
@@ -202,9 +220,11 @@ class Cl2Criterion {
 
 /// Enhanced stochastic evolutionary algorithm (Jin, Chen, Sudjianto 2005, J. Stat. Plan. Inference 134, §3): inner
 /// loops of M steps, each trying J random swaps in one column and keeping the best one under a threshold-accepting
-/// rule; the threshold adapts between improvement and exploration phases.
+/// rule; the threshold adapts between improvement and exploration phases. The budget is counted in outer iterations
+/// (DesignOptions::iterations, stall_iterations, stall_tolerance), so that a seed pins the design down whatever the
+/// machine's load; the wall-clock time_limit is only a safety stop, reported in result.stop.
 template <class Criterion>
-Eigen::MatrixXd optimise_lhs(Criterion criterion, const DesignOptions& options, int& iterations_done,
+Eigen::MatrixXd optimise_lhs(Criterion criterion, const DesignOptions& options, DesignResult& result,
                              Clock::time_point start) {
   Random rng(options.seed ^ 0x9E3779B97F4A7C15ULL);
   const Eigen::Index n = criterion.points().rows();
@@ -216,9 +236,15 @@ Eigen::MatrixXd optimise_lhs(Criterion criterion, const DesignOptions& options, 
   Eigen::MatrixXd best = criterion.points();
   double best_value = criterion.value();
   double threshold = 0.005 * best_value;
-  iterations_done = 0;
+  // best_value at the end of each outer iteration, for the no-improvement stop.
+  std::vector<double> history{best_value};
+  result.iterations = 0;
+  result.stop = DesignStop::iterations;
   for (int outer = 0; outer < options.iterations; ++outer) {
-    if (seconds_since(start) > options.time_limit) break;
+    if (seconds_since(start) > options.time_limit) {
+      result.stop = DesignStop::time_limit;
+      break;
+    }
     const double old_best = best_value;
     int accepted = 0, improved = 0;
     for (int inner = 0; inner < m_inner; ++inner) {
@@ -246,7 +272,7 @@ Eigen::MatrixXd optimise_lhs(Criterion criterion, const DesignOptions& options, 
         }
       }
     }
-    ++iterations_done;
+    ++result.iterations;
     const double acceptance = static_cast<double>(accepted) / m_inner;
     if (best_value < old_best - 1e-12 * std::abs(old_best)) {  // improvement phase
       if (acceptance > 0.1 && improved < accepted) {
@@ -260,6 +286,13 @@ Eigen::MatrixXd optimise_lhs(Criterion criterion, const DesignOptions& options, 
       } else if (acceptance > 0.8) {
         threshold *= 0.9;
       }
+    }
+    history.push_back(best_value);
+    const std::size_t window = static_cast<std::size_t>(options.stall_iterations);
+    if (history.size() > window &&
+        best_value >= (1.0 - options.stall_tolerance) * history[history.size() - 1 - window]) {
+      result.stop = DesignStop::no_improvement;
+      break;
     }
   }
   return best;
@@ -303,8 +336,31 @@ void DesignOptions::validate() const {
                                  k_max_sobol_dimension));
   if (!(phi_p_power >= 1.0) || !std::isfinite(phi_p_power))
     throw InputError(fmt::format("design phi_p_power = {}: must be a finite number >= 1", phi_p_power));
+  const bool optimised = kind == DesignKind::lhs_maximin || kind == DesignKind::lhs_cl2;
+  if (optimised && samples > k_max_optimised_lhs_samples)
+    throw InputError(
+        fmt::format("design samples = {}: an optimised LHS keeps n x n tables of pairs; at most {} samples", samples,
+                    k_max_optimised_lhs_samples));
   if (iterations < 1) throw InputError(fmt::format("design iterations = {}: must be at least 1", iterations));
+  if (stall_iterations < 1)
+    throw InputError(fmt::format("design stall_iterations = {}: must be at least 1", stall_iterations));
+  if (!(stall_tolerance >= 0.0 && stall_tolerance < 1.0))
+    throw InputError(fmt::format("design stall_tolerance = {}: must be in [0, 1)", stall_tolerance));
   if (!(time_limit > 0.0)) throw InputError(fmt::format("design time_limit = {}: must be > 0", time_limit));
+}
+
+std::string to_string(DesignStop stop) {
+  switch (stop) {
+    case DesignStop::not_optimised:
+      return "not optimised";
+    case DesignStop::iterations:
+      return "iterations";
+    case DesignStop::no_improvement:
+      return "no improvement";
+    case DesignStop::time_limit:
+      return "time limit";
+  }
+  return "unknown";
 }
 
 Eigen::MatrixXd latin_hypercube(int samples, int dimension, std::uint64_t seed, bool centred) {
@@ -482,37 +538,175 @@ Eigen::MatrixXd scrambled_sobol(int samples, int dimension, std::uint64_t seed) 
   return x;
 }
 
+namespace {
+
+/// k-d tree (Bentley 1975; the nearest-neighbour search of Friedman, Bentley & Finkel 1977) over the rows of a
+/// design, used for the smallest distance between two rows: every row is queried against the tree with the best
+/// squared distance found so far as the pruning radius, so a subtree is entered only when its splitting plane is
+/// closer than that. O(n) memory.
+class ClosestPair {
+ public:
+  explicit ClosestPair(const Eigen::MatrixXd& points)
+      : m_d(points.cols()), m_rows(points.transpose()), m_index(static_cast<std::size_t>(points.rows())) {
+    std::iota(m_index.begin(), m_index.end(), Eigen::Index{0});
+    m_nodes.reserve(static_cast<std::size_t>(2 * points.rows() / k_leaf + 2));
+    build(0, points.rows());
+  }
+  /// Smallest squared distance between two different rows.
+  double min_squared() const {
+    double best = std::numeric_limits<double>::infinity();
+    // In the tree's order: neighbours follow each other, so the radius shrinks early and the rows stay in cache.
+    for (const Eigen::Index row : m_index) search(0, row, best);
+    return best;
+  }
+
+ private:
+  static constexpr Eigen::Index k_leaf = 8;
+  struct Node {
+    Eigen::Index begin, end;  ///< range of m_index
+    Eigen::Index dim = -1;    ///< split coordinate; -1 for a leaf
+    double split = 0.0;
+    int left = -1, right = -1;
+  };
+  double coord(Eigen::Index position, Eigen::Index k) const {
+    return m_rows(k, m_index[static_cast<std::size_t>(position)]);
+  }
+  int build(Eigen::Index begin, Eigen::Index end) {
+    const int id = static_cast<int>(m_nodes.size());
+    m_nodes.push_back({begin, end});
+    if (end - begin <= k_leaf) return id;
+    Eigen::Index dim = 0;  // the coordinate of largest spread
+    double spread = -1.0;
+    for (Eigen::Index k = 0; k < m_d; ++k) {
+      double lo = coord(begin, k), hi = lo;
+      for (Eigen::Index i = begin + 1; i < end; ++i) {
+        lo = std::min(lo, coord(i, k));
+        hi = std::max(hi, coord(i, k));
+      }
+      if (hi - lo > spread) {
+        spread = hi - lo;
+        dim = k;
+      }
+    }
+    const Eigen::Index mid = begin + (end - begin) / 2;
+    const auto first = m_index.begin();
+    std::nth_element(first + begin, first + mid, first + end,
+                     [this, dim](Eigen::Index a, Eigen::Index b) { return m_rows(dim, a) < m_rows(dim, b); });
+    const double split = coord(mid, dim);
+    const int left = build(begin, mid);
+    const int right = build(mid, end);
+    Node& node = m_nodes[static_cast<std::size_t>(id)];
+    node.dim = dim;
+    node.split = split;
+    node.left = left;
+    node.right = right;
+    return id;
+  }
+  void search(int id, Eigen::Index row, double& best) const {
+    const Node& node = m_nodes[static_cast<std::size_t>(id)];
+    const double* p = &m_rows(0, row);
+    if (node.dim < 0) {
+      for (Eigen::Index i = node.begin; i < node.end; ++i) {
+        const Eigen::Index other = m_index[static_cast<std::size_t>(i)];
+        if (other <= row) continue;  // each pair once, never a row with itself
+        const double* q = &m_rows(0, other);
+        double d2 = 0.0;
+        for (Eigen::Index k = 0; k < m_d && d2 < best; ++k) d2 += (p[k] - q[k]) * (p[k] - q[k]);
+        best = std::min(best, d2);
+      }
+      return;
+    }
+    // Left holds coordinates <= split, right >= split (nth_element), so a point on the plane may be on either side.
+    const double gap = p[node.dim] - node.split;
+    const int near = gap < 0.0 ? node.left : node.right;
+    const int far = gap < 0.0 ? node.right : node.left;
+    search(near, row, best);
+    if (gap * gap <= best) search(far, row, best);
+  }
+
+  Eigen::Index m_d;
+  Eigen::MatrixXd m_rows;  ///< a point per column
+  std::vector<Eigen::Index> m_index;
+  std::vector<Node> m_nodes;
+};
+
+}  // namespace
+
 double min_distance(const Eigen::MatrixXd& points) {
-  double best = std::numeric_limits<double>::infinity();
-  for (Eigen::Index i = 0; i < points.rows(); ++i)
-    for (Eigen::Index j = i + 1; j < points.rows(); ++j)
-      best = std::min(best, (points.row(i) - points.row(j)).squaredNorm());
-  return std::sqrt(best);
+  if (points.rows() < 2 || points.cols() < 1) return std::numeric_limits<double>::infinity();
+  return std::sqrt(ClosestPair(points).min_squared());
 }
 
 double phi_p(const Eigen::MatrixXd& points, double p) {
   // Factor out the smallest distance so that d^-p stays in range for large p.
   const double dmin = min_distance(points);
   if (dmin == 0.0) return std::numeric_limits<double>::infinity();
+  const Eigen::Index n = points.rows();
+  const Eigen::Index d = points.cols();
+  const Eigen::MatrixXd rows = points.transpose();  // a point per column, contiguous
+  const double scale = 1.0 / (dmin * dmin);
+  const double half = 0.5 * p;
+  const int whole = std::floor(half) == half && half <= 400 ? static_cast<int>(half) : 0;
   double sum = 0.0;
-  for (Eigen::Index i = 0; i < points.rows(); ++i)
-    for (Eigen::Index j = i + 1; j < points.rows(); ++j)
-      sum += std::pow((points.row(i) - points.row(j)).norm() / dmin, -p);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      double d2 = 0.0;
+      for (Eigen::Index k = 0; k < d; ++k) d2 += (rows(k, i) - rows(k, j)) * (rows(k, i) - rows(k, j));
+      const double ratio = 1.0 / (d2 * scale);  // (dmin / d)², at most 1
+      if (whole == 0) {
+        sum += std::pow(ratio, half);
+        continue;
+      }
+      double base = ratio, term = 1.0;  // ratio^(p/2) by repeated squaring
+      for (int e = whole; e > 0; e >>= 1, base *= base)
+        if (e & 1) term *= base;
+      sum += term;
+    }
   return std::pow(sum, 1.0 / p) / dmin;
 }
 
-double centred_l2_discrepancy(const Eigen::MatrixXd& points) { return Cl2Criterion(points).value(); }
+double centred_l2_discrepancy(const Eigen::MatrixXd& points) {
+  // Hickernell 1998, eq. 5.1c, summed pair by pair (the diagonal once, each off-diagonal pair twice).
+  const Eigen::Index n = points.rows();
+  const Eigen::Index d = points.cols();
+  const auto g1 = [](double u) {
+    const double z = std::abs(u - 0.5);
+    return 1.0 + 0.5 * z - 0.5 * z * z;
+  };
+  const auto c1 = [](double u, double v) {
+    return 1.0 + 0.5 * std::abs(u - 0.5) + 0.5 * std::abs(v - 0.5) - 0.5 * std::abs(u - v);
+  };
+  double rows = 0.0, pairs = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double g = 1.0;
+    for (Eigen::Index k = 0; k < d; ++k) g *= g1(points(i, k));
+    rows += g;
+    double diagonal = 1.0;
+    for (Eigen::Index k = 0; k < d; ++k) diagonal *= c1(points(i, k), points(i, k));
+    pairs += diagonal;
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      double c = 1.0;
+      for (Eigen::Index k = 0; k < d; ++k) c *= c1(points(i, k), points(j, k));
+      pairs += 2.0 * c;
+    }
+  }
+  const double nn = static_cast<double>(n);
+  const double value2 = std::pow(13.0 / 12.0, static_cast<double>(d)) - 2.0 / nn * rows + pairs / (nn * nn);
+  return std::sqrt(std::max(value2, 0.0));
+}
 
 DesignMetrics design_metrics(const Eigen::MatrixXd& points, double phi_p_power) {
   DesignMetrics m;
   m.min_distance = min_distance(points);
-  m.phi_p = phi_p(points, phi_p_power);
   m.phi_p_power = phi_p_power;
-  m.centred_l2 = centred_l2_discrepancy(points);
+  if (points.rows() <= k_max_pair_metric_samples) {
+    m.phi_p = phi_p(points, phi_p_power);
+    m.centred_l2 = centred_l2_discrepancy(points);
+  }
   return m;
 }
 
-DesignResult make_design(const DesignOptions& options) {
+DesignResult make_design(const DesignOptions& options, bool with_metrics) {
   options.validate();
   const Clock::time_point start = Clock::now();
   DesignResult result;
@@ -528,18 +722,18 @@ DesignResult make_design(const DesignOptions& options) {
     case DesignKind::lhs_maximin:
       result.points = optimise_lhs(
           PhiPCriterion(latin_hypercube(options.samples, options.dimension, options.seed, false), options.phi_p_power),
-          options, result.iterations, start);
+          options, result, start);
       break;
     case DesignKind::lhs_cl2:
       result.points =
           optimise_lhs(Cl2Criterion(latin_hypercube(options.samples, options.dimension, options.seed, false)), options,
-                       result.iterations, start);
+                       result, start);
       break;
     case DesignKind::sobol:
       result.points = scrambled_sobol(options.samples, options.dimension, options.seed);
       break;
   }
-  result.metrics = design_metrics(result.points, options.phi_p_power);
+  if (with_metrics) result.metrics = design_metrics(result.points, options.phi_p_power);
   result.seconds = seconds_since(start);
   return result;
 }

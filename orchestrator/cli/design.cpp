@@ -1,6 +1,6 @@
 // `demsa design lhs|sobol|saltelli`: a design of experiments as CSV, for any simulator (README "Usage"). Values are
 // on the unit cube unless parameters with bounds are given (--param NAME:LOW:HIGH[:log]); the space-filling
-// metrics (on the unit cube) go to standard output, as JSON with --json.
+// metrics (on the unit cube) go to standard output, as JSON with --json (for saltelli: only with --json).
 #include "sobol/design.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
@@ -20,6 +20,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -40,8 +42,8 @@ struct DesignArgs {
   // lhs
   std::string criterion;  ///< "", maximin, cl2
   bool centred = false;
-  double time_limit = 5.0;
-  int iterations = 1000000;
+  double time_limit = 60.0;                            ///< safety stop [s]; warns when it ends the search
+  int iterations = sobol::DesignOptions{}.iterations;  ///< outer iterations at most
   double phi_p = 50.0;
   // saltelli
   bool second_order = false;
@@ -148,15 +150,36 @@ void check_point_design(const DesignArgs& args, sobol::DesignKind kind, int dime
   }
   if (args.samples < 2) throw UserError(fmt::format("-n {}: a Latin hypercube needs at least 2 samples", args.samples));
   if (!(args.time_limit > 0.0))
-    throw UserError(fmt::format("--time-limit {}: the optimisation budget must be > 0 seconds", args.time_limit));
+    throw UserError(fmt::format("--time-limit {}: the safety stop must be > 0 seconds", args.time_limit));
+  if (args.iterations < 1)
+    throw UserError(fmt::format("--iterations {}: the optimisation needs at least 1 iteration", args.iterations));
+  if ((kind == sobol::DesignKind::lhs_maximin || kind == sobol::DesignKind::lhs_cl2) &&
+      args.samples > sobol::k_max_optimised_lhs_samples)
+    throw UserError(
+        fmt::format("-n {}: an optimised Latin hypercube keeps n x n tables of pairs; at most {} samples "
+                    "(a plain or centred one has no limit)",
+                    args.samples, sobol::k_max_optimised_lhs_samples));
   if (!(args.phi_p >= 1.0) || !std::isfinite(args.phi_p))
     throw UserError(fmt::format("--phi-p {}: p must be a finite number >= 1", args.phi_p));
 }
 
+/// The base sample size of a Saltelli design: N rounded up to the next power of two, with a warning naming both
+/// values. Scrambled Sobol' points are balanced only over their first 2^m points (Owen 1997), and the Sobol' index
+/// estimates lose accuracy in between (Ishigami, S1: mean error 3.6e-3 at N = 10,000 against 5.4e-4 at 8192);
+/// Saltelli et al. 2010 take N = 2^k.
+int saltelli_base(int samples) {
+  if (samples < 2) throw UserError(fmt::format("--base {}: the base sample size must be at least 2", samples));
+  check_sobol_samples("--base", samples);
+  const unsigned rounded = std::bit_ceil(static_cast<unsigned>(samples));
+  if (rounded == static_cast<unsigned>(samples)) return samples;
+  log::warn(
+      "--base {} is not a power of two: rounded up to {} (a scrambled Sobol' sequence is balanced only at "
+      "powers of two; Saltelli 2010 takes N = 2^k)",
+      samples, rounded);
+  return static_cast<int>(rounded);
+}
+
 void check_saltelli(const DesignArgs& args, int dimension) {
-  if (args.samples < 2)
-    throw UserError(fmt::format("--base {}: the base sample size must be at least 2", args.samples));
-  check_sobol_samples("--base", args.samples);
   if (dimension > sobol::k_max_saltelli_dimension)
     throw UserError(fmt::format(
         "{}: a Saltelli design supports at most {} parameters (A and B come from one {}-dimensional Sobol' sequence)",
@@ -167,16 +190,35 @@ void check_saltelli(const DesignArgs& args, int dimension) {
                                 args.samples, blocks, blocks * args.samples, INT_MAX));
 }
 
+/// A missing output folder is the user's error (exit 2), found before any work: the atomic writer would report it
+/// as an I/O error (exit 3) on its temporary file.
+void check_output_folder(const std::string& output) {
+  const std::filesystem::path folder = std::filesystem::path(output).parent_path();
+  std::error_code ec;
+  if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+    throw UserError(fmt::format("-o {}: the folder '{}' does not exist", output, folder.string()));
+}
+
+/// The pair metrics are absent above sobol::k_max_pair_metric_samples points (null in JSON).
+nlohmann::json optional_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
+
 nlohmann::json metrics_json(const sobol::DesignMetrics& m) {
   return {{"min_distance", m.min_distance},
-          {"phi_p", m.phi_p},
+          {"phi_p", optional_json(m.phi_p)},
           {"phi_p_power", m.phi_p_power},
-          {"centred_l2_discrepancy", m.centred_l2}};
+          {"centred_l2_discrepancy", optional_json(m.centred_l2)}};
+}
+
+void warn_without_pair_metrics(const sobol::DesignMetrics& m, Eigen::Index rows) {
+  if (!m.phi_p)
+    log::warn("phi_p and the centred L2 discrepancy are not computed for {} points (O(n^2) time; at most {})", rows,
+              sobol::k_max_pair_metric_samples);
 }
 
 void run_point_design(const DesignArgs& args, sobol::DesignKind kind) {
   const Parameters p = parse_parameters(args);
   check_point_design(args, kind, static_cast<int>(p.names.size()));
+  check_output_folder(args.output);
   if (kind == sobol::DesignKind::sobol)
     warn_unless_power_of_two("-n", args.samples,
                              "a scrambled Sobol' sequence is balanced only at powers of two (Owen 1997)");
@@ -189,29 +231,47 @@ void run_point_design(const DesignArgs& args, sobol::DesignKind kind) {
   options.iterations = args.iterations;
   options.phi_p_power = args.phi_p;
   const sobol::DesignResult r = sobol::make_design(options);
+  if (r.stop == sobol::DesignStop::time_limit)
+    log::warn(
+        "--time-limit {}: the optimisation stopped at the safety time limit after {} of at most {} iterations; "
+        "this design depends on the machine's speed, not on the seed alone (raise --time-limit or lower "
+        "--iterations)",
+        args.time_limit, r.iterations, args.iterations);
+  warn_without_pair_metrics(r.metrics, r.points.rows());
   const Eigen::MatrixXd values = p.scaled ? sobol::to_physical(r.points, p.bounds) : r.points;
   write_csv(args.output, p.names, values);
   if (args.json) {
-    const nlohmann::json j = {
-        {"design", sobol::to_string(r.kind)}, {"file", args.output},   {"samples", r.points.rows()},
-        {"dimension", r.points.cols()},       {"parameters", p.names}, {"seed", r.seed},
-        {"iterations", r.iterations},         {"seconds", r.seconds},  {"metrics", metrics_json(r.metrics)}};
+    const nlohmann::json j = {{"design", sobol::to_string(r.kind)},
+                              {"file", args.output},
+                              {"samples", r.points.rows()},
+                              {"dimension", r.points.cols()},
+                              {"parameters", p.names},
+                              {"seed", r.seed},
+                              {"iterations", r.iterations},
+                              {"stop", sobol::to_string(r.stop)},
+                              {"seconds", r.seconds},
+                              {"metrics", metrics_json(r.metrics)}};
     fmt::print("{}\n", j.dump(2));
   } else {
     fmt::print("{} design: {} samples x {} parameters (seed {}) written to {}\n", sobol::to_string(r.kind),
                r.points.rows(), r.points.cols(), r.seed, args.output);
-    if (r.iterations > 0) fmt::print("optimised in {} iterations, {:.2f} s\n", r.iterations, r.seconds);
-    fmt::print("minimum distance {:.4f}, phi_{:g} {:.4f}, centred L2 discrepancy {:.5f} (on the unit cube)\n",
-               r.metrics.min_distance, r.metrics.phi_p_power, r.metrics.phi_p, r.metrics.centred_l2);
+    if (r.iterations > 0)
+      fmt::print("optimised in {} iterations (stop: {}), {:.2f} s\n", r.iterations, sobol::to_string(r.stop),
+                 r.seconds);
+    if (r.metrics.phi_p && r.metrics.centred_l2)
+      fmt::print("minimum distance {:.4f}, phi_{:g} {:.4f}, centred L2 discrepancy {:.5f} (on the unit cube)\n",
+                 r.metrics.min_distance, r.metrics.phi_p_power, *r.metrics.phi_p, *r.metrics.centred_l2);
+    else
+      fmt::print("minimum distance {:.4f} (on the unit cube)\n", r.metrics.min_distance);
   }
 }
 
-void run_saltelli(const DesignArgs& args) {
-  const Parameters p = parse_parameters(args);
+void run_saltelli(const DesignArgs& given) {
+  const Parameters p = parse_parameters(given);
+  DesignArgs args = given;
+  args.samples = saltelli_base(given.samples);
   check_saltelli(args, static_cast<int>(p.names.size()));
-  warn_unless_power_of_two("--base", args.samples,
-                           "A and B come from a scrambled Sobol' sequence, balanced only at powers of two (Saltelli "
-                           "2010 takes N = 2^k)");
+  check_output_folder(args.output);
   sobol::SaltelliOptions options;
   options.base = args.samples;
   options.dimension = static_cast<int>(p.names.size());
@@ -233,8 +293,10 @@ void run_saltelli(const DesignArgs& args) {
   if (extra == 2) header.emplace_back("replicate");
   header.insert(header.end(), p.names.begin(), p.names.end());
   write_csv(args.output, header, table);
-  const sobol::DesignMetrics m = sobol::design_metrics(d.a);
   if (args.json) {
+    // Only on request: the pair metrics take O(N^2) time (computed up to sobol::k_max_pair_metric_samples).
+    const sobol::DesignMetrics m = sobol::design_metrics(d.a);
+    warn_without_pair_metrics(m, d.a.rows());
     const nlohmann::json j = {
         {"design", "saltelli"},           {"file", args.output}, {"base", d.base},        {"dimension", d.dimension},
         {"second_order", d.second_order}, {"rows", d.rows()},    {"parameters", p.names}, {"seed", d.seed},
@@ -278,7 +340,14 @@ void register_design_command(CLI::App& app, CliState& state) {
   add_common(lhs, *args, "-n,--samples", "Number of samples");
   lhs->add_option("--criterion", args->criterion, "Optimise for: maximin (phi_p) or cl2 (centred L2 discrepancy)");
   lhs->add_flag("--centred", args->centred, "Put every point at the centre of its stratum");
-  lhs->add_option("--time-limit", args->time_limit, "Optimisation budget [s]")->capture_default_str();
+  lhs->add_option("--iterations", args->iterations,
+                  "Optimisation budget: outer iterations at most (the search also stops once it gains less than "
+                  "0.1% over 25 of them); the seed alone fixes the design")
+      ->capture_default_str();
+  lhs->add_option("--time-limit", args->time_limit,
+                  "Safety stop [s]: when it ends the optimisation a warning says so, and the design then depends on "
+                  "the machine's speed")
+      ->capture_default_str();
   lhs->add_option("--phi-p", args->phi_p, "p of the phi_p criterion")->capture_default_str();
   lhs->callback([args, &state] {
     sobol::DesignKind kind = args->centred ? sobol::DesignKind::lhs_centred : sobol::DesignKind::lhs;
@@ -304,7 +373,9 @@ void register_design_command(CLI::App& app, CliState& state) {
 
   CLI::App* saltelli = design->add_subcommand(
       "saltelli", "Saltelli design for Sobol' indices: blocks A, B, AB_i (and BA_i), column 'block' names them");
-  add_common(saltelli, *args, "-N,--base", "Base sample size N (rows of A and of B; a power of two)");
+  add_common(saltelli, *args, "-N,--base",
+             "Base sample size N (rows of A and of B); another value than a power of two is rounded up to the next "
+             "one, with a warning");
   saltelli->add_flag("--second-order", args->second_order, "Add the BA_i blocks needed for second-order indices");
   saltelli
       ->add_option("--replicates", args->replicates,

@@ -75,7 +75,8 @@ CsvTable read_csv(std::istream& in, const std::string& file, const CsvReadOption
 /// Parses CSV text; `file` is the name used in messages.
 CsvTable parse_csv(const std::string& text, const std::string& file, const CsvReadOptions& options = {});
 
-/// CSV text: header row, then the rows of `values` (%.17g). values.cols() == header.size() (asserted).
+/// CSV text: header row, then the rows of `values` (each the shortest text that reads back to the same double).
+/// values.cols() == header.size() (asserted).
 std::string format_csv(const std::vector<std::string>& header, const Eigen::MatrixXd& values);
 /// Writes format_csv(...) to `file` durably (util::write_file_atomically); throws IoError on I/O failure.
 void write_csv(const std::filesystem::path& file, const std::vector<std::string>& header,

@@ -1,4 +1,5 @@
 // `demsa design lhs|sobol|saltelli` through the real binary: files, metrics, and usage errors.
+#include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "support/test_support.hpp"
 
@@ -107,7 +108,11 @@ TEST(CliDesignErrors, ValuesOutOfRangeNameTheOption) {
   const std::vector<Case> cases = {
       {{"lhs", "-n", "1", "--dim", "2"}, "demsa: error: -n 1: a Latin hypercube needs at least 2 samples"},
       {{"lhs", "-n", "10", "--dim", "2", "--criterion", "maximin", "--time-limit", "0"},
-       "demsa: error: --time-limit 0: the optimisation budget must be > 0 seconds"},
+       "demsa: error: --time-limit 0: the safety stop must be > 0 seconds"},
+      {{"lhs", "-n", "10", "--dim", "2", "--criterion", "maximin", "--iterations", "0"},
+       "demsa: error: --iterations 0: the optimisation needs at least 1 iteration"},
+      {{"lhs", "-n", "5000", "--dim", "2", "--criterion", "cl2"},
+       "demsa: error: -n 5000: an optimised Latin hypercube keeps n x n tables of pairs; at most 4096 samples"},
       {{"lhs", "-n", "10", "--dim", "2", "--phi-p", "0.5"},
        "demsa: error: --phi-p 0.5: p must be a finite number >= 1"},
       {{"sobol", "-n", "0", "--dim", "2"}, "demsa: error: -n 0: the number of samples must be at least 1"},
@@ -187,11 +192,11 @@ TEST(CliDesign, SizesOtherThanPowersOfTwoWarnOnStandardError) {
 
   r = run_demsa({"design", "saltelli", "--base", "100", "--dim", "2", "-o", out, "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("demsa: warning: --base 100 is not a power of two (nearest: 64 and 128)"), std::string::npos)
+  EXPECT_NE(r.err.find("demsa: warning: --base 100 is not a power of two: rounded up to 128"), std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("Saltelli 2010"), std::string::npos) << r.err;
-  EXPECT_EQ(nlohmann::json::parse(r.out)["base"], 100);
-  EXPECT_EQ(read_csv(out).rows(), 400);
+  EXPECT_EQ(nlohmann::json::parse(r.out)["base"], 128);
+  EXPECT_EQ(read_csv(out).rows(), 512);
 
   r = run_demsa({"design", "sobol", "-n", "16", "--dim", "2", "-o", out, "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -203,6 +208,86 @@ TEST(CliDesign, SizesOtherThanPowersOfTwoWarnOnStandardError) {
   r = run_demsa({"design", "lhs", "-n", "10", "--dim", "2", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
+}
+
+// A Saltelli base that is not a power of two is rounded up to the next one (Sobol' points are balanced only there);
+// the help says so.
+TEST(CliDesign, SaltelliBaseIsRoundedUpToAPowerOfTwo) {
+  TempDir dir;
+  const std::string out = (dir / "x.csv").string();
+  CommandResult r = run_demsa({"design", "saltelli", "-N", "10000", "--dim", "3", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("--base 10000 is not a power of two: rounded up to 16384"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("saltelli design: base 16384 x 3 parameters"), std::string::npos) << r.out;
+  EXPECT_EQ(read_csv(out).rows(), 16384 * 5);
+  r = run_demsa({"design", "saltelli", "--help"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("rounded up"), std::string::npos) << r.out;
+}
+
+// A missing output folder is the user's error, named, before any work (it was an I/O error, exit 3).
+TEST(CliDesignErrors, MissingOutputFolderIsAUserError) {
+  TempDir dir;
+  const std::string out = (dir / "no" / "such" / "x.csv").string();
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"lhs", "-n", "8"}, {"sobol", "-n", "8"}, {"saltelli", "-N", "8"}}) {
+    std::vector<std::string> full{"design"};
+    full.insert(full.end(), args.begin(), args.end());
+    full.insert(full.end(), {"--dim", "2", "-o", out});
+    const CommandResult r = run_demsa(full);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(
+        r.err.find("demsa: error: -o " + out + ": the folder '" + (dir / "no" / "such").string() + "' does not exist"),
+        std::string::npos)
+        << r.err;
+  }
+}
+
+// The metrics of block A are computed only for --json, in O(N) memory: at N = 2^15 the old n x n tables died with
+// bad_alloc after the CSV was written. Above the pair-metric limit, phi_p and C2 are null and a warning says so.
+TEST(CliDesign, SaltelliMetricsOnlyOnRequestAndBoundedAtLargeN) {
+  TempDir dir;
+  const std::string out = (dir / "x.csv").string();
+  CommandResult r = run_demsa({"design", "saltelli", "-N", "32768", "--dim", "1", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  r = run_demsa({"design", "saltelli", "-N", "32768", "--dim", "1", "-o", out, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["metrics_of_a"]["phi_p"].is_null());
+  EXPECT_TRUE(j["metrics_of_a"]["centred_l2_discrepancy"].is_null());
+  // 2^15 points of a scrambled 1-D net: one per interval of 2^-15, so neighbours are at most 2^-14 apart.
+  const double dmin = j["metrics_of_a"]["min_distance"].get<double>();
+  EXPECT_GT(dmin, 0.0);
+  EXPECT_LT(dmin, 1.0 / 16384);
+  EXPECT_NE(r.err.find("phi_p and the centred L2 discrepancy are not computed for 32768 points"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(read_csv(out).rows(), 32768 * 3);
+}
+
+// The optimisation budget is counted in iterations: the same seed gives the same design whatever the time cap (the
+// cap was the budget, so the design depended on the machine's load). A cap that ends the search warns.
+TEST(CliDesign, LhsSameSeedSameDesignWhateverTheTimeCap) {
+  TempDir dir;
+  std::vector<std::string> texts;
+  for (const char* cap : {"0.5", "2"}) {
+    const std::string out = (dir / (std::string("d") + cap + ".csv")).string();
+    const CommandResult r = run_demsa({"design", "lhs", "-n", "30", "--dim", "3", "--criterion", "maximin", "--seed",
+                                       "5", "--time-limit", cap, "-o", out, "--json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_NE(j["stop"], "time limit");
+    texts.push_back(demsa::util::read_file(out));
+  }
+  EXPECT_EQ(texts[0], texts[1]);
+  const CommandResult r = run_demsa({"design", "lhs", "-n", "200", "--dim", "5", "--criterion", "maximin",
+                                     "--time-limit", "1e-9", "-o", (dir / "t.csv").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["stop"], "time limit");
+  EXPECT_NE(r.err.find("demsa: warning: --time-limit 1e-09: the optimisation stopped at the safety time limit"),
+            std::string::npos)
+      << r.err;
 }
 
 }  // namespace
