@@ -5,6 +5,7 @@
 
 #include "support/test_support.hpp"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <sstream>
@@ -92,7 +93,7 @@ TEST(Csv, DevZeroEndsQuicklyWithTheFileAndLine) {
 
 TEST(Csv, TextAndStreamAgree) {
   std::string text = "# comment\nname,x,y\n";
-  for (int i = 0; i < 20000; ++i) text += "p" + std::to_string(i) + "," + std::to_string(i) + ",0.5e-3\n";
+  for (int i = 0; i < 20000; ++i) text += fmt::format("p{},{},0.5e-3\n", i, i);
   text += "last,1,2";  // no end of line
   CsvReadOptions options;
   options.numeric_columns = {"x", "y"};
