@@ -5,10 +5,9 @@
 
 #include "support/test_support.hpp"
 
-#include <fmt/format.h>
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
-#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -94,7 +93,7 @@ TEST(Csv, DevZeroEndsQuicklyWithTheFileAndLine) {
 
 TEST(Csv, TextAndStreamAgree) {
   std::string text = "# comment\nname,x,y\n";
-  for (int i = 0; i < 20000; ++i) fmt::format_to(std::back_inserter(text), "p{},{},0.5e-3\n", i, i);
+  for (int i = 0; i < 20000; ++i) text += fmt::format("p{},{},0.5e-3\n", i, i);
   text += "last,1,2";  // no end of line
   CsvReadOptions options;
   options.numeric_columns = {"x", "y"};
