@@ -97,5 +97,41 @@ TEST(CliAnalyze, NothingAnalysedExits2NamingEachObservable) {
   EXPECT_TRUE(fs::exists(tmp / "study" / "analysis" / "analysis.json"));
 }
 
+TEST(CliRun, SigintDuringTheAnalysisAtTheEndStopsIt) {
+  TempDir tmp;
+  const StudyToml toml{.name = "fake-pile",
+                       .samples = 8,
+                       .parameters = "mu_pp = { low = 0.2, high = 0.8 }\nmu_r_pp = { low = 0.05, high = 0.3 }\n",
+                       .tables = "[pile]\nparticles = 300\n",
+                       .run = fake_liggghts_run_lines() + "parallel = 2\noversubscribe = true\n",
+                       .analysis = "metamodels = [\"rbf-cubic\"]\nbootstrap = 200\nbase_samples = 65536\n"};
+  write_file(tmp / "study.toml", toml.text());
+  FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const pid_t pid = spawn_demsa(run_args(tmp, {"--quiet"}), tmp / "demsa.log");
+  // The cases take well under a second each; the analysis starts once the last one is committed.
+  const bool all_done = wait_until(
+      [&] {
+        if (!fs::exists(tmp / "study" / "study.db")) return false;
+        try {
+          return Store::open_read_only((tmp / "study" / "study.db").string()).counts().done == 8;
+        } catch (const std::exception&) {
+          return false;
+        }
+      },
+      std::chrono::seconds(60));
+  ASSERT_TRUE(all_done) << read_file(tmp / "demsa.log");
+  std::this_thread::sleep_for(1s);
+  ::kill(pid, SIGINT);
+  const auto sent = std::chrono::steady_clock::now();
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count(), 3.0);
+  ASSERT_TRUE(WIFEXITED(status)) << read_file(tmp / "demsa.log");
+  EXPECT_EQ(WEXITSTATUS(status), 130) << read_file(tmp / "demsa.log");
+  EXPECT_FALSE(fs::exists(tmp / "study" / "analysis" / "analysis.json"));
+  EXPECT_NE(read_file(tmp / "demsa.log").find("interrupted during the analysis"), std::string::npos)
+      << read_file(tmp / "demsa.log");
+}
+
 }  // namespace
 }  // namespace demsa::test
