@@ -50,6 +50,7 @@ TEST(StudyInputs, EveryIntegerBeyondItsFieldIsRefusedNotNarrowed) {
     ++rows;
     for (const std::string value : {"4294967304", "9223372036854775807", "-4294967295"}) {
       if (s.key == "seed" && value[0] != '-') continue;  // a 64-bit seed holds every non-negative TOML integer
+      if (value == "4294967304" && s.bounds.high->value >= 4294967304.0) continue;  // a 64-bit step count holds it
       const std::string e = error_of(with_value(s, value));
       EXPECT_NE(e.find("study.toml:"), std::string::npos) << s.key << ": " << e;
       EXPECT_NE(e.find(fmt::format("[{}] {}:", s.section, s.key)), std::string::npos) << e;
@@ -69,8 +70,8 @@ TEST(StudyInputs, EveryIntegerRowHasAnUpperBound) {
 
 TEST(StudyInputs, SizesTheMachineCannotHoldAreRefusedNamingTheKey) {
   EXPECT_EQ(error_of(k_pile + "[design]\nsamples = 2000000000\n"),
-            "study.toml:7: [design] samples: must lie in [2, 100000], got 2000000000: the analysis needs 2 samples at "
-            "least (one case alone: `demsa case`); each sample is a case folder");
+            "study.toml:7: [design] samples: must lie in [2, 100000], got 2000000000: the analysis needs at least 2 "
+            "samples, one case alone is `demsa case`; each sample is a case folder");
   EXPECT_NE(error_of(k_pile + "[pile]\nparticles = 2000000000\n")
                 .find("study.toml:7: [pile] particles: must lie in [1, 10000000], got 2000000000: the case writer"),
             std::string::npos);
