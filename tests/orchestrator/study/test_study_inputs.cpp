@@ -128,6 +128,21 @@ TEST(StudyInputs, TheOtherExperimentsTableIsRefusedAtItsLine) {
   EXPECT_NO_THROW(parse_study(k_oedometer + "[oedometer]\nparticles = 100\n", "study.toml"));
 }
 
+TEST(StudyInputs, NonAsciiOutsideStringsIsRefusedBeforeTomlReadsIt) {
+  // toml++ 3.3 reaches undefined behaviour on such a character (bench/fuzz-study-file.sh found "\u00a7" there).
+  EXPECT_EQ(error_of(k_pile + "[pile]\nparticles \u00a7 = 100\n"),
+            "study.toml:7: a non-ASCII character outside a string or a comment (TOML allows them only in strings and "
+            "comments)");
+  // In strings, quoted keys and comments they are welcome, as is a byte order mark.
+  const std::string text =
+      "\xEF\xBB\xBF# \u00a73 Table 2\n[study]\nname = \"p\u00e9 \\\" \u00a7\"\nexperiment = 'pile'\n"
+      "[parameters]\nE = { low = 1e8, high = 1e9 } # \u00e9\n[run.slurm]\n"
+      "prologue = \"\"\"\nmodule load \u00e9\"\"\"\naccount = '''\u00e9'''\n";
+  const StudyConfig c = parse_study(text, "study.toml");
+  EXPECT_EQ(c.name, "p\u00e9 \" \u00a7");
+  EXPECT_EQ(c.run.slurm.account, "\u00e9");
+}
+
 TEST(StudyInputs, AFolderOrAnEndlessFileIsNotReadAsAStudy) {
   test::TempDir tmp;
   fs::create_directories(tmp / "study");
