@@ -314,11 +314,15 @@ void check_ascii_outside_strings(const std::string& text, const std::string& nam
   enum class In { code, comment, basic, literal, multiline_basic, multiline_literal };
   In in = In::code;
   long line = 1;
+  // A quote opens a string only where TOML has one (a key at the line's start or after '.', a value after '=', '[',
+  // ',' or '{'); elsewhere ("-\"") toml++ reads on as code, and so does this check.
+  char previous = '\n';
   const auto at = [&](std::size_t i, std::string_view s) { return text.compare(i, s.size(), s) == 0; };
   for (std::size_t i = at(0, "\xEF\xBB\xBF") ? 3 : 0; i < text.size(); ++i) {
     const char c = text[i];
     if (c == '\n') {
       ++line;
+      previous = '\n';
       if (in == In::comment || in == In::basic || in == In::literal) in = In::code;  // they end at the line's end
       continue;
     }
@@ -329,6 +333,12 @@ void check_ascii_outside_strings(const std::string& text, const std::string& nam
           throw UserError(name, line,
                           "a non-ASCII character outside a string or a comment (TOML allows them only in strings and "
                           "comments)");
+        if (c == ' ' || c == '\t' || c == '\r') break;
+        if (std::string_view("\n=[,{.").find(previous) == std::string_view::npos && (c == '"' || c == '\'')) {
+          previous = c;
+          break;
+        }
+        previous = c;
         if (c == '#') {
           in = In::comment;
         } else if (at(i, "\"\"\"")) {
@@ -349,22 +359,22 @@ void check_ascii_outside_strings(const std::string& text, const std::string& nam
         if (escape)
           ++i;
         else if (c == '"')
-          in = In::code;
+          in = In::code, previous = c;
         break;
       case In::literal:
-        if (c == '\'') in = In::code;
+        if (c == '\'') in = In::code, previous = c;
         break;
       case In::multiline_basic:
         if (escape) {
           ++i;
         } else if (at(i, "\"\"\"")) {
-          in = In::code;
+          in = In::code, previous = '"';
           i += 2;
         }
         break;
       case In::multiline_literal:
         if (at(i, "\'\'\'")) {
-          in = In::code;
+          in = In::code, previous = '\'';
           i += 2;
         }
         break;
