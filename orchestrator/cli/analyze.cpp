@@ -42,8 +42,7 @@ int do_analyze(const AnalyzeArgs& args) {
   if (args.second_order) options.second_order = 1;
   if (args.no_second_order) options.second_order = 0;
   // A `demsa run` holding the study would leave an analysis of the samples done so far: refused, as a second run is.
-  study::require_study_folder(options.dir);
-  const study::StudyLock lock(options.dir);
+  const auto lock = study::hold_study_for_results(options.dir);
   StopFlag::install();
   options.should_stop = [] { return StopFlag::raised(); };
   AnalysisSummary summary;

@@ -28,8 +28,7 @@ int do_calibrate(CalibrateArgs& args) {
   args.options.dir = args.dir;
   args.options.run_point = exec::run_point;
   // Not while a `demsa run` holds the study: it writes analysis/calibration.json (and --verify a case) into it.
-  study::require_study_folder(args.options.dir);
-  const study::StudyLock lock(args.options.dir);
+  const auto lock = study::hold_study_for_results(args.options.dir);
   const CalibrationOutcome outcome = calibrate_study(args.options);
   if (args.json)
     fmt::print("{}", calibration_to_json(outcome));

@@ -38,8 +38,7 @@ int do_report(const ReportArgs& args) {
   options.plot.height = args.height;
   options.plot.font_size = args.font_size;
   // Not while a `demsa run` holds the study: the report would describe the samples done so far as the study.
-  study::require_study_folder(options.dir);
-  const study::StudyLock lock(options.dir);
+  const auto lock = study::hold_study_for_results(options.dir);
   const ReportSummary summary = write_study_report(options);
   if (args.json) {
     nlohmann::json j{{"dir", summary.out_dir.string()},

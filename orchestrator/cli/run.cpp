@@ -97,7 +97,7 @@ int do_run(const RunArgs& args) {
     AnalyzeOptions analyze;
     analyze.dir = summary.dir;
     // run_study() let go of the study; the analysis holds it again, as `demsa analyze` does.
-    const study::StudyLock lock(summary.dir);
+    const auto lock = study::hold_study_for_results(summary.dir);
     analyze.should_stop = [] { return StopFlag::raised(); };
     AnalysisSummary analysis;
     try {

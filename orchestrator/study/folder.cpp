@@ -14,6 +14,18 @@ void require_study_folder(const std::filesystem::path& dir) {
                                       k_frozen_study, k_store_file));
 }
 
+std::unique_ptr<StudyLock> hold_study_for_results(const std::filesystem::path& dir) {
+  require_study_folder(dir);
+  try {
+    return std::make_unique<StudyLock>(dir);
+  } catch (const util::IoError&) {
+    if (const long pid = StudyLock::holder(dir))
+      throw util::UserError(
+          fmt::format("{}: another demsa (pid {}) is running this study; wait for it or stop it", dir.string(), pid));
+    return nullptr;
+  }
+}
+
 std::filesystem::path case_dir(const std::filesystem::path& study_dir, int sample) {
   return study_dir / k_cases_folder / fmt::format("{:06d}", sample);
 }

@@ -6,6 +6,7 @@
 #include "orchestrator/util/file_lock.hpp"
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
 namespace demsa::study {
@@ -58,5 +59,11 @@ class StudyLock {
  private:
   util::FileLock m_lock;
 };
+
+/// Holds `dir` for a command that reports on the whole study and writes its results (`demsa analyze`, `report`,
+/// `calibrate`): throws util::UserError, as StudyLock does, while a `demsa run` holds it. A folder where the lock file
+/// cannot be opened for writing (a read-only archive) cannot be held by a run either: it is checked, not held
+/// (nullptr).
+std::unique_ptr<StudyLock> hold_study_for_results(const std::filesystem::path& dir);
 
 }  // namespace demsa::study

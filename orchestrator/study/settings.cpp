@@ -422,8 +422,8 @@ std::vector<Setting> build_settings() {
   add(Row("design", "samples")
           .integer(FIELD(samples),
                    between(2, true, k_max_samples, true,
-                           "the analysis needs 2 samples at least (one case alone: `demsa case`); each sample is a "
-                           "case folder"))
+                           "the analysis needs at least 2 samples, one case alone is `demsa case`; each sample is "
+                           "a case folder"))
           .range(fmt::format("[2, {}]; at most {} for `lhs-maximin` and `lhs-cl2`", k_max_samples,
                              k_max_optimised_lhs_samples))
           .cases("samples")

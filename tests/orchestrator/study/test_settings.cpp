@@ -122,26 +122,33 @@ TEST(StudySettings, EveryRowIsReadIntoItsOwnField) {
 }
 
 TEST(StudySettings, AFileOfEveryDefaultReadsAsTheDefaults) {
-  StudyConfig expected;
-  expected.name = "s";
-  expected.pile.preset = "set1";        // the defaults of [pile] are set 1
-  expected.oedometer.preset = "paper";  // and those of [oedometer] the paper's assembly
-  expected.timestep.value = 1e-6;       // 0 = not given, which the file cannot say
-  expected.parameters.push_back({"E", sobol::Bounds{1e8, 1e9, sobol::Scale::log_uniform}, 0});
-  StudyMap study;
-  for (const Setting& s : study_settings()) {
-    const std::string value = s.show(expected);
-    if (value != "not varied") study[s.section][s.key] = value;
+  // Once per experiment: a study holds its own experiment's table only.
+  for (const Experiment experiment : {Experiment::pile, Experiment::oedometer}) {
+    StudyConfig expected;
+    expected.name = "s";
+    expected.experiment = experiment;
+    const std::string other = experiment == Experiment::pile ? "oedometer" : "pile";
+    if (experiment == Experiment::pile)
+      expected.pile.preset = "set1";  // the defaults of [pile] are set 1
+    else
+      expected.oedometer.preset = "paper";  // and those of [oedometer] the paper's assembly
+    expected.timestep.value = 1e-6;         // 0 = not given, which the file cannot say
+    expected.parameters.push_back({"E", sobol::Bounds{1e8, 1e9, sobol::Scale::log_uniform}, 0});
+    StudyMap study;
+    for (const Setting& s : study_settings()) {
+      const std::string value = s.show(expected);
+      if (value != "not varied" && s.section != other) study[s.section][s.key] = value;
+    }
+    const std::string text = study_text(study);
+    StudyConfig c;
+    try {
+      c = parse_study(text, "study.toml");
+    } catch (const util::UserError& e) {
+      FAIL() << e.what() << "\n" << text;
+    }
+    EXPECT_EQ(shown(c), shown(expected)) << text;
+    EXPECT_EQ(design_hash_text(c), design_hash_text(expected));
   }
-  const std::string text = study_text(study);
-  StudyConfig c;
-  try {
-    c = parse_study(text, "study.toml");
-  } catch (const util::UserError& e) {
-    FAIL() << e.what() << "\n" << text;
-  }
-  EXPECT_EQ(shown(c), shown(expected)) << text;
-  EXPECT_EQ(design_hash_text(c), design_hash_text(expected));
 }
 
 TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
@@ -304,7 +311,8 @@ TEST(StudySettings, HashSeesMeasurementButNotRunSettings) {
   const std::string oed = study_text(oedometer);
   EXPECT_NE(design_hash(parse_study(oed + "[oedometer]\nmeasured_settlements = [1e-3, 2e-3, 3e-3]\n", "s")),
             design_hash(parse_study(oed, "s")));
-  EXPECT_EQ(design_hash(parse_study(oed + "[pile]\nlevels = 12\n", "s")), design_hash(parse_study(oed, "s")));
+  // ... and [pile] cannot be part of an oedometer study at all.
+  EXPECT_THROW(parse_study(oed + "[pile]\nlevels = 12\n", "s"), util::UserError);
   EXPECT_EQ(find_setting("pile", "levels")->effect, SettingEffect::measurement);
   EXPECT_EQ(find_setting("run", "ranks")->effect, SettingEffect::cases);
   EXPECT_EQ(find_setting("run", "parallel")->effect, SettingEffect::none);

@@ -61,7 +61,9 @@ TEST(StudyConfig, PilePresetsFillTable2AndExplicitKeysOverride) {
 }
 
 TEST(StudyConfig, OedometerSectionIsRead) {
-  const StudyConfig c = parse_study(std::string(k_minimal) + R"(
+  std::string oedometer = k_minimal;
+  oedometer.replace(oedometer.find("\"pile\""), 6, "\"oedometer\"");
+  const StudyConfig c = parse_study(oedometer + R"(
 [oedometer]
 preset = "paper"
 loads = [100, 400.0, 1100, 2700]
