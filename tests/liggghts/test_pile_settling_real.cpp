@@ -34,6 +34,12 @@ void write_and_run(const fs::path& study, const std::string& set, const fs::path
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err << test::read_file(dir / "screen.txt");
 }
 
+CaseExit clean_exit() {
+  CaseExit exit;
+  exit.exit_code = 0;
+  return exit;
+}
+
 FailureOptions strict_options(long particles) {
   FailureOptions options;
   options.experiment = Experiment::pile;
@@ -62,8 +68,7 @@ TEST(PileSettlingReal, QuickstartSizePileSettlesByTheCriterion) {
   EXPECT_EQ(values.at(std::string(k_settled)), 1.0);
   // The quickstart's pile overflows its pedestal: particles fell off and were removed, none lost.
   EXPECT_GT(values.at(std::string(k_removed_off_pedestal)), 0.0);
-  EXPECT_EQ(classify_case(CaseExit{.exit_code = 0}, dir, strict_options(config.pile.particles)).failure,
-            FailureClass::none);
+  EXPECT_EQ(classify_case(clean_exit(), dir, strict_options(config.pile.particles)).failure, FailureClass::none);
 }
 
 TEST(PileSettlingReal, LowWallRollingFrictionPileRemovesParticlesAndIsNotFailed) {
@@ -86,7 +91,7 @@ TEST(PileSettlingReal, LowWallRollingFrictionPileRemovesParticlesAndIsNotFailed)
   EXPECT_GT(settling->removed, 0);
   const long atoms = static_cast<long>(postprocess::read_particles(dir / "pile_final.dump", 1).size());
   EXPECT_EQ(atoms + settling->removed, 300);  // every particle is in the dump or was removed: none lost
-  const FailureReport report = classify_case(CaseExit{.exit_code = 0}, dir, strict_options(300));
+  const FailureReport report = classify_case(clean_exit(), dir, strict_options(300));
   EXPECT_EQ(report.failure, FailureClass::none) << report.message;
   // Nothing removed lies in the dump: no particle centre below the pedestal top outside its radius.
   const postprocess::Particles all = postprocess::read_particles(dir / "pile_final.dump", 1);
