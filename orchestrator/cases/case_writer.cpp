@@ -156,7 +156,7 @@ Written write_pile(const StudyConfig& c, const Material& m, const TimestepChoice
   params.integer("settle_check_steps", check_steps, "settling checked and fallen particles removed every this often");
   params.integer("settle_checks", checks, "checks that cover settle_steps");
   params.number("settle_speed_limit", speed_limit,
-                "settled: fastest particle on the pedestal below this [m/s] = settle_speed x sqrt(|g| r_min)");
+                "settled: particles on the pedestal slower than this [m/s] = settle_speed x sqrt(|g| r_min)");
   params.number("settle_fast_share", 1.0 - s.settle_quantile,
                 "... except at most this share of the particles on the pedestal (1 - settle_quantile)");
   params.integer("settle_window_checks", window_checks, "... at this many checks in a row; 0 = criterion off");
