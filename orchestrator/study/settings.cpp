@@ -986,8 +986,8 @@ std::vector<std::string> setting_keys(const std::string& section) {
 std::string unknown_key_hint(const std::string& section, const std::string& key) {
   // Keys an earlier demsa knew.
   if (section == "pile" && key == "ke_stop")
-    return " (it was replaced by `settle_speed` and `settle_window`: a pile is settled once every particle on the "
-           "pedestal is slow, whatever rolls on the ground; remove `ke_stop`, see docs/study-file.md)";
+    return " (it was replaced by `settle_speed` and `settle_window`: a pile is settled once the particles on the "
+           "pedestal are slow, whatever rolls on the ground; remove `ke_stop`, see docs/study-file.md)";
   const std::vector<std::string> keys = setting_keys(section);
   if (keys.empty()) return {};
   // The nearest key by edit distance, if it is near enough to be a typo, or a key this one begins (or that begins it).
