@@ -6,6 +6,7 @@
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/observables.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
@@ -18,6 +19,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace demsa::cli {
 
@@ -89,6 +91,8 @@ int do_status(const StatusArgs& args) {
   } catch (const UserError&) {
     parallel = 1;  // status still works on a study whose file no longer parses here
   }
+  // Piles that reached settle_time still moving: counted, but flagged.
+  const std::vector<int> unsettled = unsettled_samples(store.observables());
   const double eta = estimate_remaining(c.samples - c.done - (holder ? 0 : c.failed), parallel, c.mean_done_wall);
   if (args.json) {
     nlohmann::json j{{"dir", dir.string()},  {"study", store.study_name()}, {"samples", c.samples},
@@ -106,6 +110,7 @@ int do_status(const StatusArgs& args) {
                       {"log_tail", r.log_tail}});
     }
     j["failures"] = list;
+    j["unsettled"] = unsettled;
     fmt::print("{}\n", j.dump(2));
     return k_exit_ok;
   }
@@ -119,6 +124,12 @@ int do_status(const StatusArgs& args) {
   for (const auto& [sample, r] : failures) {
     if (done.count(sample)) continue;
     fmt::print("  sample {} attempt {}: {}: {}\n", sample, r.attempt, to_string(r.failure), r.message);
+  }
+  if (!unsettled.empty()) {
+    std::string list;
+    for (int sample : unsettled) list += (list.empty() ? "" : ", ") + std::to_string(sample);
+    fmt::print("unsettled {} of {} done: sample {} reached [pile] settle_time still moving (measured and counted)\n",
+               unsettled.size(), c.done, list);
   }
   return k_exit_ok;
 }

@@ -1,5 +1,6 @@
 #include "orchestrator/exec/failure.hpp"
 
+#include "orchestrator/exec/measure.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/liggghts_log.hpp"
@@ -191,12 +192,22 @@ FailureReport classify_case(const CaseExit& exit, const fs::path& folder, const 
       check_dump(folder / (options.experiment == Experiment::pile ? k_pile_final_dump : k_oedometer_final_dump));
   if (!dump.ok) return fail(FailureClass::missing_dump, dump.problem);
   if (options.expected_particles > 0) {
-    const long lost = std::max(0L, options.expected_particles - dump.atoms);
+    // Particles removed off the pedestal on purpose ([pile] remove_fallen) are not lost.
+    long removed = 0;
+    if (options.experiment == Experiment::pile) {
+      try {
+        if (const std::optional<PileSettling> settling = read_pile_settling(folder)) removed = settling->removed;
+      } catch (const postprocess::ParseError& e) {
+        return fail(FailureClass::missing_dump, problem(folder / k_pile_settling, e));
+      }
+    }
+    const long lost = std::max(0L, options.expected_particles - dump.atoms - removed);
     const double fraction = static_cast<double>(lost) / static_cast<double>(options.expected_particles);
     if (fraction > options.lost_fraction)
       return fail(FailureClass::lost_particles,
-                  fmt::format("{} of {} particles lost ({:.3g} %, limit {:.3g} %)", lost, options.expected_particles,
-                              100 * fraction, 100 * options.lost_fraction));
+                  fmt::format("{} of {} particles lost ({:.3g} %, limit {:.3g} %){}", lost, options.expected_particles,
+                              100 * fraction, 100 * options.lost_fraction,
+                              removed > 0 ? fmt::format("; {} more removed off the pedestal", removed) : ""));
   }
   if (options.experiment == Experiment::oedometer) {
     bool unreadable = false;

@@ -7,6 +7,7 @@
 #include "orchestrator/analysis/training_data.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/observables.hpp"
 #include "orchestrator/study/parameters.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
@@ -347,6 +348,16 @@ ReportSection summary_section(const StudyData& s) {
     section.paragraphs.push_back("No failed attempts.");
   else
     section.tables.push_back(failures);
+  // Piles that reached settle_time still moving are measured and counted, but said here.
+  const std::vector<int> unsettled = unsettled_samples(s.observables);
+  if (!unsettled.empty()) {
+    std::string list;
+    for (int sample : unsettled) list += (list.empty() ? "" : ", ") + std::to_string(sample);
+    section.paragraphs.push_back(fmt::format(
+        "**Unsettled: {} of {} done samples** (sample {}) reached `[pile] settle_time` with more particles on the "
+        "pedestal moving than the settling criterion allows; they are measured and counted in the analysis.",
+        unsettled.size(), s.counts.done, list));
+  }
   return section;
 }
 

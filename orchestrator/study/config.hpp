@@ -67,12 +67,15 @@ struct PileSettings {
   double fill_height = 0.100;       ///< h_fu: discs below it are present at start [m]
   double pedestal_radius = 0.050;   ///< r_cy [m]
   double pedestal_height = 0.005;   ///< h_cy [m]
-  double settle_time = 0.6;         ///< settling after the last disc [s]
-  double ke_stop = 0.0;             ///< stop settling early once kinetic energy < ke_stop [J]; 0 = never
+  double settle_time = 0.6;         ///< settling after the last disc: the cap [s]
+  double settle_speed = 0.0;        ///< settled: particles on the pedestal slower than this x sqrt(|g| r_min); 0 = off
+  double settle_quantile = 0.95;    ///< ... this share of them at least (1 = every one)
+  double settle_window = 0.05;      ///< ... at every check for this long [s]
+  bool remove_fallen = false;       ///< delete particles below the pedestal top and outside its radius
   double target_angle = 33.5;       ///< φ̂ for E_φ [deg]
   int directions = 180;             ///< φ_N (paper §3.3)
   int levels = 10;                  ///< height levels between 0.2 h_P and 0.75 h_P
-  double settle_check_time = 0.02;  ///< with ke_stop > 0: kinetic energy checked every this long [s]
+  double settle_check_time = 0.02;  ///< the settling criterion and the removal are checked every this long [s]
   double domain_half_width = 0.15;  ///< simulation box half width in x and y [m]; particles leaving it are lost
 
   /// "paper" (§3.3) or "robust": the angle estimator of the measurement (postprocess::AngleEstimator)

@@ -21,15 +21,16 @@ inline constexpr const char* k_report_folder = "report";      ///< report/ outpu
 inline constexpr const char* k_lock_file = ".demsa.lock";     ///< held by the demsa that runs the study
 
 // ---------------------------------------------------------------- a case folder
-inline constexpr const char* k_case_input = "in.liggghts";                     ///< main LIGGGHTS script
-inline constexpr const char* k_case_params = "params.liggghts";                ///< generated variables
-inline constexpr const char* k_case_run_script = "run.sh";                     ///< runs the case from its folder
-inline constexpr const char* k_case_json = "case.json";                        ///< what the case is (write_case)
-inline constexpr const char* k_case_log = "log.liggghts";                      ///< LIGGGHTS log
-inline constexpr const char* k_case_screen = "screen.txt";                     ///< LIGGGHTS screen output
-inline constexpr const char* k_run_output_file = "run.out";                    ///< stdout + stderr of ./run.sh
-inline constexpr const char* k_result_file = "result.json";                    ///< the committed observables
-inline constexpr const char* k_pile_final_dump = "pile_final.dump";            ///< id type x y z radius vx vy vz
+inline constexpr const char* k_case_input = "in.liggghts";           ///< main LIGGGHTS script
+inline constexpr const char* k_case_params = "params.liggghts";      ///< generated variables
+inline constexpr const char* k_case_run_script = "run.sh";           ///< runs the case from its folder
+inline constexpr const char* k_case_json = "case.json";              ///< what the case is (write_case)
+inline constexpr const char* k_case_log = "log.liggghts";            ///< LIGGGHTS log
+inline constexpr const char* k_case_screen = "screen.txt";           ///< LIGGGHTS screen output
+inline constexpr const char* k_run_output_file = "run.out";          ///< stdout + stderr of ./run.sh
+inline constexpr const char* k_result_file = "result.json";          ///< the committed observables
+inline constexpr const char* k_pile_final_dump = "pile_final.dump";  ///< id type x y z radius vx vy vz
+inline constexpr const char* k_pile_settling = "pile_settling.txt";  ///< how settling ended, particles removed
 inline constexpr const char* k_oedometer_final_dump = "oedometer_final.dump";  ///< same columns
 inline constexpr const char* k_plate_history = "plate_history.txt";            ///< step load_N plate_z_m force_N ...
 inline constexpr const char* k_plate_states = "plate_states.txt";              ///< load_N plate_z_m force_N converged

@@ -548,17 +548,52 @@ std::vector<Setting> build_settings() {
           .number(FIELD(pile.settle_time), k_non_negative)
           .unit("s")
           .cases("pile.settle_time")
-          .doc("settling after the last disc"));
-  add(Row("pile", "ke_stop")
-          .number(FIELD(pile.ke_stop), k_non_negative)
-          .unit("J")
-          .cases("pile.ke_stop")
-          .doc("stop settling early once the kinetic energy (translation + rotation) is below it; 0 = never"));
+          .doc("settling after the last disc: the cap; a pile still moving then is recorded as unsettled and flagged "
+               "by `demsa status` and the report"));
+  // The settling rows replaced `ke_stop` (0: settle for settle_time). At their defaults they give the hash text of
+  // that version (`pile.ke_stop=0`, nothing more), so its studies keep their hash and their fixed settling time.
+  const auto unless_default = [](std::string key, auto field) {
+    return [key = std::move(key), field](const StudyConfig& c) -> Lines {
+      static const StudyConfig defaults;
+      if (field(c) == field(defaults)) return {};
+      if constexpr (std::is_same_v<std::remove_cvref_t<decltype(field(c))>, bool>)
+        return {{key, field(c) ? "1" : "0"}};
+      else
+        return {{key, canonical_number(field(c))}};
+    };
+  };
+  add(Row("pile", "settle_speed")
+          .number(FIELD(pile.settle_speed), k_non_negative)
+          .cases("pile.settle_speed")
+          .canonical([](const StudyConfig& c) -> Lines {
+            if (c.pile.settle_speed == 0) return {{"pile.ke_stop", canonical_number(0)}};
+            return {{"pile.settle_speed", canonical_number(c.pile.settle_speed)}};
+          })
+          .doc("the pile is settled once the particles on the pedestal (centre above its top, within its radius) "
+               "move slower than `settle_speed` × √(\\|g\\| r_min) (the share `settle_quantile` of them at "
+               "least) at every check for `settle_window`; 0 = settle for `settle_time` (the paper's schedule)"));
+  add(Row("pile", "settle_quantile")
+          .number(FIELD(pile.settle_quantile), between(0, false, 1, true))
+          .cases("pile.settle_quantile")
+          .canonical(unless_default("pile.settle_quantile", FIELD(pile.settle_quantile)))
+          .doc("share of the particles on the pedestal that must be slow; 1 = every one (the fastest is judged)"));
+  add(Row("pile", "settle_window")
+          .number(FIELD(pile.settle_window), k_positive)
+          .unit("s")
+          .cases("pile.settle_window")
+          .canonical(unless_default("pile.settle_window", FIELD(pile.settle_window)))
+          .doc("how long the settling criterion must hold"));
   add(Row("pile", "settle_check_time")
           .number(FIELD(pile.settle_check_time), k_positive)
           .unit("s")
           .cases("pile.settle_check_time")
-          .doc("how often the kinetic energy is checked when `ke_stop` > 0"));
+          .doc("how often the settling criterion is checked and fallen particles removed (also after every disc)"));
+  add(Row("pile", "remove_fallen")
+          .boolean(FIELD(pile.remove_fallen))
+          .cases("pile.remove_fallen")
+          .canonical(unless_default("pile.remove_fallen", FIELD(pile.remove_fallen)))
+          .doc("delete particles whose centre is below the pedestal top and outside its radius (§3.2's filter "
+               "applied during the run); they are counted as removed, not lost"));
   add(Row("pile", "domain_half_width")
           .number(FIELD(pile.domain_half_width), k_positive)
           .unit("m")
@@ -952,7 +987,26 @@ const std::vector<SettingSection>& setting_sections() {
        "ranges per study."},
       {"pile", "Defaults: particle set 1 of the paper's Table 2.",
        "Discs: ring k of a disc has radius 2 r_U k; disc k of the column is at pedestal top + r_U + 2 r_U k; one "
-       "more disc is appended every sqrt(4 r_U/\\|g\\|)."},
+       "more disc is appended every sqrt(4 r_U/\\|g\\|).\n\n"
+       "Settling and removal (both off by default: the paper's schedule; the quickstart and the paper presets turn "
+       "them on): every `settle_check_time` (and after every disc) the particles whose centre lies below "
+       "the pedestal top and outside its radius are deleted (`remove_fallen`; §3.2's filter, applied during the run: "
+       "they cannot come back) and counted; they are stored as `removed_off_pedestal` and are not lost atoms. The "
+       "pile is settled once no more than the share 1 − `settle_quantile` of the particles on the pedestal move "
+       "faster than `settle_speed` √(\\|g\\| r_min) at every check for `settle_window`; a pile that reaches "
+       "`settle_time` still moving is measured, stored with `settled` = 0 and flagged by `demsa status` and the "
+       "report. One-at-a-time runs (set 1, E = 1e8 Pa, ν = 0.3, μ_PP = 1.3, μ_PW = 1.15, e_r = 0.4, baseline "
+       "μ_R,PP = μ_R,PW = 0.275, `cdt`; the quickstart's settling and removal; one LIGGGHTS run each; angle by "
+       "§3.3):\n\n"
+       "| pedestal radius, particles | baseline angle (h_P) | doubled particles | μ_R,PP 0.05 → 0.5 | μ_R,PW 0.05 → "
+       "0.5 |\n"
+       "|---|---|---|---|---|\n"
+       "| 25 mm, 300 | 22.5° (15 mm)¹ | 25.4° (15 mm)¹ | 18.3° → 23.1° | 12.7° → 26.3° |\n"
+       "| 35 mm, 700 (quickstart) | 23.8° (19 mm) | 23.1° (18 mm) | 21.7° (unsettled) → 27.9° | 20.2° → 26.5° |\n"
+       "| 40 mm, 1000 | 25.9° (21 mm) | 27.2° (24 mm) | not run | 20.0° → 26.4° |\n\n"
+       "At these sizes particle-wall rolling friction moves the angle as much as particle-particle rolling friction; "
+       "earlier runs with a fixed 0.35 s of settling gave, at 2400 particles on the paper's 50 mm pedestal, "
+       "25.7° → 37.4° for μ_R,PP against 29.2° → 33.6° for μ_R,PW. ¹ with `settle_quantile` = 1."},
       {"oedometer", "Defaults: assembly one of the paper's §4 (`preset = \"paper\"`).", ""},
       {"timestep", "",
        "T_R = π r_min sqrt(ρ/G) / (0.1631 ν + 0.8766), G = E / (2 (1 + ν)). A case is refused (with the reason) "
@@ -1001,6 +1055,10 @@ std::vector<std::string> setting_keys(const std::string& section) {
 }
 
 std::string unknown_key_hint(const std::string& section, const std::string& key) {
+  // Keys an earlier demsa knew.
+  if (section == "pile" && key == "ke_stop")
+    return " (it was replaced by `settle_speed` and `settle_window`: a pile is settled once the particles on the "
+           "pedestal are slow, whatever rolls on the ground; remove `ke_stop`, see docs/study-file.md)";
   const std::vector<std::string> keys = setting_keys(section);
   if (keys.empty()) return {};
   // The nearest key by edit distance, if it is near enough to be a typo, or a key this one begins (or that begins it).

@@ -178,6 +178,29 @@ TEST(Failure, LostParticlesAboveTheThreshold) {
   EXPECT_EQ(classify_case(clean_exit(), within.tmp.path(), pile_options()).failure, FailureClass::none);
 }
 
+TEST(Failure, ParticlesRemovedOffThePedestalAreNotLost) {
+  const auto settling = [](int removed) {
+    return fmt::format(
+        "criterion 5\nsettled 1\nend_step 1000\nfastest_on_pedestal 0.001\nspeed_limit 0.002\n"
+        "on_pedestal 6\nfast_on_pedestal 0\nremoved {}\n",
+        removed);
+  };
+  CaseFolder removed(k_clean_log, dump_text(6, 6));  // 4 of 10 gone, all removed on purpose
+  write_file(removed.tmp / "pile_settling.txt", settling(4));
+  EXPECT_EQ(classify_case(clean_exit(), removed.tmp.path(), pile_options()).failure, FailureClass::none);
+  CaseFolder lost(k_clean_log, dump_text(6, 6));  // 2 removed, 2 lost = 20 % > 15 %
+  write_file(lost.tmp / "pile_settling.txt", settling(2));
+  const FailureReport report = classify_case(clean_exit(), lost.tmp.path(), pile_options());
+  EXPECT_EQ(report.failure, FailureClass::lost_particles);
+  EXPECT_NE(report.message.find("2 of 10 particles lost"), std::string::npos) << report.message;
+  EXPECT_NE(report.message.find("2 more removed off the pedestal"), std::string::npos) << report.message;
+  CaseFolder torn(k_clean_log, dump_text(6, 6));  // a settling file the measurement would refuse
+  write_file(torn.tmp / "pile_settling.txt", "criterion 5\nremoved\n");
+  const FailureReport bad = classify_case(clean_exit(), torn.tmp.path(), pile_options());
+  EXPECT_EQ(bad.failure, FailureClass::missing_dump);
+  EXPECT_NE(bad.message.find("pile_settling.txt:2"), std::string::npos) << bad.message;
+}
+
 TEST(Failure, PlateNotConvergedAndMissingPlateStates) {
   FailureOptions options;
   options.experiment = Experiment::oedometer;

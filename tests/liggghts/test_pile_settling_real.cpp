@@ -1,0 +1,126 @@
+// Real LIGGGHTS piles for the settling criterion and the removal of particles that fall off the pedestal
+// ([pile] settle_speed, settle_quantile, settle_window, remove_fallen): a pile of the quickstart's size settles by the
+// criterion; a pile with little particle-wall rolling friction loses particles off the pedestal and is not failed; a
+// study whose time cap is too short is flagged unsettled by `demsa status`.
+#include "orchestrator/exec/failure.hpp"
+#include "orchestrator/exec/measure.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/observables.hpp"
+#include "postprocess/dump.hpp"
+
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace demsa {
+
+using namespace demsa::study;
+using namespace demsa::exec;
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Writes one case of `study` at the parameter values `set` into `dir` and runs it with its run.sh.
+void write_and_run(const fs::path& study, const std::string& set, const fs::path& dir) {
+  const test::CommandResult w = test::run_demsa({"case", study.string(), "--set", set, "-o", dir.string()});
+  ASSERT_EQ(w.exit_code, 0) << w.out << w.err;
+  const test::CommandResult r = test::run_command({(dir / "run.sh").string()}, dir.parent_path());
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err << test::read_file(dir / "screen.txt");
+}
+
+CaseExit clean_exit() {
+  CaseExit exit;
+  exit.exit_code = 0;
+  return exit;
+}
+
+FailureOptions strict_options(long particles) {
+  FailureOptions options;
+  options.experiment = Experiment::pile;
+  options.expected_particles = particles;
+  options.lost_fraction = 0.01;
+  options.kinetic_energy_limit = 1e6;
+  return options;
+}
+
+// The baseline of the one-at-a-time runs of docs/study-file.md ("Settling and removal").
+const char* k_baseline = "E=1e8,nu=0.3,mu_pp=1.3,mu_pw=1.15,e_r=0.4,mu_r_pp=0.275,mu_r_pw=0.275";
+
+}  // namespace
+
+TEST(PileSettlingReal, QuickstartSizePileSettlesByTheCriterion) {
+  test::TempDir tmp;
+  const fs::path study = fs::path(DEMSA_SOURCE_DIR) / "examples" / "quickstart.toml";
+  const fs::path dir = tmp / "case";
+  write_and_run(study, k_baseline, dir);
+  const StudyConfig config = load_study(study);
+  const std::optional<PileSettling> settling = read_pile_settling(dir);
+  ASSERT_TRUE(settling.has_value());
+  EXPECT_TRUE(settling->criterion);
+  EXPECT_TRUE(settling->settled) << test::read_file(dir / "pile_settling.txt");
+  const std::map<std::string, double> values = measure_case(config, dir);
+  EXPECT_EQ(values.at(std::string(k_settled)), 1.0);
+  // The quickstart's pile overflows its pedestal: particles fell off and were removed, none lost.
+  EXPECT_GT(values.at(std::string(k_removed_off_pedestal)), 0.0);
+  EXPECT_EQ(classify_case(clean_exit(), dir, strict_options(config.pile.particles)).failure, FailureClass::none);
+}
+
+TEST(PileSettlingReal, LowWallRollingFrictionPileRemovesParticlesAndIsNotFailed) {
+  // 300 particles on the 50 mm pedestal with mu_R,PW = 0.05: particles roll off the pedestal. They are removed once
+  // below its top, counted, and the case passes a 1 % lost-atom check.
+  test::TempDir tmp;
+  std::string text = test::read_file(test::data_path("cases/tiny_pile.toml"));
+  const std::string from = "mu_r_pw = 0.3\n";
+  ASSERT_NE(text.find(from), std::string::npos);
+  text.replace(text.find(from), from.size(), "mu_r_pw = 0.05\n");
+  const std::string settle = "settle_time = 0.35\n";
+  ASSERT_NE(text.find(settle), std::string::npos);
+  text.replace(text.find(settle), settle.size(), settle + "remove_fallen = true\n");
+
+  test::write_file(tmp / "low.toml", text);
+  const fs::path dir = tmp / "case";
+  write_and_run(tmp / "low.toml", "E=1e8,mu_r_pp=0.275", dir);
+  const std::optional<PileSettling> settling = read_pile_settling(dir);
+  ASSERT_TRUE(settling.has_value());
+  EXPECT_GT(settling->removed, 0);
+  const long atoms = static_cast<long>(postprocess::read_particles(dir / "pile_final.dump", 1).size());
+  EXPECT_EQ(atoms + settling->removed, 300);  // every particle is in the dump or was removed: none lost
+  const FailureReport report = classify_case(clean_exit(), dir, strict_options(300));
+  EXPECT_EQ(report.failure, FailureClass::none) << report.message;
+  // Nothing removed lies in the dump: no particle centre below the pedestal top outside its radius.
+  const postprocess::Particles all = postprocess::read_particles(dir / "pile_final.dump", 1);
+  for (std::size_t i = 0; i < all.size(); ++i)
+    EXPECT_FALSE(all.z[i] < 0.005 && std::hypot(all.x[i], all.y[i]) > 0.05) << i;
+}
+
+TEST(PileSettlingReal, StudyWithATinyTimeCapIsFlaggedUnsettled) {
+  test::TempDir tmp;
+  const std::string study =
+      test::StudyToml{
+          .name = "unsettled",
+          .samples = 3,
+          .parameters = "mu_r_pp = { low = 0.05, high = 0.5 }\n",
+          .tables = "[material]\nE = 1e8\n\n[pile]\nparticles = 120\nsettle_time = 0.02\nsettle_speed = 0.02\n",
+          .run = "ranks = 1\ntimeout = 600\nretries = 0\n",
+          .analysis = "metamodels = [\"rsm1\"]\nbootstrap = 0\nbase_samples = 1024\n"}
+          .text();
+  test::write_file(tmp / "s.toml", study);
+  const fs::path dir = tmp / "s";
+  const test::CommandResult run = test::run_demsa({"run", (tmp / "s.toml").string(), "--dir", dir.string()});
+  EXPECT_NE(run.out.find("3 of 3 samples done"), std::string::npos) << run.out << run.err;
+  const test::CommandResult status = test::run_demsa({"status", dir.string()});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  EXPECT_NE(status.out.find("unsettled 3 of 3 done: sample 0, 1, 2 reached [pile] settle_time"), std::string::npos)
+      << status.out;
+  const test::CommandResult json = test::run_demsa({"status", dir.string(), "--json"});
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  EXPECT_EQ(nlohmann::json::parse(json.out).at("unsettled"), nlohmann::json::parse("[0, 1, 2]")) << json.out;
+}
+
+}  // namespace demsa
