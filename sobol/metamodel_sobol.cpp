@@ -100,15 +100,17 @@ SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions
   const int d = static_cast<int>(x.cols());
   const bool exact = options.exact_for_rsm && dynamic_cast<const PolynomialRsm*>(&fitted) != nullptr;
 
-  SaltelliDesign design;
-  if (!exact) {
+  // The QMC design of the indices, scrambled by `seed` (none for the exact RSM indices).
+  const auto design_for = [&](std::uint64_t seed) {
+    if (exact) return SaltelliDesign{};
     SaltelliOptions so;
     so.base = options.base;
     so.dimension = d;
     so.second_order = options.second_order;
-    so.seed = options.seed;
-    design = saltelli_design(so);
-  }
+    so.seed = seed;
+    return saltelli_design(so);
+  };
+  const SaltelliDesign design = design_for(options.seed);
   SobolResult result = point_indices(fitted, design, options);
   if (!options.second_order) result.second.clear();
 
@@ -139,15 +141,7 @@ SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions
     SobolResult rep;
     try {
       const std::unique_ptr<Metamodel> model = fitted.refit(xb, yb);
-      SaltelliDesign scrambled;
-      if (!exact) {
-        SaltelliOptions so;
-        so.base = options.base;
-        so.dimension = d;
-        so.second_order = options.second_order;
-        so.seed = design_seed;
-        scrambled = saltelli_design(so);
-      }
+      const SaltelliDesign scrambled = design_for(design_seed);
       rep = point_indices(*model, scrambled, options);
     } catch (const InputError&) {
       continue;  // a resample that cannot be fitted (a constant column, too few distinct points)
