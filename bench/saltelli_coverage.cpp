@@ -108,13 +108,16 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "usage: saltelli_coverage [BASE >= 16] [SEEDS >= 1]\n");
     return 2;
   }
-  fmt::print("| function | intervals | coverage of 95% intervals | mean width | mean abs error | width / error |\n");
-  fmt::print("|---|---|---|---|---|---|\n");
+  fmt::print(
+      "| function | intervals | coverage of 95% intervals | mean width | mean abs error | width / error | half-width / "
+      "error |\n");
+  fmt::print("|---|---|---|---|---|---|---|\n");
   for (const TestFunction& f : functions()) {
     const auto row = [&](const std::string& label, int replicates, int bootstrap) {
       const Score s = score(f, base, replicates, bootstrap, seeds);
-      fmt::print("| {} | {} | {:.3f} | {:.4f} | {:.4f} | {:.1f} |\n", f.name, label,
-                 static_cast<double>(s.covered) / s.count, s.width / s.count, s.error / s.count, s.width / s.error);
+      fmt::print("| {} | {} | {:.3f} | {:.4f} | {:.4f} | {:.1f} | {:.2f} |\n", f.name, label,
+                 static_cast<double>(s.covered) / s.count, s.width / s.count, s.error / s.count, s.width / s.error,
+                 s.width / s.error / 2);
     };
     row("bootstrap of one design (200 resamples)", 1, 200);
     for (const int r : {8, 16, 32})

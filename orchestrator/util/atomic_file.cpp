@@ -7,54 +7,68 @@
 
 #include <fmt/core.h>
 
+#include <cassert>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace demsa::util {
 
 namespace fs = std::filesystem;
 
-void write_file_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.parent_path() / (path.filename().string() + ".tmp");
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw IoError(fmt::format("{}: cannot write: {}", tmp.string(), std::strerror(errno)));
+AtomicFileWriter::AtomicFileWriter(fs::path path)
+    : path_(std::move(path)), tmp_(path_.parent_path() / (path_.filename().string() + ".tmp")) {
+  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw IoError(fmt::format("{}: cannot write: {}", tmp_.string(), std::strerror(errno)));
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    ::unlink(tmp_.c_str());
+  }
+}
+
+void AtomicFileWriter::append(std::string_view text) {
+  assert(fd_ >= 0);
   std::size_t written = 0;
   while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    const ssize_t n = ::write(fd_, text.data() + written, text.size() - written);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const int error = errno;
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      throw IoError(fmt::format("{}: write failed: {}", tmp.string(), std::strerror(error)));
-    }
+    if (n < 0) throw IoError(fmt::format("{}: write failed: {}", tmp_.string(), std::strerror(errno)));
     written += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) {
-    const int error = errno;
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw IoError(fmt::format("{}: fsync failed: {}", tmp.string(), std::strerror(error)));
-  }
+}
+
+void AtomicFileWriter::commit() {
+  assert(fd_ >= 0);
+  if (::fsync(fd_) != 0) throw IoError(fmt::format("{}: fsync failed: {}", tmp_.string(), std::strerror(errno)));
+  const int fd = std::exchange(fd_, -1);
   if (::close(fd) != 0) {
     const int error = errno;
-    ::unlink(tmp.c_str());
-    throw IoError(fmt::format("{}: close failed: {}", tmp.string(), std::strerror(error)));
+    ::unlink(tmp_.c_str());
+    throw IoError(fmt::format("{}: close failed: {}", tmp_.string(), std::strerror(error)));
   }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+  if (::rename(tmp_.c_str(), path_.c_str()) != 0) {
     const int error = errno;
-    ::unlink(tmp.c_str());
-    throw IoError(fmt::format("{}: rename failed: {}", path.string(), std::strerror(error)));
+    ::unlink(tmp_.c_str());
+    throw IoError(fmt::format("{}: rename failed: {}", path_.string(), std::strerror(error)));
   }
   // The rename itself is durable only once the folder is synced.
-  const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  const fs::path parent = path_.parent_path().empty() ? fs::path(".") : path_.parent_path();
   const int dir_fd = ::open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir_fd >= 0) {
     ::fsync(dir_fd);
     ::close(dir_fd);
   }
+}
+
+void write_file_atomically(const fs::path& path, const std::string& text) {
+  AtomicFileWriter writer(path);
+  writer.append(text);
+  writer.commit();
 }
 
 std::string read_file(const fs::path& path) {

@@ -4,11 +4,31 @@
 // survives a power cut. A reader sees the old content or the new one, never a torn file.
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace demsa::util {
 
 /// Writes `text` to `path` atomically and durably. Throws IoError naming the file and the system's reason.
 void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+
+/// The same, for text written in pieces (a file too large to hold in memory at once): append() writes to the
+/// temporary file, commit() makes it durable and renames it over the target. Destroyed without commit(), it removes
+/// the temporary file, so an exception (or a stop) leaves the target as it was.
+class AtomicFileWriter {
+ public:
+  explicit AtomicFileWriter(std::filesystem::path path);
+  AtomicFileWriter(const AtomicFileWriter&) = delete;
+  AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+  ~AtomicFileWriter();
+
+  void append(std::string_view text);
+  void commit();
+
+ private:
+  std::filesystem::path path_;
+  std::filesystem::path tmp_;
+  int fd_ = -1;
+};
 
 /// The whole content of a file. Throws IoError naming the file when it cannot be read.
 std::string read_file(const std::filesystem::path& path);

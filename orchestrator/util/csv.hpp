@@ -21,7 +21,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <istream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -81,6 +83,10 @@ std::string format_csv(const std::vector<std::string>& header, const Eigen::Matr
 /// Writes format_csv(...) to `file` durably (util::write_file_atomically); throws IoError on I/O failure.
 void write_csv(const std::filesystem::path& file, const std::vector<std::string>& header,
                const Eigen::MatrixXd& values);
+/// The same for a table too large to copy (a Saltelli design of millions of rows): `row(r, cells)` fills the
+/// header.size() numbers of row r; the text goes to the file in pieces of about 1 MiB, never whole in memory.
+void write_csv_rows(const std::filesystem::path& file, const std::vector<std::string>& header, Eigen::Index rows,
+                    const std::function<void(Eigen::Index, std::span<double>)>& row);
 
 /// Splits a comma-separated list ("a,b, c") into trimmed, non-empty names.
 std::vector<std::string> split_list(const std::string& text);

@@ -1,6 +1,6 @@
 // `demsa analyze` through the real binary on synthetic studies: SIGINT and SIGTERM stop a long analysis at once
 // (exit 128 + N, nothing written), a constant observable is reported while the others are analysed, and an analysis
-// in which nothing could be analysed exits 2.
+// in which nothing could be analysed exits 2; a --base that is not a power of two is rounded up.
 #include "orchestrator/study/store.hpp"
 #include "support/process.hpp"
 #include "support/synthetic_study.hpp"
@@ -82,6 +82,16 @@ TEST(CliAnalyze, ConstantObservableIsReportedAndTheOthersAnalysed) {
   EXPECT_TRUE(j["observables"][0]["models"][0]["ok"].get<bool>());
   EXPECT_NE(j["observables"][1]["error"].get<std::string>().find("constant observable"), std::string::npos);
   EXPECT_TRUE(j["observables"][1]["models"].empty());
+}
+
+TEST(CliAnalyze, BaseThatIsNotAPowerOfTwoIsRoundedUpWithAWarning) {
+  TempDir tmp;
+  write_study(tmp / "study", angle_of, [](double u1, double) { return 0.02 + 0.01 * u1; });
+  const CommandResult r = run_demsa({"analyze", (tmp / "study").string(), "--bootstrap", "0", "--base", "100"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("--base 100 is not a power of two: rounded up to 128"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read_file(tmp / "study" / "analysis" / "analysis.json"));
+  EXPECT_EQ(j["base_samples"].get<int>(), 128);
 }
 
 TEST(CliAnalyze, NothingAnalysedExits2NamingEachObservable) {

@@ -132,11 +132,17 @@ TEST(StudyInputs, NonAsciiOutsideStringsIsRefusedBeforeTomlReadsIt) {
   // toml++ 3.3 reaches undefined behaviour on such a character (bench/fuzz-study-file.sh found "\u00a7" there).
   EXPECT_EQ(error_of(k_pile + "[pile]\nparticles \u00a7 = 100\n"),
             "study.toml:7: a non-ASCII character outside a string or a comment (TOML allows them only in strings and "
-            "comments)");
+            "comments, and demsa only in the strings of values)");
   // ... also after a quote where TOML has no string (toml++ reads on as code there).
   EXPECT_NE(error_of(k_pile + "[analysis]\nmetamodels = [\"rsm2\",-\"\u048bps\"]\n").find("study.toml:7: a non-ASCII"),
             std::string::npos);
-  // In strings, quoted keys and comments they are welcome, as is a byte order mark.
+  // ... and in keys, where a multi-line quote is no string to toml++ (the fuzz found UB after '"""' there), and
+  // after an '=' inside a malformed value, which toml++ reads as code.
+  for (const std::string key : {R"("""§""" = 1)", R"("é" = 1)", R"('é' = 1)", R"(a."é" = 1)", R"(["é"])",
+                                R"(x = { "é" = 1 })", R"(x = [{ 'é' = 1 }])", "n=-n=\"\xef\xbb\xbe"})
+    EXPECT_NE(error_of(k_pile + key + "\n").find("study.toml:6: a non-ASCII character"), std::string::npos) << key;
+  // In the strings of values (arrays and inline tables included) and in comments they are welcome, as is a byte
+  // order mark.
   const std::string text =
       "\xEF\xBB\xBF# \u00a73 Table 2\n[study]\nname = \"p\u00e9 \\\" \u00a7\"\nexperiment = 'pile'\n"
       "[parameters]\nE = { low = 1e8, high = 1e9 } # \u00e9\n[run.slurm]\n"
@@ -144,6 +150,12 @@ TEST(StudyInputs, NonAsciiOutsideStringsIsRefusedBeforeTomlReadsIt) {
   const StudyConfig c = parse_study(text, "study.toml");
   EXPECT_EQ(c.name, "p\u00e9 \" \u00a7");
   EXPECT_EQ(c.run.slurm.account, "\u00e9");
+  const std::string values = R"([analysis]
+metamodels = ["é", [ 'é' ], # é
+  """é""", '''é''', { y = "é" }]
+)";
+  const std::string refused = error_of(k_pile + values);
+  EXPECT_EQ(refused.find("non-ASCII"), std::string::npos) << refused;
 }
 
 TEST(StudyInputs, AFolderOrAnEndlessFileIsNotReadAsAStudy) {

@@ -1,5 +1,7 @@
 // util/csv: the reader's limits (line, size, cell count; /dev/zero), a UTF-8 byte-order mark, a missing header, a
-// constant column, and the agreement of its two ways in (text and stream).
+// constant column, and the agreement of its two ways in (text and stream); the streamed writer and the atomic file
+// writer under it.
+#include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 
@@ -8,7 +10,9 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 namespace demsa::util {
@@ -106,6 +110,43 @@ TEST(Csv, TextAndStreamAgree) {
   EXPECT_TRUE(a.values.col(1).isApprox(b.values.col(1)));
   EXPECT_DOUBLE_EQ(b.values(20000, 2), 2.0);
   EXPECT_EQ(b.lines.back(), 20003);
+}
+
+TEST(Csv, RowsWrittenInPiecesMatchTheWholeText) {
+  // More than one 1 MiB piece: 60,000 rows of 3 values.
+  Eigen::MatrixXd values(60000, 3);
+  for (Eigen::Index r = 0; r < values.rows(); ++r)
+    values.row(r) << static_cast<double>(r), 1.0 / (1.0 + static_cast<double>(r)), -0.1 * static_cast<double>(r);
+  test::TempDir dir;
+  write_csv(dir / "m.csv", {"a", "b", "c"}, values);
+  write_csv_rows(dir / "r.csv", {"a", "b", "c"}, values.rows(), [&](Eigen::Index r, std::span<double> cells) {
+    for (Eigen::Index k = 0; k < 3; ++k) cells[static_cast<std::size_t>(k)] = values(r, k);
+  });
+  const std::string whole = format_csv({"a", "b", "c"}, values);
+  ASSERT_GT(whole.size(), std::size_t{1} << 20);
+  EXPECT_EQ(test::read_file(dir / "m.csv"), whole);
+  EXPECT_EQ(test::read_file(dir / "r.csv"), whole);
+  EXPECT_FALSE(std::filesystem::exists(dir / "r.csv.tmp"));
+}
+
+TEST(AtomicFileWriter, AnExceptionBeforeCommitLeavesTheOldFileAndNoTemporary) {
+  test::TempDir dir;
+  test::write_file(dir / "d.csv", "old\n");
+  EXPECT_THROW(write_csv_rows(dir / "d.csv", {"a"}, 10,
+                              [](Eigen::Index r, std::span<double> cells) {
+                                if (r == 5) throw std::runtime_error("stop");
+                                cells[0] = static_cast<double>(r);
+                              }),
+               std::runtime_error);
+  EXPECT_EQ(test::read_file(dir / "d.csv"), "old\n");
+  EXPECT_FALSE(std::filesystem::exists(dir / "d.csv.tmp"));
+  {
+    AtomicFileWriter w(dir / "d.csv");
+    w.append("new");
+    EXPECT_EQ(test::read_file(dir / "d.csv"), "old\n");
+    w.commit();
+  }
+  EXPECT_EQ(test::read_file(dir / "d.csv"), "new");
 }
 
 }  // namespace
