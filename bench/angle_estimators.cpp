@@ -2,7 +2,7 @@
 // known flank angle (tests/postprocess/synthetic_cone.hpp), smooth and with surface jitter (docs/benchmarks.md,
 // "Angle estimators on synthetic cones"). For each angle and jitter: the mean error (bias), the standard deviation
 // over the seeds (spread) and the largest |error| of each estimator, default options otherwise (180 directions,
-// 10 levels between 0.2 h_P and 0.75 h_P, paper: centre points).
+// 10 levels between 0.2 h_P and 0.75 h_P for paper (centre points), 0.25 and 0.8 h_P for robust).
 //
 // usage: build/bench/angle_estimators [SEEDS]   (default 20)
 #include "postprocess/pile_angle.hpp"
@@ -45,6 +45,8 @@ int main(int argc, char** argv) {
   pp::PileAngleOptions paper;
   pp::PileAngleOptions robust;
   robust.estimator = pp::AngleEstimator::robust;
+  robust.level_low = pp::k_robust_level_low;  // its own band of levels, as demsa measures with it
+  robust.level_high = pp::k_robust_level_high;
   fmt::print(
       "| angle [deg] | jitter [mm] | paper bias | paper sd | paper max abs | robust bias | robust sd | robust max abs "
       "|\n");

@@ -49,6 +49,15 @@ std::string to_string(AngleEstimator estimator);
 /// The valid names, in the order the docs list them.
 std::vector<std::string> angle_estimator_names();
 
+/// The band of levels the robust estimator uses unless told otherwise: 0.25–0.80 h_P instead of the paper's
+/// 0.20–0.75. At 0.2 h_P the cross-section still cuts the flank's lowest particles, which rest on the pedestal's edge
+/// and reach less far out than the flank above them; a regression of radial distance on height (unlike the paper's
+/// orthogonal fit) turns that into a flatter line. On synthetic cones (bench/angle_estimators.cpp, 20 seeds per
+/// angle from 22° to 41°) the largest mean error over the angles went from −0.42° / −0.55° / +0.45° (smooth / 1 mm /
+/// 2 mm of jitter) at 0.20–0.75 to −0.30° / −0.23° / +0.47° at 0.25–0.80 (docs/benchmarks.md).
+constexpr double k_robust_level_low = 0.25;
+constexpr double k_robust_level_high = 0.80;
+
 struct PileAngleOptions {
   double pedestal_radius = 0.050;  ///< r_cy: particles with centre further from the axis are dropped [m] (> 0)
   double pedestal_top = 0.005;     ///< z of the pedestal top (= its height on a ground at 0): lower centres are

@@ -147,6 +147,8 @@ struct PileArgs {
   const CLI::Option* directions = nullptr;
   const CLI::Option* levels = nullptr;
   const CLI::Option* estimator_option = nullptr;
+  const CLI::Option* level_low = nullptr;
+  const CLI::Option* level_high = nullptr;
 };
 
 bool given(const CLI::Option* option) { return option != nullptr && option->count() > 0; }
@@ -244,6 +246,10 @@ void run_pile(const PileArgs& a) {
   options.estimator = pp::angle_estimator_from_string(a.estimator);
   const fs::path dump = resolve_dump(a.dump, "pile_final.dump");
   const std::string case_json = apply_case_settings(a, dump, options);
+  if (options.estimator == pp::AngleEstimator::robust && !given(a.level_low) && !given(a.level_high)) {
+    options.level_low = pp::k_robust_level_low;  // the robust estimator's own band (postprocess/pile_angle.hpp)
+    options.level_high = pp::k_robust_level_high;
+  }
   const pp::Particles particles = pp::read_particles(dump);
   pp::PileAngleResult r;
   try {
@@ -392,12 +398,17 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
                                "case.json, else this value)")
                      ->check(number_in(2, 100000))
                      ->capture_default_str();
-  p->add_option("--level-low", pile->options.level_low, "Lowest level as a fraction of h_P")
-      ->check(number_in(0.0, 1.0))
-      ->capture_default_str();
-  p->add_option("--level-high", pile->options.level_high, "Highest level as a fraction of h_P")
-      ->check(number_in(0.0, 1.0))
-      ->capture_default_str();
+  pile->level_low = p->add_option("--level-low", pile->options.level_low,
+                                  fmt::format("Lowest level as a fraction of h_P (default: {} for --estimator robust)",
+                                              pp::k_robust_level_low))
+                        ->check(number_in(0.0, 1.0))
+                        ->capture_default_str();
+  pile->level_high =
+      p->add_option("--level-high", pile->options.level_high,
+                    fmt::format("Highest level as a fraction of h_P (default: {} for --estimator robust)",
+                                pp::k_robust_level_high))
+          ->check(number_in(0.0, 1.0))
+          ->capture_default_str();
   p->add_option("--min-points", pile->options.min_points, "Directions with fewer boundary points are skipped")
       ->check(number_in(2, 100000))
       ->capture_default_str();

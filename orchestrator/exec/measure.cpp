@@ -67,6 +67,10 @@ std::map<std::string, double> measure_case(const StudyConfig& config, const fs::
     options.levels = config.pile.levels;
     options.target_angle = config.pile.target_angle;
     options.estimator = postprocess::angle_estimator_from_string(config.pile.angle_estimator);
+    if (options.estimator == postprocess::AngleEstimator::robust) {
+      options.level_low = postprocess::k_robust_level_low;
+      options.level_high = postprocess::k_robust_level_high;
+    }
     const postprocess::PileAngleResult result = postprocess::measure_pile_angle(particles, options);
     values[std::string(k_angle)] = result.angle_mean;
     values[std::string(k_pile_height)] = result.pile_height;

@@ -556,6 +556,12 @@ ReportSection pile_section(const StudyData& s, int sample, const Plotter& plotte
   options.directions = s.config.pile.directions;
   options.levels = s.config.pile.levels;
   options.target_angle = s.config.pile.target_angle;
+  // The estimator the study measured with ([pile] angle_estimator), so that the figure shows the stored angle.
+  options.estimator = postprocess::angle_estimator_from_string(s.config.pile.angle_estimator);
+  if (options.estimator == postprocess::AngleEstimator::robust) {
+    options.level_low = postprocess::k_robust_level_low;
+    options.level_high = postprocess::k_robust_level_high;
+  }
   const postprocess::PileAngleResult r = postprocess::measure_pile_angle(particles, options);
   PileSideView view;
   view.title = fmt::format("sample {}", sample);
@@ -574,13 +580,16 @@ ReportSection pile_section(const StudyData& s, int sample, const Plotter& plotte
     view.lines.push_back({l.direction, l.phi, l.angle, l.radial_low, l.height_low + options.pedestal_top, l.radial_high,
                           l.height_high + options.pedestal_top});
   }
-  section.paragraphs.push_back(fmt::format(
-      "Case `{}`: {} particles on the pedestal, pile height h_P = {:.1f} mm, angle of repose φ = {:.2f}° "
-      "(standard deviation {:.2f}° over {} of {} directions, range {:.2f}°–{:.2f}°), E_φ = {:.3g} deg² against "
-      "φ̂ = {:g}°.",
-      fs::relative(folder, dir).generic_string(), r.particles_on_pedestal, r.pile_height * 1e3, r.angle_mean,
-      r.angle_sd, r.directions_used, options.directions, r.angle_min, r.angle_max, r.angle_error,
-      options.target_angle));
+  section.paragraphs.push_back(
+      fmt::format("Case `{}`: {} particles on the pedestal, pile height h_P = {:.1f} mm, angle of repose φ = {:.2f}° "
+                  "(standard deviation {:.2f}° over {} of {} directions, range {:.2f}°–{:.2f}°; {}), E_φ = {:.3g} deg² "
+                  "against φ̂ = {:g}°.",
+                  fs::relative(folder, dir).generic_string(), r.particles_on_pedestal, r.pile_height * 1e3,
+                  r.angle_mean, r.angle_sd, r.directions_used, options.directions, r.angle_min, r.angle_max,
+                  options.estimator == postprocess::AngleEstimator::robust
+                      ? "robust estimator: Theil–Sen lines through the surface points"
+                      : "the paper's estimator, §3.3",
+                  r.angle_error, options.target_angle));
   section.figures.push_back({fmt::format("The pile of sample {} from the side: a cross section with its boundary "
                                          "particles (coloured by direction) and fitted lines, and every "
                                          "direction's boundary particles and line unrolled onto one plane",

@@ -376,16 +376,22 @@ void check_ascii_outside_strings(const std::string& text, const std::string& nam
         } else if (c == '[') {
           if (nesting.empty() && (before == '\n' || (header && before == '[')))
             header = true;
-          else
+          else if (value_place)
             nesting.push_back('[');
+          else
+            previous = '~';  // inside a malformed value (`a = 5.6["...`), which toml++ reads on as code
         } else if (c == ']') {
           if (header)
             header = false;  // the second ']' of "]]" then closes nothing
           else if (!nesting.empty() && nesting.back() == '[')
             nesting.pop_back();
         } else if (c == '{') {
-          nesting.push_back('{');
-          key_context = true;
+          if (value_place) {
+            nesting.push_back('{');
+            key_context = true;
+          } else {
+            previous = '~';
+          }
         } else if (c == '}') {
           if (!nesting.empty() && nesting.back() == '{') nesting.pop_back();
           key_context = false;

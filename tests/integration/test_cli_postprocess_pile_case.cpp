@@ -54,6 +54,9 @@ TEST(CliPostprocessPileCase, MeasuresWithTheCasesOwnPedestal) {
   EXPECT_DOUBLE_EQ(j["options"]["pedestal_top_m"].get<double>(), 0.012);
   EXPECT_EQ(j["options"]["levels"].get<int>(), 8);
   EXPECT_EQ(j["options"]["estimator"], "robust");
+  // ... with its own band of levels (postprocess::k_robust_level_low/high), as `demsa run` measured it.
+  EXPECT_DOUBLE_EQ(j["options"]["level_low"].get<double>(), 0.25);
+  EXPECT_DOUBLE_EQ(j["options"]["level_high"].get<double>(), 0.8);
   EXPECT_NE(j["case_json"].get<std::string>().find("case.json"), std::string::npos);
   EXPECT_NEAR(j["pile_height_m"].get<double>(), height_above(cone, 0.012), 1e-9);
   EXPECT_NEAR(j["angle_deg"].get<double>(), 30.0, 1.0);
@@ -77,6 +80,15 @@ TEST(CliPostprocessPileCase, OptionsOverrideTheCase) {
   EXPECT_DOUBLE_EQ(j["options"]["pedestal_top_m"].get<double>(), 0.005);
   EXPECT_EQ(j["options"]["levels"].get<int>(), 10);
   EXPECT_EQ(j["options"]["estimator"], "paper");
+  EXPECT_DOUBLE_EQ(j["options"]["level_low"].get<double>(), 0.2);
+  // Levels given on the command line hold for the robust estimator too.
+  const CommandResult robust =
+      run_demsa({"postprocess", "pile", (tmp / "case").string(), "--json", "--level-low", "0.3"});
+  ASSERT_EQ(robust.exit_code, 0) << robust.err;
+  const nlohmann::json jr = nlohmann::json::parse(robust.out);
+  EXPECT_EQ(jr["options"]["estimator"], "robust");
+  EXPECT_DOUBLE_EQ(jr["options"]["level_low"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(jr["options"]["level_high"].get<double>(), 0.75);
   // Measured from the wrong pedestal top, the pile is 7 mm higher than it is.
   EXPECT_NEAR(j["pile_height_m"].get<double>(), height_above(cone, 0.005), 1e-9);
 }

@@ -236,10 +236,34 @@ TEST(Report, PileStudyWithFigureFourAndCalibration) {
   EXPECT_NE(md.find("the pile (paper Fig. 4)"), std::string::npos) << md;
   EXPECT_NE(md.find("## Calibration"), std::string::npos) << md;
   EXPECT_NE(md.find("![The pile of sample 3"), std::string::npos) << md;
+  EXPECT_NE(md.find("the paper's estimator, §3.3"), std::string::npos) << md;
   const std::string html = read_file(summary.html);
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,"), summary.images.size());
   EXPECT_EQ(count_of(html, "src=\""), summary.images.size());  // nothing outside the page
   // The cone's slope is 30°: the measured angle in the report is close to it.
+  const auto at = md.find("angle of repose φ = ");
+  ASSERT_NE(at, std::string::npos) << md;
+  EXPECT_NEAR(std::stod(md.substr(at + std::string("angle of repose φ = ").size())), 30.0, 3.0);
+}
+
+TEST(Report, PileFigureUsesTheStudysAngleEstimator) {
+  TempDir dir;
+  StudyToml toml{.name = "pile-robust",
+                 .seed = 7,
+                 .samples = 24,
+                 .parameters = "mu_pp = { low = 0.7, high = 1.9 }\nmu_r_pp = { low = 0.05, high = 0.5 }\n",
+                 .tables = "[pile]\nangle_estimator = \"robust\"\n",
+                 .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 0\nbase_samples = 256\n"};
+  write_study(dir.path(), toml.text(), [](const std::vector<double>& u) {
+    return std::map<std::string, double>{{"angle", 24 + 14 * u[1] + 2 * u[0] * u[0]},
+                                         {"pile_height", 0.02 + 0.01 * u[1]}};
+  });
+  write_cone_dump(dir / "cases" / "000003" / "pile_final.dump");
+  ReportOptions options;
+  options.dir = dir.path();
+  options.sample = 3;
+  const std::string md = read_file(write_study_report(options).markdown);
+  EXPECT_NE(md.find("robust estimator: Theil–Sen lines through the surface points"), std::string::npos) << md;
   const auto at = md.find("angle of repose φ = ");
   ASSERT_NE(at, std::string::npos) << md;
   EXPECT_NEAR(std::stod(md.substr(at + std::string("angle of repose φ = ").size())), 30.0, 3.0);

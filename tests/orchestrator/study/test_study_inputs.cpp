@@ -137,9 +137,10 @@ TEST(StudyInputs, NonAsciiOutsideStringsIsRefusedBeforeTomlReadsIt) {
   EXPECT_NE(error_of(k_pile + "[analysis]\nmetamodels = [\"rsm2\",-\"\u048bps\"]\n").find("study.toml:7: a non-ASCII"),
             std::string::npos);
   // ... and in keys, where a multi-line quote is no string to toml++ (the fuzz found UB after '"""' there), and
-  // after an '=' inside a malformed value, which toml++ reads as code.
-  for (const std::string key : {R"("""§""" = 1)", R"("é" = 1)", R"('é' = 1)", R"(a."é" = 1)", R"(["é"])",
-                                R"(x = { "é" = 1 })", R"(x = [{ 'é' = 1 }])", "n=-n=\"\xef\xbb\xbe"})
+  // after an '=', a '[' or a '{' inside a malformed value, which toml++ reads as code.
+  for (const std::string key :
+       {R"("""§""" = 1)", R"("é" = 1)", R"('é' = 1)", R"(a."é" = 1)", R"(["é"])", R"(x = { "é" = 1 })",
+        R"(x = [{ 'é' = 1 }])", "n=-n=\"\xef\xbb\xbe", "a=5.6[\"\u02a4\"]", "a=5.6{b=\"\u02a4\"}"})
     EXPECT_NE(error_of(k_pile + key + "\n").find("study.toml:6: a non-ASCII character"), std::string::npos) << key;
   // In the strings of values (arrays and inline tables included) and in comments they are welcome, as is a byte
   // order mark.
