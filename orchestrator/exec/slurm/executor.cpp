@@ -202,11 +202,12 @@ std::vector<std::string> SlurmExecutor::submit(const std::vector<CaseTask>& task
       const int index = static_cast<int>(i - begin);
       // A sentinel of the same name that is older than this submission belongs to an earlier SLURM instance
       // whose job ids started again at 1; it says nothing about this task.
-      const fs::path sentinel = sentinel_path(m_work_dir, job, index);
-      std::error_code ec;
-      const auto written = fs::last_write_time(sentinel, ec);
-      if (!ec && written < submitted_at - std::chrono::seconds(2)) fs::remove(sentinel, ec);
-      if (m_options.settings.mode == SlurmMode::pack) fs::remove(launch_failure_path(m_work_dir, job, index), ec);
+      for (const fs::path& sentinel :
+           {sentinel_path(m_work_dir, job, index), launch_failure_path(m_work_dir, job, index)}) {
+        std::error_code ec;
+        const auto written = fs::last_write_time(sentinel, ec);
+        if (!ec && written < submitted_at - std::chrono::seconds(2)) fs::remove(sentinel, ec);
+      }
       Tracked t;
       t.task = tasks[i];
       t.job = job;

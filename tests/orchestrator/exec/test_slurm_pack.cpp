@@ -209,7 +209,7 @@ class PackScript : public ::testing::Test {
 };
 
 TEST_F(PackScript, RunsAtMostParallelCasesAtOnceAndWritesEachSentinel) {
-  for (int i = 0; i < 5; ++i) write_case(i, 0.4, i == 3 ? 3 : 0);
+  for (int i = 0; i < 5; ++i) write_case(i, 1.0, i == 3 ? 3 : 0);
   SlurmSubmission s = submission(5);
   s.settings.throttle = 2;
   s.settings.time_limit = "00:10:00";
@@ -222,7 +222,7 @@ TEST_F(PackScript, RunsAtMostParallelCasesAtOnceAndWritesEachSentinel) {
     EXPECT_EQ(sentinel->exit_code, i == 3 ? 3 : 0) << i;
     EXPECT_FALSE(sentinel->signalled || sentinel->timed_out) << i;
     EXPECT_EQ(sentinel->host, "fake-node");
-    EXPECT_GE(sentinel->wall_seconds, 0.4);
+    EXPECT_GE(sentinel->wall_seconds, 1.0);
     EXPECT_EQ(read_file(case_folder(i) / "run.out"), fmt::format("case {} in case {} $x\n", i, i));
     EXPECT_FALSE(fs::exists(launch_failure_path(m_work, "77", i)));
   }
