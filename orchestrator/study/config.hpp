@@ -22,6 +22,8 @@ enum class Experiment { pile, oedometer };
 enum class PlateMode { servo, trial_step };
 enum class TimestepMode { rayleigh, fixed };
 enum class ExecutorKind { local, slurm };
+/// How the SLURM executor submits: one job array per batch of cases, or one allocation whose cases run as job steps.
+enum class SlurmMode { array, pack };
 
 /// LIGGGHTS (units si) refuses youngsModulus outside [5e6, 1e9] Pa unless `soft_particles yes` /
 /// `hard_particles yes` is given (Material::soft_particles / hard_particles).
@@ -124,7 +126,8 @@ struct TimestepSettings {
 };
 
 struct SlurmSettings {
-  std::string partition;  ///< empty: the cluster's default
+  SlurmMode mode = SlurmMode::array;  ///< array: one array task per case; pack: one allocation, one step per case
+  std::string partition;              ///< empty: the cluster's default
   std::string account;
   std::string time_limit = "01:00:00";      ///< per case, sbatch --time
   int throttle = 0;                         ///< %N array throttle; 0 = none

@@ -798,6 +798,11 @@ std::vector<Setting> build_settings() {
   add(Row("run", "mpirun").string(FIELD(run.mpirun)).non_empty().doc("MPI launcher"));
 
   // [run.slurm]
+  add(Row("run.slurm", "mode")
+          .choice(FIELD(run.slurm.mode), std::vector<std::pair<std::string, SlurmMode>>{{"array", SlurmMode::array},
+                                                                                        {"pack", SlurmMode::pack}})
+          .doc("`array`: one job array per batch of cases; `pack`: one allocation of `throttle` cases × `ranks` "
+               "CPUs that runs the cases as `srun --exclusive` job steps (for clusters that cap jobs per user)"));
   add(Row("run.slurm", "partition")
           .string(FIELD(run.slurm.partition))
           .doc("sbatch `--partition` (empty: the cluster's default)"));

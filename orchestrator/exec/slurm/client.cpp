@@ -77,7 +77,11 @@ fs::path sentinel_path(const fs::path& work_dir, const std::string& job, int tas
   return sentinel_dir(work_dir) / fmt::format("{}_{}", job, task);
 }
 
-std::string render_batch_script(const ArraySubmission& submission) {
+fs::path launch_failure_path(const fs::path& work_dir, const std::string& job, int task) {
+  return sentinel_dir(work_dir) / fmt::format("{}_{}.srun", job, task);
+}
+
+std::string render_batch_script(const SlurmSubmission& submission) {
   assert(!submission.case_folders.empty());
   std::string s;
   s += "#!/bin/bash\n";
@@ -130,20 +134,211 @@ exit "$rc"
   return s;
 }
 
-std::vector<std::string> sbatch_arguments(const ArraySubmission& submission) {
+std::string render_pack_script(const SlurmSubmission& submission) {
+  assert(!submission.case_folders.empty());
+  assert(submission.ranks >= 1);
+  const long limit = parse_slurm_time(submission.settings.time_limit).value_or(0);
+  std::string s;
+  s += "#!/bin/bash\n";
+  s += "# demsa pack: this allocation runs the cases below as job steps, at most PARALLEL at a time. Case i runs\n";
+  s += "# ./run.sh in its folder (output to run.out there) and, when it ends, writes its sentinel SENTINELS/JOB_i\n";
+  s += "# atomically: \"exit N\", \"timeout\" (stopped at the time limit), or \"signal TERM\" when SLURM stops it\n";
+  s += "# (scancel, the allocation's end). The submitting options are on the sbatch command line.\n";
+  s += "cases=(\n";
+  for (const auto& folder : submission.case_folders) s += "  " + util::shell_quote(folder.string()) + "\n";
+  s += ")\n";
+  s += "sentinels=" + util::shell_quote(sentinel_dir(submission.work_dir).string()) + "\n";
+  s += fmt::format("ranks={}\nparallel={}\ncase_seconds={}  # [run.slurm] time_limit per case; 0 = none\n",
+                   submission.ranks, pack_parallel(submission), limit);
+  s += R"SH(job=${SLURM_JOB_ID:?not started by sbatch}
+# One case, run by each task of its job step: $1 case folder, $2 sentinel, $3 time limit [s] (0 = none).
+step=$(cat <<'STEP'
+# Task 0 runs the case; mpirun inside run.sh starts the ranks on the CPUs of this step. The other tasks only hold
+# their CPUs (srun --wait=0 lets task 0 run on after they end).
+[ "${SLURM_PROCID:-0}" = 0 ] || exit 0
+case_dir=$1 sentinel=$2 limit=$3
+start=$(date +%s.%N)
+child= timer=
+finish() {  # $1: "exit N", "timeout" or "signal TERM"
+  local end
+  end=$(date +%s.%N)
+  { echo "$1 host=${SLURMD_NODENAME:-$(hostname)} start=$start end=$end"; times; } > "$sentinel.tmp" \
+    && mv -f "$sentinel.tmp" "$sentinel"
+}
+on_term() {
+  [ -n "$child" ] && kill -TERM "$child" 2>/dev/null
+  [ -n "$timer" ] && kill "$timer" 2>/dev/null
+  finish "signal TERM"
+  exit 143
+}
+trap on_term TERM
+if ! cd "$case_dir"; then
+  echo "demsa: no case folder $case_dir" >&2
+  finish "exit 126"
+  exit 126
+fi
+./run.sh > run.out 2>&1 &
+child=$!
+if [ "$limit" -gt 0 ]; then
+  sleep "$limit" &
+  timer=$!
+  wait -n  # the case or the time limit, whichever ends first
+  rc=$?
+  if kill -0 "$child" 2>/dev/null; then  # the time limit: SIGTERM, SIGKILL 30 s later if it is still there
+    kill -TERM "$child" 2>/dev/null
+    for _ in $(seq 300); do kill -0 "$child" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$child" 2>/dev/null
+    wait "$child"
+    child= timer=
+    finish timeout
+    exit 124
+  fi
+  kill "$timer" 2>/dev/null
+  # the case's own status (bash keeps it for wait PID; 127: this bash no longer has it, keep the one wait -n gave)
+  wait "$child"
+  r=$?
+  [ "$r" = 127 ] || rc=$r
+else
+  wait "$child"
+  rc=$?
+fi
+child= timer=
+finish "exit $rc"
+exit "$rc"
+STEP
+)
+stopping=
+trap 'stopping=1' TERM
+# mpirun refuses to run as root unless told (a local test cluster runs everything as root)
+if [ "$(id -u)" = 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+)SH";
+  s += "# ---- prologue ([run.slurm] prologue), once for every case\n";
+  if (!submission.settings.prologue.empty()) {
+    s += submission.settings.prologue;
+    if (submission.settings.prologue.back() != '\n') s += "\n";
+  }
+  s += R"SH(# ---- the cases
+launch() {  # $1: case index
+  local i=$1 sentinel="$sentinels/${job}_$1" rc started ended
+  started=$(date +%s.%N)
+  srun --exclusive --wait=0 --nodes=1 --ntasks="$ranks" --cpus-per-task=1 --job-name="case-$i" \
+    bash -c "$step" demsa-case "${cases[$i]}" "$sentinel" "$case_seconds"
+  rc=$?
+  ended=$(date +%s.%N)
+  if [ "$rc" != 0 ] && [ ! -e "$sentinel" ]; then
+    echo "demsa: srun ended with status $rc before case $i (${cases[$i]}) wrote its sentinel" >&2
+    echo "exit $rc host=${SLURMD_NODENAME:-$(hostname)} start=$started end=$ended" > "$sentinel.srun.tmp" \
+      && mv -f "$sentinel.srun.tmp" "$sentinel.srun"
+  fi
+}
+for ((i = 0; i < ${#cases[@]}; i++)); do
+  while [ -z "$stopping" ] && [ "$(jobs -rp | wc -l)" -ge "$parallel" ]; do wait -n; done
+  [ -n "$stopping" ] && break
+  launch "$i" &
+done
+# a signal interrupts wait: wait again until every step has ended
+while [ -n "$(jobs -rp)" ]; do wait; done
+[ -z "$stopping" ] || exit 143
+)SH";
+  return s;
+}
+
+int pack_parallel(const SlurmSubmission& submission) {
+  const int cases = static_cast<int>(submission.case_folders.size());
+  const int throttle = submission.settings.throttle;
+  return throttle > 0 ? std::min(throttle, cases) : cases;
+}
+
+std::optional<long> parse_slurm_time(const std::string& text) {
+  const std::string t = trim(text);
+  if (t.empty() || t == "UNLIMITED" || t == "INFINITE" || t == "unlimited" || t == "infinite") return 0;
+  auto number = [](const std::string& part) -> std::optional<long> {
+    if (part.empty() || part.size() > 9) return std::nullopt;
+    for (const char c : part)
+      if (c < '0' || c > '9') return std::nullopt;
+    return std::stol(part);
+  };
+  auto split = [](const std::string& part) {
+    std::vector<std::string> fields;
+    size_t begin = 0;
+    for (;;) {
+      const size_t colon = part.find(':', begin);
+      fields.push_back(part.substr(begin, colon - begin));
+      if (colon == std::string::npos) return fields;
+      begin = colon + 1;
+    }
+  };
+  long days = 0;
+  std::string rest = t;
+  const size_t dash = t.find('-');
+  if (dash != std::string::npos) {
+    const auto d = number(t.substr(0, dash));
+    if (!d) return std::nullopt;
+    days = *d;
+    rest = t.substr(dash + 1);
+  }
+  std::vector<long> values;
+  for (const std::string& field : split(rest)) {
+    const auto v = number(field);
+    if (!v) return std::nullopt;
+    values.push_back(*v);
+  }
+  long seconds = 0;
+  if (dash != std::string::npos) {  // D-HH, D-HH:MM, D-HH:MM:SS
+    if (values.size() > 3) return std::nullopt;
+    const long factors[] = {3600, 60, 1};
+    for (size_t i = 0; i < values.size(); ++i) seconds += values[i] * factors[i];
+    seconds += days * 86400;
+  } else if (values.size() == 1) {  // MM
+    seconds = values[0] * 60;
+  } else if (values.size() == 2) {  // MM:SS
+    seconds = values[0] * 60 + values[1];
+  } else if (values.size() == 3) {  // HH:MM:SS
+    seconds = values[0] * 3600 + values[1] * 60 + values[2];
+  } else {
+    return std::nullopt;
+  }
+  return seconds;
+}
+
+std::string format_slurm_time(long seconds) {
+  assert(seconds > 0);
+  const long minutes = (seconds + 59) / 60;
+  return fmt::format("{}-{:02}:{:02}:00", minutes / 1440, minutes / 60 % 24, minutes % 60);
+}
+
+long pack_allocation_seconds(const SlurmSubmission& submission) {
+  const auto limit = parse_slurm_time(submission.settings.time_limit);
+  if (!limit)
+    throw std::invalid_argument(fmt::format("time_limit \"{}\" is not a SLURM time", submission.settings.time_limit));
+  if (*limit == 0) return 0;
+  const long cases = static_cast<long>(submission.case_folders.size());
+  const long parallel = pack_parallel(submission);
+  const long waves = (cases + parallel - 1) / parallel;
+  return waves * (*limit + 60);
+}
+
+std::vector<std::string> sbatch_arguments(const SlurmSubmission& submission) {
   assert(!submission.case_folders.empty());
   assert(submission.ranks >= 1);
   const SlurmSettings& settings = submission.settings;
-  std::string array = fmt::format("--array=0-{}", submission.case_folders.size() - 1);
-  if (settings.throttle > 0) array += fmt::format("%{}", settings.throttle);
-  std::vector<std::string> args{"--parsable",
-                                array,
-                                "--job-name=" + submission.job_name,
-                                fmt::format("--ntasks={}", submission.ranks),
-                                "--chdir=" + submission.work_dir.string(),
-                                "--output=" + escape_percent((submission.work_dir / "logs").string()) + "/%A_%a.out"};
-  if (!submission.comment.empty()) args.push_back("--comment=" + submission.comment);
-  if (!settings.time_limit.empty()) args.push_back("--time=" + settings.time_limit);
+  std::vector<std::string> args{"--parsable"};
+  const std::string logs = escape_percent((submission.work_dir / "logs").string());
+  if (settings.mode == SlurmMode::pack) {
+    args.insert(args.end(), {"--job-name=" + submission.job_name, fmt::format("--ntasks={}", pack_parallel(submission)),
+                             fmt::format("--cpus-per-task={}", submission.ranks),
+                             "--chdir=" + submission.work_dir.string(), "--output=" + logs + "/%j.out"});
+    if (!submission.comment.empty()) args.push_back("--comment=" + submission.comment);
+    if (const long seconds = pack_allocation_seconds(submission); seconds > 0)
+      args.push_back("--time=" + format_slurm_time(seconds));
+  } else {
+    std::string array = fmt::format("--array=0-{}", submission.case_folders.size() - 1);
+    if (settings.throttle > 0) array += fmt::format("%{}", settings.throttle);
+    args.insert(args.end(), {array, "--job-name=" + submission.job_name, fmt::format("--ntasks={}", submission.ranks),
+                             "--chdir=" + submission.work_dir.string(), "--output=" + logs + "/%A_%a.out"});
+    if (!submission.comment.empty()) args.push_back("--comment=" + submission.comment);
+    if (!settings.time_limit.empty()) args.push_back("--time=" + settings.time_limit);
+  }
   if (!settings.partition.empty()) args.push_back("--partition=" + settings.partition);
   if (!settings.account.empty()) args.push_back("--account=" + settings.account);
   // after ours, so that the user's options win where sbatch takes the last one
@@ -167,6 +362,11 @@ std::optional<Sentinel> parse_sentinel(const std::string& text) {
   } else if (kind == "signal") {
     if (value.empty()) return std::nullopt;
     sentinel.signalled = true;
+  } else if (kind == "timeout") {
+    sentinel.timed_out = true;
+    // no value: the next word is already a key=value pair
+    words.clear();
+    words.str(first.substr(kind.size()));
   } else {
     return std::nullopt;
   }
@@ -236,6 +436,24 @@ std::map<int, SqueueTask> parse_squeue(const std::string& text) {
   return tasks;
 }
 
+std::optional<SqueueTask> parse_squeue_job(const std::string& text) {
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string id;
+    std::string state;
+    std::string code;
+    if (!(words >> id >> state) || id != "N/A") continue;
+    words >> code;
+    SqueueTask job;
+    job.state = state;
+    if (const auto status = parse_long(code)) job.wait_status = static_cast<int>(*status);
+    return job;
+  }
+  return std::nullopt;
+}
+
 std::map<std::string, std::vector<std::string>> parse_comment_lines(const std::string& text) {
   std::map<std::string, std::set<std::string>> found;
   std::istringstream lines(text);
@@ -269,8 +487,9 @@ std::optional<std::string> parse_sbatch_job_id(const std::string& text) {
 
 SlurmClient::SlurmClient(SlurmCommands commands) : m_commands(std::move(commands)) {}
 
-std::string SlurmClient::submit(const ArraySubmission& submission) const {
+std::string SlurmClient::submit(const SlurmSubmission& submission) const {
   if (submission.case_folders.empty()) throw std::invalid_argument("SlurmClient::submit: no case folders");
+  const bool pack = submission.settings.mode == SlurmMode::pack;
   fs::create_directories(submission.work_dir / "logs");
   fs::create_directories(sentinel_dir(submission.work_dir));
 
@@ -280,12 +499,12 @@ std::string SlurmClient::submit(const ArraySubmission& submission) const {
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::gmtime(&now));
   fs::path script;
   for (int n = 0;; ++n) {
-    script = submission.work_dir / fmt::format("batch-{}-{}.sh", stamp, n);
+    script = submission.work_dir / fmt::format("{}-{}-{}.sh", pack ? "pack" : "batch", stamp, n);
     if (!fs::exists(script)) break;
   }
   {
     std::ofstream out(script);
-    out << render_batch_script(submission);
+    out << (pack ? render_pack_script(submission) : render_batch_script(submission));
     if (!out) throw std::runtime_error(fmt::format("cannot write the batch script {}", script.string()));
   }
   fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
@@ -321,6 +540,7 @@ SqueueResult SlurmClient::query(const std::string& job) const {
   }
   result.ok = true;
   result.tasks = parse_squeue(r.out);
+  result.job = parse_squeue_job(r.out);
   return result;
 }
 

@@ -41,6 +41,10 @@ void SlurmExecutorOptions::validate() const {
     fail("squeue_outage_limit", std::to_string(squeue_outage_limit.count()) + " ms", "must be > 0");
   if (cancel_wait.count() < 0) fail("cancel_wait", std::to_string(cancel_wait.count()) + " ms", "must be >= 0");
   if (max_array_size < 1) fail("max_array_size", std::to_string(max_array_size), "must be >= 1");
+  if (max_pack_size < 1) fail("max_pack_size", std::to_string(max_pack_size), "must be >= 1");
+  if (settings.mode == SlurmMode::pack && !parse_slurm_time(settings.time_limit))
+    fail("settings.time_limit", "\"" + settings.time_limit + "\"",
+         "must be a SLURM time (MM, MM:SS, HH:MM:SS, D-HH, D-HH:MM, D-HH:MM:SS) in pack mode");
   if (ranks < 1) fail("ranks", std::to_string(ranks), "must be >= 1");
   if (job_name.empty()) fail("job_name", "\"\"", "must not be empty");
   if (settings.throttle < 0) fail("settings.throttle", std::to_string(settings.throttle), "must be >= 0 (0 = none)");
@@ -128,14 +132,25 @@ SlurmExecutor::SlurmExecutor(SlurmExecutorOptions options, const fs::path& study
   m_options.validate();
 }
 
-int SlurmExecutor::free_slots() const { return m_options.max_array_size; }
+int SlurmExecutor::free_slots() const {
+  if (m_options.settings.mode != SlurmMode::pack) return m_options.max_array_size;
+  // One allocation at a time: the next one (the cases that failed or were cancelled meanwhile, and those a restart
+  // found missing) waits until nothing is in flight. Without a bound otherwise: submit() splits what it gets into
+  // allocations of at most max_pack_size cases.
+  return in_flight() > 0 ? 0 : std::numeric_limits<int>::max();
+}
+
+size_t SlurmExecutor::chunk_size() const {
+  return static_cast<size_t>(m_options.settings.mode == SlurmMode::pack ? m_options.max_pack_size
+                                                                        : m_options.max_array_size);
+}
 
 int SlurmExecutor::in_flight() const { return static_cast<int>(m_tasks.size() + m_ready.size()); }
 
 std::vector<std::string> SlurmExecutor::reserve_ids(const std::vector<CaseTask>& tasks) {
   Reservation reservation;
   std::vector<std::string> ids;
-  const size_t chunk = static_cast<size_t>(m_options.max_array_size);
+  const size_t chunk = chunk_size();
   for (size_t begin = 0; begin < tasks.size(); begin += chunk) {
     const size_t end = std::min(tasks.size(), begin + chunk);
     std::string token = make_submission_token(unix_seconds());
@@ -161,10 +176,10 @@ std::vector<std::string> SlurmExecutor::submit(const std::vector<CaseTask>& task
   std::vector<std::string> ids;
   std::vector<std::string> jobs;
   std::vector<Tracked> added;
-  const size_t chunk = static_cast<size_t>(m_options.max_array_size);
+  const size_t chunk = chunk_size();
   for (size_t begin = 0; begin < tasks.size(); begin += chunk) {
     const size_t end = std::min(tasks.size(), begin + chunk);
-    ArraySubmission submission;
+    SlurmSubmission submission;
     submission.work_dir = m_work_dir;
     submission.job_name = m_options.job_name;
     submission.ranks = m_options.ranks;
@@ -187,18 +202,25 @@ std::vector<std::string> SlurmExecutor::submit(const std::vector<CaseTask>& task
       const int index = static_cast<int>(i - begin);
       // A sentinel of the same name that is older than this submission belongs to an earlier SLURM instance
       // whose job ids started again at 1; it says nothing about this task.
-      const fs::path sentinel = sentinel_path(m_work_dir, job, index);
-      std::error_code ec;
-      const auto written = fs::last_write_time(sentinel, ec);
-      if (!ec && written < submitted_at - std::chrono::seconds(2)) fs::remove(sentinel, ec);
+      for (const fs::path& sentinel :
+           {sentinel_path(m_work_dir, job, index), launch_failure_path(m_work_dir, job, index)}) {
+        std::error_code ec;
+        const auto written = fs::last_write_time(sentinel, ec);
+        if (!ec && written < submitted_at - std::chrono::seconds(2)) fs::remove(sentinel, ec);
+      }
       Tracked t;
       t.task = tasks[i];
       t.job = job;
       t.index = index;
+      t.pack = m_options.settings.mode == SlurmMode::pack;
       added.push_back(t);
       ids.push_back(fmt::format("{}_{}", job, index));
     }
-    util::log::info("slurm: submitted {} case(s) as array job {}", end - begin, job);
+    if (m_options.settings.mode == SlurmMode::pack)
+      util::log::info("slurm: submitted {} case(s) as pack allocation {} ({} at a time)", end - begin, job,
+                      pack_parallel(submission));
+    else
+      util::log::info("slurm: submitted {} case(s) as array job {}", end - begin, job);
   }
   m_tasks.insert(m_tasks.end(), added.begin(), added.end());
   return ids;
@@ -279,6 +301,13 @@ void SlurmExecutor::query_jobs() {
     }
     for (auto& t : m_tasks) {
       if (t.job != job) continue;
+      if (result.job) {  // a pack allocation: its one state is every case's
+        t.pack = true;
+        t.absent = 0;
+        t.state = result.job->state;
+        t.wait_status = result.job->wait_status;
+        continue;
+      }
       const auto it = result.tasks.find(t.index);
       if (it == result.tasks.end()) {
         ++t.absent;
@@ -335,6 +364,11 @@ std::optional<CaseExit> SlurmExecutor::decide(Tracked& t, Clock::time_point now,
     exit.host = sentinel->host;
     exit.wall_seconds = sentinel->wall_seconds;
     exit.cpu_seconds = sentinel->cpu_seconds;
+    if (sentinel->timed_out) {
+      exit.timed_out = true;
+      exit.detail = fmt::format("{}: stopped at its time limit ({})", where, m_options.settings.time_limit);
+      return exit;
+    }
     if (!sentinel->signalled) {
       exit.exit_code = sentinel->exit_code;
       exit.detail = fmt::format("{}: run.sh exited with status {}", where, sentinel->exit_code);
@@ -359,6 +393,8 @@ std::optional<CaseExit> SlurmExecutor::decide(Tracked& t, Clock::time_point now,
     }
     return std::nullopt;
   }
+  if (t.pack || sentinels.count(launch_failure_path(m_work_dir, t.job, t.index).filename().string()))
+    return decide_pack(t, now, sentinels);
 
   if (t.absent >= m_options.absent_confirmations) {
     if (t.cancel_requested) {
@@ -404,6 +440,59 @@ std::optional<CaseExit> SlurmExecutor::decide(Tracked& t, Clock::time_point now,
     exit.exit_code = (status >> 8) & 0xff;
   exit.detail = fmt::format("{}: {} with wait status {}, but it wrote no sentinel ({})", where, state, status,
                             sentinel_path(m_work_dir, t.job, t.index).string());
+  return exit;
+}
+
+std::optional<CaseExit> SlurmExecutor::decide_pack(Tracked& t, Clock::time_point now,
+                                                   const std::set<std::string>& sentinels) const {
+  CaseExit exit;
+  const std::string where = fmt::format("SLURM pack allocation {}, case {}", t.job, t.index);
+  // srun failed before the step wrote a sentinel: the step's own sentinel may still show up late on a shared
+  // filesystem, so the driver's word counts only after the grace period.
+  const fs::path launch = launch_failure_path(m_work_dir, t.job, t.index);
+  if (sentinels.count(launch.filename().string())) {
+    if (!t.launch_failed_since) t.launch_failed_since = now;
+    if (now - *t.launch_failed_since >= m_options.sentinel_grace) {
+      if (const auto failed = read_sentinel(launch); failed && !failed->signalled && !failed->timed_out) {
+        exit.exit_code = failed->exit_code;
+        exit.host = failed->host;
+        exit.detail = fmt::format("{}: srun ended with status {} without starting the case (see {})", where,
+                                  failed->exit_code, (m_work_dir / "logs" / (t.job + ".out")).string());
+        return exit;
+      }
+    }
+  }
+  if (t.absent >= m_options.absent_confirmations) {
+    exit.cancelled = t.cancel_requested;
+    exit.lost = !t.cancel_requested;
+    exit.detail = fmt::format("{}: gone from squeue and no sentinel ({}); it runs again", where,
+                              t.cancel_requested ? "cancelled (scancel)" : "purged by the controller, or cancelled");
+    return exit;
+  }
+  if (!is_terminal_state(t.state)) return std::nullopt;
+  const std::string& state = t.state;
+  if (state == "CANCELLED" || t.cancel_requested) {
+    exit.cancelled = true;
+    exit.detail = fmt::format("{}: allocation {} before the case wrote a sentinel (scancel)", where, state);
+    return exit;
+  }
+  if (state == "TIMEOUT" || state == "NODE_FAIL" || state == "PREEMPTED" || state == "BOOT_FAIL" ||
+      state == "DEADLINE") {
+    exit.lost = true;
+    exit.detail = fmt::format("{}: the allocation ended ({}) before the case started; it runs again", where, state);
+    return exit;
+  }
+  // COMPLETED, FAILED, OUT_OF_MEMORY, SPECIAL_EXIT: the driver ended; a shared filesystem may show the sentinel late
+  if (!t.final_since) t.final_since = now;
+  if (now - *t.final_since < m_options.sentinel_grace) return std::nullopt;
+  const int status = t.wait_status;
+  if ((status & 0x7f) != 0)
+    exit.signal = status & 0x7f;
+  else
+    exit.exit_code = (status >> 8) & 0xff;
+  exit.detail = fmt::format("{}: the allocation ended ({}, wait status {}) without the case's sentinel ({}); see {}",
+                            where, state, status, sentinel_path(m_work_dir, t.job, t.index).string(),
+                            (m_work_dir / "logs" / (t.job + ".out")).string());
   return exit;
 }
 
@@ -509,6 +598,11 @@ std::unique_ptr<Executor> make_slurm_executor(const RunSettings& run, const fs::
           option));
   if (run.slurm.throttle < 0)
     throw UserError(fmt::format("[run.slurm] throttle = {}: must be >= 0 (0 = no throttle)", run.slurm.throttle));
+  if (run.slurm.mode == SlurmMode::pack && !parse_slurm_time(run.slurm.time_limit))
+    throw UserError(fmt::format(
+        "[run.slurm] time_limit = \"{}\": pack mode needs a SLURM time (MM, MM:SS, HH:MM:SS, D-HH, D-HH:MM or "
+        "D-HH:MM:SS; empty or UNLIMITED for none): it stops each case at it and sizes the allocation from it",
+        run.slurm.time_limit));
   if (!(run.slurm.poll_interval > 0))
     throw UserError(fmt::format("[run.slurm] poll_interval = {}: must be > 0 seconds", run.slurm.poll_interval));
   return std::make_unique<SlurmExecutor>(std::move(options), study_dir);

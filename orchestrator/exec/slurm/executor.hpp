@@ -1,6 +1,9 @@
 #pragma once
 // The SLURM executor (ARCHITECTURE.md "exec/"): one `sbatch --array` per submit() call, each array task runs one case
-// folder's `./run.sh` (output to run.out) and writes a sentinel when it ends (slurm_client.hpp). poll() reads the
+// folder's `./run.sh` (output to run.out) and writes a sentinel when it ends (slurm_client.hpp). In pack mode
+// ([run.slurm] mode = "pack") a submit() is one allocation instead, whose driver runs each case as a job step that
+// writes the same sentinel; the executor starts a new allocation only when nothing is in flight (free_slots() is 0
+// until then), so a study holds one SLURM job at a time. poll() reads the
 // sentinels often and `squeue` every [run.slurm] poll_interval; a task's end is taken from its sentinel, and from
 // squeue's state when there is none. Everything it writes lives in STUDY/slurm/: batch scripts, SLURM's own logs
 // (logs/JOB_TASK.out) and sentinels (sentinels/JOB_TASK).
@@ -16,7 +19,14 @@
 //   no sentinel, COMPLETED / FAILED            -> exit status or signal from squeue's exit_code, after a grace
 //                                                 period for shared filesystems that show new files late
 //   gone from squeue, no sentinel              -> lost (cancelled while pending, or purged by the controller)
-// Job ids are "JOB_TASK" (array job id, task index), which is all adopt() needs to follow a task again.
+// Job ids are "JOB_TASK" (array job id, task index), which is all adopt() needs to follow a task again. A case of a
+// pack allocation has the id "JOB_I" too (I its index in the allocation); squeue shows such a job as one line whose
+// ArrayTaskID is "N/A", and its state stands for every case of it that has no sentinel:
+//   sentinel "timeout"                              -> timed_out (the driver stopped it at time_limit)
+//   sentinel JOB_I.srun "exit N" only (srun could not start the step), after the grace period -> exit_code N
+//   job CANCELLED                                   -> cancelled
+//   job TIMEOUT, NODE_FAIL, PREEMPTED, BOOT_FAIL, DEADLINE -> lost (the allocation ended before the case started)
+//   job COMPLETED, FAILED, OUT_OF_MEMORY, after the grace period -> the job's exit status (the driver died)
 //
 // Before sbatch runs, reserve_ids() gives every array a unique token (Unix time in hex, '-', 32 random bits in hex)
 // and the runner stores "pending:TOKEN:INDEX" for each of its tasks; submit() passes `--comment=demsa:TOKEN`. If
@@ -59,9 +69,11 @@ struct SlurmExecutorOptions {
   std::chrono::milliseconds cancel_wait{60000};
   /// most tasks per array job (SLURM's MaxArraySize is 1001 by default); >= 1
   int max_array_size = 1000;
+  /// pack mode: most cases per allocation, one job step each (SLURM's MaxStepCount is 40000 by default); >= 1
+  int max_pack_size = 40000;
   int ranks = 1;  ///< sbatch --ntasks per case; >= 1
   std::string job_name = "demsa";
-  study::SlurmSettings settings;  ///< partition, account, time limit, throttle, extra options, prologue
+  study::SlurmSettings settings;  ///< mode, partition, account, time limit, throttle, extra options, prologue
   void validate() const;          ///< throws std::invalid_argument naming the field, its value and the rule
 };
 
@@ -92,11 +104,13 @@ class SlurmExecutor : public Executor {
     std::string job;    ///< array job id; "" while only the submission token is known
     std::string token;  ///< submission token of an adopted provisional id ("" otherwise)
     int index = 0;
+    bool pack = false;  ///< a case of a pack allocation: squeue's one state of the job applies to it
     int absent = 0;     ///< consecutive squeue answers without this task
     std::string state;  ///< last state squeue showed ("" = never seen)
     int wait_status = 0;
-    std::optional<std::chrono::steady_clock::time_point> final_since;      ///< final state, no sentinel yet
-    std::optional<std::chrono::steady_clock::time_point> signalled_since;  ///< "signal TERM", no final state yet
+    std::optional<std::chrono::steady_clock::time_point> final_since;          ///< final state, no sentinel yet
+    std::optional<std::chrono::steady_clock::time_point> signalled_since;      ///< "signal TERM", no final state yet
+    std::optional<std::chrono::steady_clock::time_point> launch_failed_since;  ///< JOB_I.srun, no sentinel yet
     bool cancel_requested = false;
   };
 
@@ -112,6 +126,11 @@ class SlurmExecutor : public Executor {
   bool resolve_tokens();
   std::optional<CaseExit> decide(Tracked& t, std::chrono::steady_clock::time_point now,
                                  const std::set<std::string>& sentinels) const;
+  /// decide() for a case of a pack allocation that has no sentinel of its own.
+  std::optional<CaseExit> decide_pack(Tracked& t, std::chrono::steady_clock::time_point now,
+                                      const std::set<std::string>& sentinels) const;
+  /// Cases per sbatch: max_array_size, or max_pack_size in pack mode.
+  size_t chunk_size() const;
 
   SlurmExecutorOptions m_options;
   SlurmClient m_client;

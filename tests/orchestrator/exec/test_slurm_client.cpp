@@ -58,7 +58,7 @@ TEST(SlurmClient, RunProgramKillsAHangingProgram) {
 }
 
 TEST(SlurmClient, SbatchArguments) {
-  ArraySubmission s;
+  SlurmSubmission s;
   s.case_folders = {"/a", "/b", "/c"};
   s.work_dir = "/study dir/100%/slurm";
   s.job_name = "demsa-x";
@@ -179,7 +179,7 @@ TEST(SlurmClient, BatchScriptRunsTheCaseAndWritesItsSentinel) {
   fs::create_directories(case1);
   fs::create_directories(sentinel_dir(work));
   write_run_sh(case1, "echo \"ran in $(basename \"$PWD\") with $DEMSA_TEST_PROLOGUE\"\necho oops >&2\nexit 3\n");
-  ArraySubmission s;
+  SlurmSubmission s;
   s.case_folders = {case0, case1};
   s.work_dir = work;
   s.settings.prologue = "export DEMSA_TEST_PROLOGUE='module loaded'";
@@ -207,7 +207,7 @@ TEST(SlurmClient, BatchScriptTermTrapWritesSignalSentinelAndStopsTheCase) {
   fs::create_directories(folder);
   fs::create_directories(sentinel_dir(work));
   write_run_sh(folder, "echo started > started.txt\nsleep 60\necho not reached > after.txt\n");
-  ArraySubmission s;
+  SlurmSubmission s;
   s.case_folders = {folder};
   s.work_dir = work;
   write_file(work / "batch.sh", render_batch_script(s));
@@ -242,7 +242,7 @@ TEST(SlurmClient, BatchScriptWithoutCaseFolderFails) {
   TempDir dir;
   const fs::path work = dir / "slurm";
   fs::create_directories(sentinel_dir(work));
-  ArraySubmission s;
+  SlurmSubmission s;
   s.case_folders = {dir / "missing"};
   s.work_dir = work;
   write_file(work / "batch.sh", render_batch_script(s));

@@ -171,7 +171,7 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
        "trial_reduction, trial_step0, trial_floor, max_trials"},
       {"timestep", "mode, fraction, value, skin"},
       {"run", "executor, ranks, parallel, oversubscribe, timeout, retries, lost_fraction, liggghts, mpirun, slurm"},
-      {"run.slurm", "partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval"},
+      {"run.slurm", "mode, partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval"},
       {"analysis", "metamodels, second_order, bootstrap, confidence, base_samples, gp_kernel, gp_trend, gp_nugget"},
   };
   std::size_t rows = 0;
@@ -228,7 +228,7 @@ TEST(StudySettings, UnknownKeySuggestsTheNearestKey) {
   EXPECT_NE(e.find("mpirun, slurm)"), std::string::npos) << e;
   EXPECT_EQ(unknown_key_hint("parameters.E", "hi"), " (did you mean 'high'? valid: low, high, scale)");
   EXPECT_EQ(unknown_key_hint("run.slurm", "zzz"),
-            " (valid: partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval)");
+            " (valid: mode, partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval)");
 }
 
 TEST(StudySettings, DesignMethodsAreSobolsNames) {
