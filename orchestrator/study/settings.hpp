@@ -4,6 +4,7 @@
 // the unknown-key hints list them, design_hash() hashes the rows that change the cases or their measurement, and
 // the key-by-key reference of docs/study-file.md is settings_markdown().
 #include "orchestrator/study/config.hpp"
+#include "sobol/design.hpp"
 
 #include <functional>
 #include <optional>
@@ -54,9 +55,9 @@ struct SettingBounds {
   std::string rule() const;
 };
 
-/// The most samples of the optimised Latin hypercubes (`lhs-maximin`, `lhs-cl2`): their optimisers keep an N x N
-/// matrix of the sample pairs (800 MB at 10,000).
-inline constexpr int k_max_optimised_lhs_samples = 10000;
+/// The most samples of the optimised Latin hypercubes (`lhs-maximin`, `lhs-cl2`): their optimisers keep N x N tables
+/// of the sample pairs, and sobol::make_design refuses more (the study refuses them at their line instead).
+inline constexpr int k_max_optimised_lhs_samples = sobol::k_max_optimised_lhs_samples;
 
 /// A value as the parser read it, by type: number -> double, integer -> long, boolean -> bool, string and
 /// enumeration -> std::string, lists -> vectors.

@@ -82,8 +82,12 @@ TEST(StudyInputs, SizesTheMachineCannotHoldAreRefusedNamingTheKey) {
             std::string::npos);
   // The optimised Latin hypercubes keep an N x N matrix: fewer samples than the other designs.
   EXPECT_NE(error_of(k_pile + "[design]\nsamples = 50000\n")
-                .find("study.toml:7: [design] samples: method \"lhs-maximin\" takes at most 10000 samples"),
+                .find("study.toml:7: [design] samples: method \"lhs-maximin\" takes at most 4096 samples"),
             std::string::npos);
+  // ... the bound sobol::make_design holds (5000 passed the study and failed when `demsa run` drew the design).
+  EXPECT_NE(error_of(k_pile + "[design]\nsamples = 5000\n").find("study.toml:7: [design] samples: method"),
+            std::string::npos);
+  EXPECT_NO_THROW(parse_study(k_pile + "[design]\nsamples = 4096\n", "study.toml"));
   EXPECT_NO_THROW(parse_study(k_pile + "[design]\nsamples = 50000\nmethod = \"lhs\"\n", "study.toml"));
   // The reasons are in the docs' rows.
   EXPECT_NE(find_setting("pile", "particles")->doc.find("bounds: the case writer"), std::string::npos);
