@@ -1,7 +1,6 @@
 #include "postprocess/vtk.hpp"
 
 #include <fmt/core.h>
-#include <fmt/format.h>
 
 #include <cassert>
 #include <cstdint>
@@ -33,7 +32,11 @@ void cells(std::string& out, const char* section, const std::vector<std::vector<
   out += fmt::format("      <{}>\n", section);
   open_array(out, "Int64", "connectivity", 1);
   auto it = std::back_inserter(out);
-  for (const std::vector<std::size_t>& p : polygons) fmt::format_to(it, "          {}\n", fmt::join(p, " "));
+  for (const std::vector<std::size_t>& p : polygons) {
+    out += "         ";
+    for (const std::size_t index : p) fmt::format_to(it, " {}", index);
+    out += '\n';
+  }
   close_array(out);
   open_array(out, "Int64", "offsets", 1);
   std::size_t end = 0;

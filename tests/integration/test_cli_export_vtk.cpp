@@ -38,6 +38,12 @@ void run_fake_study(const test::TempDir& tmp, const std::string& experiment, int
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
 }
 
+TEST(ExportVtk, HelpListsTheCommand) {
+  const test::CommandResult r = test::run_demsa({"--help"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\n  export-vtk "), std::string::npos) << r.out;
+}
+
 TEST(ExportVtk, FakePileCaseWritesParticlesPedestalAndGroundThatVtkReads) {
   test::TempDir tmp;
   run_fake_study(tmp, "pile", 2);
@@ -60,7 +66,7 @@ TEST(ExportVtk, FakePileCaseWritesParticlesPedestalAndGroundThatVtkReads) {
 
 TEST(ExportVtk, FakeOedometerCaseWritesTheBoxAndThePlateAtItsLastHeight) {
   test::TempDir tmp;
-  run_fake_study(tmp, "oedometer", 1);
+  run_fake_study(tmp, "oedometer", 2);
   const fs::path dir = tmp / "study" / "cases" / "000000";
   const fs::path vtk = dir / "vtk";
   EXPECT_FALSE(fs::exists(vtk / "pedestal.vtp"));
@@ -73,7 +79,7 @@ TEST(ExportVtk, FakeOedometerCaseWritesTheBoxAndThePlateAtItsLastHeight) {
 
 TEST(ExportVtk, CaseFolderToAnotherFolderGivesTheSameFilesAsTheRun) {
   test::TempDir tmp;
-  run_fake_study(tmp, "oedometer", 1);
+  run_fake_study(tmp, "oedometer", 2);
   const fs::path dir = tmp / "study" / "cases" / "000000";
   const test::CommandResult r = test::run_demsa({"export-vtk", dir.string(), "--out", (tmp / "out").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -152,7 +158,7 @@ TEST(ExportVtk, BadInputIsAUserErrorNamingFileLineAndValue) {
   EXPECT_FALSE(fs::exists(tmp / "not-a-case" / "vtk"));
 
   // A case whose pedestal mesh or case.json is broken: the file, the line or key, and the value.
-  run_fake_study(tmp, "pile", 1);
+  run_fake_study(tmp, "pile", 2);
   const fs::path pile = tmp / "study" / "cases" / "000000";
   fs::remove_all(pile / "vtk");
   std::string stl = test::read_file(pile / "pedestal.stl");
@@ -170,7 +176,7 @@ TEST(ExportVtk, BadInputIsAUserErrorNamingFileLineAndValue) {
 
 TEST(ExportVtk, OedometerCaseJsonWithoutTheBoxNamesTheKey) {
   test::TempDir tmp;
-  run_fake_study(tmp, "oedometer", 1);
+  run_fake_study(tmp, "oedometer", 2);
   const fs::path dir = tmp / "study" / "cases" / "000000";
   nlohmann::json doc = nlohmann::json::parse(test::read_file(dir / "case.json"));
   doc["oedometer"]["box_side_m"] = -0.1;
@@ -190,7 +196,7 @@ TEST(ExportVtk, AFailureToWriteTheFilesOnlyWarnsAndTheCaseCounts) {
                                (fake / "liggghts").string()));
   fs::permissions(tmp / "liggghts", fs::perms::owner_all);
   test::write_file(tmp / "study.toml",
-                   fake_study("pile", 1,
+                   fake_study("pile", 2,
                               fmt::format("liggghts = \"{}\"\nmpirun = \"{}\"\n", (tmp / "liggghts").string(),
                                           (fake / "mpirun").string())));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);

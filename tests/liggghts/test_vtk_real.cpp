@@ -1,4 +1,4 @@
-// The ParaView files of a real LIGGGHTS case: a one-sample study of a 120-particle pile through `demsa run` (a few
+// The ParaView files of real LIGGGHTS cases: a two-sample study of 120-particle piles through `demsa run` (a few
 // seconds), whose runner writes CASE/vtk/ after measuring the case. VTK's own reader (python3-vtk9) reads them back;
 // they must match the final dump (ids, types, radii, positions, the velocities LIGGGHTS wrote) and the pedestal mesh.
 #include "postprocess/dump.hpp"
@@ -22,7 +22,7 @@ TEST(VtkReal, TinyPileCaseOpensInVtkWithItsDumpAndPedestal) {
   test::write_file(tmp / "tiny.toml",
                    test::StudyToml{.name = "tiny-vtk-pile",
                                    .seed = 3,
-                                   .samples = 1,
+                                   .samples = 2,
                                    .parameters = "mu_pp = { low = 0.2, high = 0.9 }\n",
                                    .tables = "[material]\nE = 1e8\n\n[pile]\nparticles = 120\nsettle_time = 0.1\n",
                                    .run = "ranks = 1\ntimeout = 600\nretries = 0\n",
