@@ -54,10 +54,17 @@ std::string particles_vtp(const DumpFrame& frame) {
   const Particles p = particles_from_frame(frame);
   const std::size_t n = p.size();
   const int velocity_columns = frame.has_column("vx") + frame.has_column("vy") + frame.has_column("vz");
-  if (velocity_columns != 0 && velocity_columns != 3)
+  if (velocity_columns != 0 && velocity_columns != 3) {
+    // read_last_frame knows the line of ITEM: ATOMS only when it counted the lines before it; the time step names
+    // the frame either way.
+    std::string have;
+    for (const char* c : {"vx", "vy", "vz"})
+      if (frame.has_column(c)) have += std::string(have.empty() ? "" : " ") + c;
     throw ParseError(frame.file, frame.atoms_line,
-                     fmt::format("the atom columns have only {} of vx vy vz; the velocity needs all three (or none)",
-                                 velocity_columns));
+                     fmt::format("ITEM: ATOMS of time step {} has {} but not all of vx vy vz: the velocity needs all "
+                                 "three (or none)",
+                                 frame.timestep, have));
+  }
   std::span<const double> v[3];
   if (velocity_columns == 3) {
     v[0] = frame.column("vx");
