@@ -2,13 +2,13 @@
 // VTK files that ParaView (and any VTK reader) opens directly: the particles of a dump frame and polygon surfaces
 // (the pedestal, the box walls, the load plate).
 //
-// Format: VTK XML PolyData (.vtp), ASCII. XML rather than legacy .vtk because one file type then holds both the
-// particles (points with vertex cells) and the surfaces (polygons), the arrays carry explicit types and names (the
-// ids as Int64, which legacy files before format 5.1 cannot name portably), and ParaView picks its reader by the
-// extension. ASCII rather than base64 binary because it is exact with shortest round-trip numbers, needs no
-// encoder, and stays readable in a text editor; a case of 10^5 particles is then about 10 MB.
-// Reference: "VTK File Formats", VTK User's Guide 11th ed., ch. 19 (XML PolyData: Piece, PointData, Points, Verts,
-// Polys; connectivity and end offsets per cell).
+// Format: VTK XML PolyData (.vtp), ASCII, for the particles (points with one vertex cell each) and the surfaces
+// (polygons) alike. XML rather than legacy .vtk because its arrays carry explicit types and names (the ids as Int64,
+// which legacy files before format 5.1 cannot name portably) and it is the format of ParaView's own writers. ASCII
+// rather than base64 binary because it is exact with shortest round-trip numbers, needs no encoder, and stays readable
+// in a text editor; it takes about 190 bytes per particle (23 kB for a pile of 120). Reference: "VTK File Formats", the
+// VTK documentation (XML PolyData: Piece, PointData, Points, Verts, Polys; each cell's point indices in `connectivity`
+// and its end in `offsets`).
 #include "postprocess/dump.hpp"
 
 #include <array>
