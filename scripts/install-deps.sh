@@ -13,6 +13,7 @@ packages=(
   libsqlite3-dev libsqlitecpp-dev sqlite3 libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox python3-numpy python3-scipy clang-format
+  python3-vtk9
 )
 if [[ ${1:-} == --slurm ]]; then
   packages+=(slurmctld slurmd slurm-client munge)

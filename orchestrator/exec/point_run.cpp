@@ -1,6 +1,7 @@
 #include "orchestrator/exec/point_run.hpp"
 
 #include "orchestrator/cases/case_writer.hpp"
+#include "orchestrator/exec/case_vtk.hpp"
 #include "orchestrator/exec/executor.hpp"
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/exec/measure.hpp"
@@ -46,6 +47,7 @@ study::PointRun run_point(const study::StudyConfig& config, const fs::path& wher
   }
   try {
     run.observables = measure_case(config, folder);
+    write_case_vtk_or_warn(folder);
   } catch (const std::exception& e) {
     run.error = fmt::format("the case ran but could not be measured: {}", e.what());
   }

@@ -1,6 +1,7 @@
 #include "orchestrator/exec/runner.hpp"
 
 #include "orchestrator/cases/case_writer.hpp"
+#include "orchestrator/exec/case_vtk.hpp"
 #include "orchestrator/exec/failure.hpp"
 #include "orchestrator/exec/local_executor.hpp"
 #include "orchestrator/exec/measure.hpp"
@@ -331,6 +332,7 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
     }
   }
   if (report.failure == FailureClass::none) {
+    write_case_vtk_or_warn(folder);
     write_file_atomically(folder / k_result_file, result_json(finished, flight, observables));
     loop.store.record_done(flight.run, outcome, observables);
     loop.plan.mark_done(flight.sample, flight.attempt);

@@ -34,6 +34,7 @@ inline constexpr const char* k_pile_settling = "pile_settling.txt";  ///< how se
 inline constexpr const char* k_oedometer_final_dump = "oedometer_final.dump";  ///< same columns
 inline constexpr const char* k_plate_history = "plate_history.txt";            ///< step load_N plate_z_m force_N ...
 inline constexpr const char* k_plate_states = "plate_states.txt";              ///< load_N plate_z_m force_N converged
+inline constexpr const char* k_case_vtk_folder = "vtk";  ///< final state for ParaView (exec/case_vtk.hpp)
 
 /// The default study folder for a study file: the file's path without ".toml".
 inline std::filesystem::path default_study_dir(const std::filesystem::path& study_file) {
