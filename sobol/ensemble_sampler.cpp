@@ -221,7 +221,7 @@ ChainDiagnostics diagnose(const EnsembleResult& result, const std::string& steps
     d.min_ess = std::min(d.min_ess, draws / tau);
   }
   const bool long_enough = result.steps >= 50.0 * d.max_tau;  // emcee: trust τ only for chains > 50 τ
-  const bool mixed = d.max_rhat < 1.01;
+  const bool mixed = d.max_rhat < 1.05;
   d.converged = long_enough && mixed;
   if (!d.converged) {
     std::vector<std::string> why;
@@ -229,7 +229,7 @@ ChainDiagnostics diagnose(const EnsembleResult& result, const std::string& steps
       why.push_back(fmt::format("{} steps per walker are fewer than 50 τ = {:.0f}: raise --{} to at least {:.0f}",
                                 result.steps, 50.0 * d.max_tau, steps_option, std::ceil(50.0 * d.max_tau)));
     if (!mixed)
-      why.push_back(fmt::format("split R̂ = {:.3f} >= 1.01: the walkers disagree; raise --{} and --{}", d.max_rhat,
+      why.push_back(fmt::format("split R̂ = {:.3f} >= 1.05: the walkers disagree; raise --{} and --{}", d.max_rhat,
                                 steps_option, walkers_option));
     if (d.acceptance < 0.1)
       why.push_back(fmt::format("acceptance {:.2f} is low (a narrow or multimodal posterior): raise --{}", d.acceptance,

@@ -6,7 +6,7 @@
 //     up to Sokal's automatic window M (the smallest M >= c τ(M), c = 5; Sokal 1997, "Monte Carlo methods in
 //     statistical mechanics", §3; emcee's `integrated_time`);
 //   - split R̂ per parameter, each walker a chain cut in halves (Gelman et al. 2013, "Bayesian Data Analysis", 3rd
-//     ed., §11.4; the 1.01 threshold of Vehtari, Gelman, Simpson, Carpenter, Bürkner 2021, Bayesian Anal. 16(2));
+//     ed., §11.4; Vehtari, Gelman, Simpson, Carpenter, Bürkner 2021, Bayesian Anal. 16(2), on its thresholds);
 //   - effective sample size = draws / τ.
 //
 // Typical use:
@@ -70,8 +70,11 @@ struct ChainDiagnostics {
   double max_tau = 0.0;
   double max_rhat = 0.0;
   double min_ess = 0.0;
-  bool converged = false;  ///< steps >= 50 max τ (emcee's rule) and every R̂ < 1.01 (Vehtari et al. 2021)
-  std::string advice;      ///< what to change when not converged ("" when converged)
+  /// steps >= 50 max τ (emcee's rule) and every split R̂ < 1.05. The walkers of an ensemble are not independent
+  /// chains, and a chain of n steps has split R̂ ≈ sqrt(1 + 2τ/n) from its own autocorrelation: Vehtari et al.'s
+  /// 1.01 for independent chains would ask for ~100 τ; 1.05 still flags walkers stuck apart.
+  bool converged = false;
+  std::string advice;  ///< what to change when not converged ("" when converged)
 };
 
 /// The diagnostics of a run. `steps_option`/`walkers_option` name the options the advice refers to.

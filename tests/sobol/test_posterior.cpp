@@ -7,6 +7,7 @@
 #include "sobol/posterior.hpp"
 #include "sobol/random.hpp"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
@@ -40,7 +41,7 @@ TEST(Posterior, LinearGaussianMatchesTheAnalyticPosteriorAtTheDefaultSampleCount
   for (size_t k = 0; k < a.size(); ++k) {
     models.push_back(linear_model(c[k], a[k]));
     const double t = c[k] + a[k].dot(truth) + noise[k];
-    targets.push_back({"t" + std::to_string(k), models.back().get(), {}, t, sigma[k], 1.0});
+    targets.push_back({fmt::format("t{}", k), models.back().get(), {}, t, sigma[k], 1.0});
     precision += a[k] * a[k].transpose() / (sigma[k] * sigma[k]);
     rhs += a[k] * (t - c[k]) / (sigma[k] * sigma[k]);
   }
