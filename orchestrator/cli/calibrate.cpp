@@ -1,13 +1,22 @@
-// `demsa calibrate` (README "Usage"): the parameters that best match measured values on the study's metamodels,
-// optionally verified by a real run at the optimum.
+// `demsa calibrate` (README "Usage"): what measured values say about the parameters, on the studies' metamodels.
+//   --method bayes:    the posterior (analysis/calibration_posterior.hpp) of one or several studies, its
+//                      diagnostics and plots under DIR/calibration/; --verify K runs the MAP and K draws.
+//   --method optimize: the one point that best matches (analysis/calibration.hpp), --verify runs it.
+//   --method auto (default): bayes when the measurements carry an uncertainty (a target with ±, a --target-file)
+//                      or several studies are given, optimize otherwise: a likelihood needs the measurement's
+//                      spread, and a target without one states no more than the point it asks for.
 #include "orchestrator/analysis/calibration.hpp"
+#include "orchestrator/analysis/calibration_posterior.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/exec/point_run.hpp"
+#include "orchestrator/report/posterior_plots.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/log.hpp"
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -20,12 +29,31 @@ namespace {
 
 struct CalibrateArgs {
   CalibrateOptions options;
-  std::string dir;
+  PosteriorOptions posterior;
+  std::vector<std::string> dirs;
+  std::string method = "auto";
+  std::string out;
+  std::uint64_t seed = 0;
+  int verify = -1;
   bool json = false;
+  bool no_plots = false;
 };
 
-int do_calibrate(CalibrateArgs& args) {
-  args.options.dir = args.dir;
+bool has_uncertainty(const std::vector<std::string>& targets) {
+  return std::any_of(targets.begin(), targets.end(), [](const std::string& t) {
+    return t.find("±") != std::string::npos || t.find("+-") != std::string::npos;
+  });
+}
+
+int do_optimize(CalibrateArgs& args) {
+  if (args.dirs.size() != 1)
+    throw UserError(
+        fmt::format("--method optimize: one study folder, not {} (several studies: --method bayes)", args.dirs.size()));
+  if (args.verify > 0)
+    throw UserError(
+        fmt::format("--verify {}: --method optimize verifies its one optimum (give --verify alone)", args.verify));
+  args.options.dir = args.dirs.front();
+  args.options.verify = args.verify >= 0;
   args.options.run_point = exec::run_point;
   // Not while a `demsa run` holds the study: it writes analysis/calibration.json (and --verify a case) into it.
   const auto lock = study::hold_study_for_results(args.options.dir);
@@ -38,24 +66,84 @@ int do_calibrate(CalibrateArgs& args) {
   return args.options.verify && !outcome.verified ? k_exit_check_failed : k_exit_ok;
 }
 
+int do_bayes(CalibrateArgs& args) {
+  PosteriorOptions& p = args.posterior;
+  for (const std::string& d : args.dirs) p.dirs.emplace_back(d);
+  p.targets = args.options.targets;
+  p.weights = args.options.weights;
+  p.model = args.options.model;
+  p.out = args.out;
+  if (args.seed != 0) p.seed = args.seed;
+  p.verify = args.verify;
+  p.run_point = exec::run_point;
+  std::vector<std::unique_ptr<study::StudyLock>> locks;
+  for (const std::filesystem::path& d : p.dirs) locks.push_back(study::hold_study_for_results(d));
+  const PosteriorOutcome outcome = calibrate_posterior(p);
+  std::string plot_note;
+  if (!args.no_plots) {
+    try {
+      report::plot_posterior(report::Plotter(), outcome, outcome.out / "posterior_samples.csv", outcome.out);
+    } catch (const UserError& e) {
+      plot_note = fmt::format("no plots: {}", e.what());
+    }
+  }
+  if (args.json)
+    fmt::print("{}", posterior_to_json(outcome));
+  else
+    fmt::print("{}{}", posterior_text(outcome), plot_note.empty() ? "" : plot_note + "\n");
+  if (!outcome.converged) log::warn("the chains have not converged: {}", outcome.advice);
+  bool failed = false;
+  for (const VerifyPoint& v : outcome.verification) failed = failed || !v.errors.empty();
+  return failed ? k_exit_check_failed : k_exit_ok;
+}
+
+int do_calibrate(CalibrateArgs& args) {
+  std::string method = args.method;
+  if (method == "auto")
+    method = args.dirs.size() > 1 || !args.posterior.target_files.empty() || has_uncertainty(args.options.targets)
+                 ? "bayes"
+                 : "optimize";
+  if (method == "optimize") return do_optimize(args);
+  if (method == "bayes") return do_bayes(args);
+  throw UserError(fmt::format("--method '{}': expected auto, bayes or optimize", args.method));
+}
+
 }  // namespace
 
 void register_calibrate_command(CLI::App& app, CliState& state) {
   auto args = std::make_shared<CalibrateArgs>();
-  CLI::App* sub =
-      app.add_subcommand("calibrate", "Parameters that best match measured values, optionally verified by a real run");
-  sub->add_option("dir", args->dir, "Study folder")->required();
+  CLI::App* sub = app.add_subcommand(
+      "calibrate", "What measured values say about the parameters: a posterior (bayes) or the best point (optimize)");
+  sub->add_option("dir", args->dirs, "Study folders (several: a joint calibration of studies sharing parameters)")
+      ->required();
+  sub->add_option("--method", args->method,
+                  "auto (default: bayes when a target has an uncertainty or several studies are given), bayes, "
+                  "optimize");
   sub->add_option("--target", args->options.targets,
-                  "NAME=VALUE to match, e.g. angle=33.5 or settlement=0.5e-3,1.2e-3,1.9e-3 (default: the study's "
-                  "target angle or measured settlements)");
+                  "NAME=VALUE[±ERROR] to match (also +-), e.g. angle=33.5±1.5 or settlement=s1,s2,s3±e1,e2,e3 "
+                  "(optimize default: the study's target angle or measured settlements)");
+  sub->add_option("--target-file", args->posterior.target_files,
+                  "NAME=FILE.csv: a measured curve, one row per point, columns mean and sd, or low, high and tests");
   sub->add_option("--weight", args->options.weights, "NAME=W weight of a target (default 1)");
   sub->add_option("--model", args->options.model, "Metamodel for every target (default: the best Q² per target)");
-  sub->add_flag("--verify", args->options.verify, "Run the real case at the optimum and compare");
-  sub->add_option("--global", args->options.global, "NLopt global pass: direct-l, crs2, isres, mlsl-lds, none");
-  sub->add_option("--local", args->options.local, "NLopt local pass: bobyqa, nelder-mead, sbplx, cobyla, none");
-  sub->add_option("--global-evaluations", args->options.global_evaluations, "Budget of the global pass");
-  sub->add_option("--local-evaluations", args->options.local_evaluations, "Budget of the local pass");
-  sub->add_flag("--json", args->json, "Machine-readable output (the calibration.json document)");
+  sub->add_option(
+         "--verify", args->verify,
+         "Run the real case at the optimum (optimize), or at the MAP and K posterior draws (bayes: --verify K)")
+      ->expected(0, 1)
+      ->default_str("0");
+  sub->add_option("--walkers", args->posterior.walkers, "bayes: ensemble walkers (default max(32, 4 d))");
+  sub->add_option("--steps", args->posterior.steps, "bayes: kept steps per walker (default 3000)");
+  sub->add_option("--burn-in", args->posterior.burn_in, "bayes: discarded steps per walker (default 1000)");
+  sub->add_option("--seed", args->seed, "bayes: sampler seed (default: the first study's seed)");
+  sub->add_option("--out", args->out, "bayes: output folder (default: DIR/calibration of the first study)");
+  sub->add_flag("--no-plots", args->no_plots, "bayes: no gnuplot figures");
+  sub->add_option("--global", args->options.global,
+                  "optimize: NLopt global pass: direct-l, crs2, isres, mlsl-lds, none");
+  sub->add_option("--local", args->options.local,
+                  "optimize: NLopt local pass: bobyqa, nelder-mead, sbplx, cobyla, none");
+  sub->add_option("--global-evaluations", args->options.global_evaluations, "optimize: budget of the global pass");
+  sub->add_option("--local-evaluations", args->options.local_evaluations, "optimize: budget of the local pass");
+  sub->add_flag("--json", args->json, "Machine-readable output (calibration.json or posterior.json)");
   sub->callback([args, &state] { state.exit_code = do_calibrate(*args); });
 }
 

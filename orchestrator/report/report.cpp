@@ -1,7 +1,10 @@
 #include "orchestrator/report/report.hpp"
 
+#include "orchestrator/report/posterior_plots.hpp"
+
 #include "orchestrator/analysis/analysis_json.hpp"
 #include "orchestrator/analysis/calibration.hpp"
+#include "orchestrator/analysis/calibration_posterior.hpp"
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/analysis/training_data.hpp"
@@ -12,6 +15,7 @@
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/text.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/oedometer.hpp"
 #include "postprocess/pile_angle.hpp"
@@ -724,6 +728,49 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
   return section;
 }
 
+/// The Bayesian calibration written by `demsa calibrate --method bayes` into DIR/calibration/.
+ReportSection posterior_section(const PosteriorOutcome& p, const fs::path& samples, const Plotter& plotter,
+                                const fs::path& out, ReportSummary& summary) {
+  ReportSection section;
+  section.heading = "Posterior calibration";
+  section.paragraphs.push_back(fmt::format(
+      "Studies {}; affine-invariant ensemble sampler, {} walkers × {} steps after {} burn-in (seed {}); acceptance "
+      "{:.2f}; {}. Width: 90 % posterior width over the prior's width on the design scale (about 0.9: the "
+      "measurements do not determine the parameter).",
+      join(p.studies), p.walkers, p.steps, p.burn_in, p.seed, p.acceptance,
+      p.converged ? "converged (steps ≥ 50 τ, every split R̂ < 1.05)" : "NOT converged: " + p.advice));
+  ReportTable parameters;
+  parameters.caption = "Posterior per parameter";
+  parameters.header = {"parameter", "mean", "MAP", "5 %", "50 %", "95 %", "width", "identified", "τ", "R̂", "ESS"};
+  for (const PosteriorParameter& q : p.parameters)
+    parameters.rows.push_back({q.name, fmt::format("{:.5g}", q.mean), fmt::format("{:.5g}", q.map),
+                               fmt::format("{:.5g}", q.q05), fmt::format("{:.5g}", q.q50), fmt::format("{:.5g}", q.q95),
+                               fmt::format("{:.3f}", q.width_ratio), q.identified, fmt::format("{:.1f}", q.tau),
+                               fmt::format("{:.3f}", q.rhat), fmt::format("{:.0f}", q.ess)});
+  section.tables.push_back(parameters);
+  ReportTable targets;
+  targets.caption = "Targets: measured against the posterior predictive";
+  targets.header = {"observable", "study",  "metamodel",      "measured",
+                    "sd",         "at MAP", "predictive 5 %", "predictive 95 %"};
+  for (const PosteriorTarget& t : p.targets)
+    targets.rows.push_back({t.name, t.study, t.model, fmt::format("{:.5g}", t.value), fmt::format("{:.3g}", t.sd),
+                            fmt::format("{:.5g}", t.predicted_map), fmt::format("{:.5g}", t.predictive_q05),
+                            fmt::format("{:.5g}", t.predictive_q95)});
+  section.tables.push_back(targets);
+  for (const VerifyPoint& v : p.verification)
+    for (const VerifyPoint::Measured& m : v.measured)
+      section.paragraphs.push_back(
+          fmt::format("Verification at {}: {} measured {} against predicted {:.5g} (90 % "
+                      "[{:.5g}, {:.5g}]).",
+                      v.label, m.target, m.value ? fmt::format("{:.5g}", *m.value) : "-", m.predicted, m.low, m.high));
+  const PosteriorFigures f = plot_posterior(plotter, p, samples, out);
+  section.figures.push_back({"Posterior marginals (red: MAP; dotted: 5 and 95 %; dashed: the prior)", f.marginals});
+  section.figures.push_back({"Corner plot of the posterior", f.corner});
+  section.figures.push_back({"Posterior predictive against the measured targets", f.predictive});
+  for (const ReportFigure& figure : section.figures) summary.images.push_back(figure.files.png);
+  return section;
+}
+
 }  // namespace
 
 ReportSummary write_study_report(const ReportOptions& options) {
@@ -785,6 +832,12 @@ ReportSummary write_study_report(const ReportOptions& options) {
   else
     doc.sections.back().paragraphs.push_back(
         fmt::format("No calibration yet: `demsa calibrate {}` adds one to this report.", dir.string()));
+
+  const fs::path posterior_file = dir / "calibration" / "posterior.json";
+  if (fs::exists(posterior_file))
+    doc.sections.push_back(posterior_section(read_posterior(posterior_file),
+                                             dir / "calibration" / "posterior_samples.csv", plotter, summary.out_dir,
+                                             summary));
 
   if (!summary.notes.empty()) {
     ReportSection notes;

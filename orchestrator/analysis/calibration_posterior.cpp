@@ -1,0 +1,622 @@
+#include "orchestrator/analysis/calibration_posterior.hpp"
+
+#include "orchestrator/analysis/fit.hpp"
+#include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/parameters.hpp"
+#include "orchestrator/study/store.hpp"
+#include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/csv.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/text.hpp"
+#include "sobol/ensemble_sampler.hpp"
+#include "sobol/posterior.hpp"
+#include "sobol/random.hpp"
+#include "sobol/scaling.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+
+namespace demsa::analysis {
+
+using namespace demsa::util;
+using namespace demsa::study;
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+double number_of(const std::string& option, const std::string& whole, const std::string& text) {
+  if (const std::optional<double> v = util::parse_number(text); v && std::isfinite(*v)) return *v;
+  throw UserError(fmt::format("{} '{}': '{}' is not a number", option, whole, trim(text)));
+}
+
+std::vector<double> numbers_of(const std::string& option, const std::string& whole, const std::string& list) {
+  std::vector<std::string> items = split(list, ',');
+  if (!items.empty() && trim(items.back()).empty()) items.pop_back();
+  if (items.empty()) throw UserError(fmt::format("{} '{}': no value", option, whole));
+  std::vector<double> out;
+  for (const std::string& item : items) out.push_back(number_of(option, whole, item));
+  return out;
+}
+
+/// NAME_k for the k-th point of a curve (settlement_k through the one home of that name).
+std::string point_name(const std::string& name, size_t k) {
+  return name == "settlement" ? settlement_name(k) : fmt::format("{}_{}", name, k);
+}
+
+/// d₂(n), the expected range of n standard normal values (Tippett 1925; the control-chart constants of
+/// ASTM E2587): σ ≈ range / d₂(n).
+double d2(int n) {
+  static const double table[] = {1.128, 1.693, 2.059, 2.326, 2.534, 2.704, 2.847, 2.970, 3.078, 3.173,
+                                 3.258, 3.336, 3.407, 3.472, 3.532, 3.588, 3.640, 3.689, 3.735};
+  return table[n - 2];
+}
+
+struct ResolvedTarget {
+  MeasuredValue measured;
+  double weight = 1.0;
+};
+
+struct Study {
+  fs::path dir;
+  StudyConfig config;
+  std::vector<SampleRow> samples;
+  std::map<int, std::map<std::string, double>> observables;
+  std::vector<std::string> available;
+};
+
+}  // namespace
+
+std::vector<MeasuredValue> parse_measured(const std::string& option, const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || trim(text.substr(0, eq)).empty())
+    throw UserError(fmt::format("{} '{}': expected NAME=VALUE±ERROR", option, text));
+  const std::string name = trim(text.substr(0, eq));
+  std::string rest = text.substr(eq + 1);
+  std::string values_text = rest, errors_text;
+  for (const char* sep_text : {"±", "+-"}) {
+    const std::string sep = sep_text;
+    const auto at = rest.find(sep);
+    if (at != std::string::npos) {
+      values_text = rest.substr(0, at);
+      errors_text = rest.substr(at + sep.size());
+      if (trim(errors_text).empty())
+        throw UserError(fmt::format("{} '{}': no uncertainty after '{}'", option, text, sep));
+      break;
+    }
+  }
+  const std::vector<double> values = numbers_of(option, text, values_text);
+  std::vector<double> errors(values.size(), 0.0);
+  if (!errors_text.empty()) {
+    const std::vector<double> e = numbers_of(option, text, errors_text);
+    if (e.size() != 1 && e.size() != values.size())
+      throw UserError(fmt::format("{} '{}': {} uncertainties for {} values (give one or one per value)", option, text,
+                                  e.size(), values.size()));
+    for (size_t i = 0; i < values.size(); ++i) {
+      errors[i] = e.size() == 1 ? e[0] : e[i];
+      if (errors[i] < 0) throw UserError(fmt::format("{} '{}': uncertainty {} must be >= 0", option, text, errors[i]));
+    }
+  }
+  std::vector<MeasuredValue> out;
+  for (size_t i = 0; i < values.size(); ++i)
+    out.push_back({values.size() == 1 ? name : point_name(name, i + 1), values[i], errors[i]});
+  return out;
+}
+
+namespace {
+
+/// "NAME=FILE" -> the curve's points with their σ.
+std::vector<MeasuredValue> read_curve(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || trim(text.substr(0, eq)).empty() || trim(text.substr(eq + 1)).empty())
+    throw UserError(fmt::format("--target-file '{}': expected NAME=FILE.csv", text));
+  const std::string name = trim(text.substr(0, eq));
+  const fs::path file = trim(text.substr(eq + 1));
+  if (!fs::exists(file)) throw UserError(fmt::format("--target-file '{}': {} does not exist", text, file.string()));
+  const CsvTable table = read_csv(file);
+  const int mean = table.column_index("mean");
+  std::vector<MeasuredValue> out;
+  for (int r = 0; r < table.rows(); ++r) {
+    const std::string where = fmt::format("{}:{}", file.string(), table.lines[r]);
+    double sd = 0.0;
+    if (table.has_column("sd")) {
+      sd = table.values(r, table.column_index("sd"));
+    } else if (table.has_column("low") && table.has_column("high") && table.has_column("tests")) {
+      const double low = table.values(r, table.column_index("low"));
+      const double high = table.values(r, table.column_index("high"));
+      const double tests = table.values(r, table.column_index("tests"));
+      if (tests != std::floor(tests) || tests < 2 || tests > 20)
+        throw UserError(fmt::format("{}: column 'tests': {} must be a whole number in 2..20", where, tests));
+      if (high < low) throw UserError(fmt::format("{}: high {} is below low {}", where, high, low));
+      sd = (high - low) / d2(static_cast<int>(tests));
+    } else {
+      throw UserError(fmt::format("{}: needs a column 'sd', or the columns 'low', 'high' and 'tests' (columns: {})",
+                                  file.string(), join(table.columns)));
+    }
+    if (sd < 0) throw UserError(fmt::format("{}: column 'sd': {} must be >= 0", where, sd));
+    out.push_back({table.rows() == 1 ? name : point_name(name, static_cast<size_t>(r) + 1), table.values(r, mean), sd});
+  }
+  return out;
+}
+
+std::string identified_label(double ratio) { return ratio < 0.5 ? "yes" : ratio < 0.8 ? "partly" : "no"; }
+
+}  // namespace
+
+void PosteriorOptions::validate() const {
+  if (dirs.empty()) throw UserError("calibrate: a study folder is required");
+  if (targets.empty() && target_files.empty())
+    throw UserError("calibrate --method bayes: give the measured values with --target NAME=V±E or --target-file");
+  if (walkers != 0 && (walkers < 4 || walkers % 2 != 0))
+    throw UserError(fmt::format("--walkers {}: must be even and >= 2 × parameters + 2", walkers));
+  if (steps < 10) throw UserError(fmt::format("--steps {}: must be >= 10", steps));
+  if (burn_in < 0) throw UserError(fmt::format("--burn-in {}: must be >= 0", burn_in));
+  if (verify < -1 || verify > 1000) throw UserError(fmt::format("--verify {}: must be in 0..1000", verify));
+  try {
+    if (!model.empty()) sobol::metamodel_kind_from_string(model);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--model: {}", e.what()));
+  }
+}
+
+PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
+  options.validate();
+  std::vector<Study> studies;
+  for (const fs::path& dir : options.dirs) {
+    require_study_folder(dir);
+    Study s;
+    s.dir = dir;
+    s.config = load_study(dir / k_frozen_study);
+    const Store store = Store::open_read_only((dir / k_store_file).string());
+    s.samples = store.samples();
+    s.observables = store.observables();
+    for (const auto& [sample, values] : s.observables)
+      for (const auto& [name, value] : values)
+        if (std::find(s.available.begin(), s.available.end(), name) == s.available.end()) s.available.push_back(name);
+    studies.push_back(std::move(s));
+  }
+
+  // The prior: every parameter of any study, on the intersection of the ranges of the studies that vary it.
+  PosteriorOutcome outcome;
+  std::vector<sobol::Bounds> prior;
+  std::vector<std::string> owner;  // study that set the current bounds (for messages)
+  for (const Study& s : studies) {
+    outcome.studies.push_back(s.config.name);
+    for (const ParameterRange& p : s.config.parameters) {
+      const auto it = std::find_if(outcome.parameters.begin(), outcome.parameters.end(),
+                                   [&](const PosteriorParameter& q) { return q.name == p.name; });
+      if (it == outcome.parameters.end()) {
+        PosteriorParameter q;
+        q.name = p.name;
+        outcome.parameters.push_back(q);
+        prior.push_back(p.bounds);
+        owner.push_back(s.dir.string());
+        continue;
+      }
+      sobol::Bounds& b = prior[static_cast<size_t>(it - outcome.parameters.begin())];
+      const std::string& first = owner[static_cast<size_t>(it - outcome.parameters.begin())];
+      if (b.scale != p.bounds.scale)
+        throw UserError(fmt::format("parameter {}: {} samples it on a {} scale, {} on a {} scale; the prior needs one",
+                                    p.name, first, sobol::to_string(b.scale), s.dir.string(),
+                                    sobol::to_string(p.bounds.scale)));
+      const double low = std::max(b.low, p.bounds.low), high = std::min(b.high, p.bounds.high);
+      if (!(low < high))
+        throw UserError(fmt::format("parameter {}: the ranges [{:g}, {:g}] of {} and [{:g}, {:g}] of {} do not overlap",
+                                    p.name, b.low, b.high, first, p.bounds.low, p.bounds.high, s.dir.string()));
+      b.low = low;
+      b.high = high;
+    }
+  }
+  const int d = static_cast<int>(prior.size());
+
+  // Targets: the measured values, each matched to every study that has the observable.
+  std::vector<ResolvedTarget> measured;
+  for (const std::string& t : options.targets)
+    for (const MeasuredValue& m : parse_measured("--target", t)) measured.push_back({m, 1.0});
+  for (const std::string& f : options.target_files)
+    for (const MeasuredValue& m : read_curve(f)) measured.push_back({m, 1.0});
+  {
+    std::set<std::string> seen;
+    for (const ResolvedTarget& t : measured)
+      if (!seen.insert(t.measured.name).second)
+        throw UserError(fmt::format("--target: {} is given twice", t.measured.name));
+  }
+  for (const std::string& text : options.weights) {
+    const std::vector<MeasuredValue> w = parse_measured("--weight", text);
+    if (w.size() != 1 || w[0].value < 0 || w[0].sd != 0)
+      throw UserError(fmt::format("--weight '{}': one value >= 0 expected", text));
+    const auto it = std::find_if(measured.begin(), measured.end(),
+                                 [&](const ResolvedTarget& t) { return t.measured.name == w[0].name; });
+    if (it == measured.end()) throw UserError(fmt::format("--weight '{}': {} is not a target", text, w[0].name));
+    it->weight = w[0].value;
+  }
+
+  std::vector<std::unique_ptr<sobol::Metamodel>> models;
+  std::vector<sobol::GaussianTarget> gaussian;
+  for (const ResolvedTarget& t : measured) {
+    bool found = false;
+    for (const Study& s : studies) {
+      if (std::find(s.available.begin(), s.available.end(), t.measured.name) == s.available.end()) continue;
+      found = true;
+      const TrainingData data = training_data(s.config, s.samples, s.observables, t.measured.name);
+      if (data.size() < 2)
+        throw UserError(fmt::format("{}: {} done samples measure {}; calibration needs more", s.dir.string(),
+                                    data.size(), t.measured.name));
+      const std::vector<std::string> candidates =
+          options.model.empty() ? s.config.analysis.metamodels : std::vector<std::string>{options.model};
+      std::vector<FittedMetamodel> fits =
+          fit_metamodels(metamodel_kinds(candidates), s.config.analysis.metamodel_options(), data.unit, data.y);
+      const std::optional<std::size_t> best = best_by_q2(fits);
+      if (!best) {
+        std::string errors;
+        for (const FittedMetamodel& f : fits) errors += fmt::format("\n  {}: {}", f.name(), f.error);
+        throw UserError(
+            fmt::format("{}: no metamodel could be fitted to {}:{}", s.dir.string(), t.measured.name, errors));
+      }
+      PosteriorTarget pt;
+      pt.name = t.measured.name;
+      pt.study = s.config.name;
+      pt.model = fits[*best].name();
+      pt.q2 = fits[*best].quality.q2;
+      pt.value = t.measured.value;
+      pt.sd = t.measured.sd;
+      pt.weight = t.weight;
+      outcome.targets.push_back(pt);
+      models.push_back(std::move(fits[*best].model));
+      sobol::GaussianTarget g{pt.name, models.back().get(), {}, pt.value, pt.sd, pt.weight};
+      // The study's unit coordinate of its parameter j is affine in the prior's coordinate (same scale).
+      for (const ParameterRange& p : s.config.parameters) {
+        const auto it = std::find_if(outcome.parameters.begin(), outcome.parameters.end(),
+                                     [&](const PosteriorParameter& q) { return q.name == p.name; });
+        const int column = static_cast<int>(it - outcome.parameters.begin());
+        const sobol::Bounds& b = prior[static_cast<size_t>(column)];
+        const double at_low = sobol::to_unit(b.low, p.bounds), at_high = sobol::to_unit(b.high, p.bounds);
+        g.inputs.push_back({column, at_low, at_high - at_low});
+      }
+      gaussian.push_back(g);
+    }
+    if (!found) {
+      std::string all;
+      for (const Study& s : studies) all += fmt::format("\n  {}: {}", s.dir.string(), join(s.available));
+      throw UserError(fmt::format("--target {}: no study has this observable (observables:{})", t.measured.name, all));
+    }
+  }
+  std::optional<sobol::GaussianPosterior> posterior;
+  try {
+    posterior.emplace(gaussian, d);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--target: {}", e.what()));
+  }
+
+  sobol::EnsembleOptions sampler;
+  sampler.walkers = options.walkers;
+  sampler.steps = options.steps;
+  sampler.burn_in = options.burn_in;
+  sampler.seed = options.seed ? *options.seed : studies.front().config.seed;
+  try {
+    sampler.validate(d);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--{}", e.what()));
+  }
+  const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
+  const auto start = std::chrono::steady_clock::now();
+  const sobol::EnsembleResult r = sobol::sample_ensemble(sobol::posterior_function(*posterior), lower, upper, sampler);
+  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const sobol::ChainDiagnostics diag = sobol::diagnose(r, "steps", "walkers");
+  const std::vector<sobol::MarginalSummary> marginals = sobol::summarise_marginals(r, lower, upper);
+  const Eigen::MatrixXd corr = sobol::posterior_correlation(r.draws);
+  outcome.walkers = r.walkers;
+  outcome.steps = r.steps;
+  outcome.burn_in = options.burn_in;
+  outcome.draws = static_cast<int>(r.draws.rows());
+  outcome.evaluations = r.evaluations;
+  outcome.seed = r.seed;
+  outcome.acceptance = diag.acceptance;
+  outcome.converged = diag.converged;
+  outcome.advice = diag.advice;
+  for (int j = 0; j < d; ++j) {
+    PosteriorParameter& p = outcome.parameters[static_cast<size_t>(j)];
+    const sobol::Bounds& b = prior[static_cast<size_t>(j)];
+    const sobol::MarginalSummary& m = marginals[static_cast<size_t>(j)];
+    p.low = b.low;
+    p.high = b.high;
+    p.log = b.scale == sobol::Scale::log_uniform;
+    p.mean = sobol::to_physical(m.mean, b);  // the mean on the design scale, mapped
+    p.map = sobol::to_physical(m.map, b);
+    p.q05 = sobol::to_physical(m.q05, b);
+    p.q50 = sobol::to_physical(m.q50, b);
+    p.q95 = sobol::to_physical(m.q95, b);
+    p.width_ratio = m.width_ratio;
+    p.identified = identified_label(m.width_ratio);
+    p.tau = diag.tau[static_cast<size_t>(j)];
+    p.rhat = diag.rhat[static_cast<size_t>(j)];
+    p.ess = diag.ess[static_cast<size_t>(j)];
+    outcome.correlation.emplace_back();
+    for (int k = 0; k < d; ++k) outcome.correlation.back().push_back(corr(j, k));
+  }
+
+  // Posterior predictive: metamodel mean plus Gaussian noise of the total variance, at up to 4000 draws spread
+  // evenly over the kept draws.
+  const Eigen::Index stride = std::max<Eigen::Index>(1, r.draws.rows() / 4000);
+  Eigen::MatrixXd subset(r.draws.rows() / stride, d);
+  for (Eigen::Index i = 0; i < subset.rows(); ++i) subset.row(i) = r.draws.row(i * stride);
+  Eigen::MatrixXd mean, sd;
+  posterior->predict(subset, mean, sd);
+  sobol::Random noise(sampler.seed + 1);
+  Eigen::MatrixXd map_mean, map_sd;
+  posterior->predict(r.best.transpose(), map_mean, map_sd);
+  for (size_t k = 0; k < outcome.targets.size(); ++k) {
+    const Eigen::Index c = static_cast<Eigen::Index>(k);
+    std::vector<double> y;
+    for (Eigen::Index i = 0; i < subset.rows(); ++i) y.push_back(mean(i, c) + sd(i, c) * noise.normal());
+    PosteriorTarget& t = outcome.targets[k];
+    t.predictive_q05 = sobol::quantile(y, 0.05);
+    t.predictive_q50 = sobol::quantile(y, 0.50);
+    t.predictive_q95 = sobol::quantile(y, 0.95);
+    t.predicted_map = map_mean(0, c);
+    t.model_sd = std::sqrt(std::max(0.0, map_sd(0, c) * map_sd(0, c) - t.sd * t.sd));
+  }
+
+  outcome.out = options.out.empty() ? options.dirs.front() / "calibration" : options.out;
+  fs::create_directories(outcome.out);
+  // The samples in physical units, thinned to at most 20000 rows (every k-th kept draw).
+  {
+    const Eigen::Index thin = std::max<Eigen::Index>(1, r.draws.rows() / 20000);
+    Eigen::MatrixXd table(r.draws.rows() / thin, d + 1);
+    for (Eigen::Index i = 0; i < table.rows(); ++i) {
+      for (int j = 0; j < d; ++j) table(i, j) = sobol::to_physical(r.draws(i * thin, j), prior[static_cast<size_t>(j)]);
+      table(i, d) = r.log_density(i * thin);
+    }
+    std::vector<std::string> header;
+    for (const PosteriorParameter& p : outcome.parameters) header.push_back(p.name);
+    header.push_back("log_posterior");
+    write_csv(outcome.out / "posterior_samples.csv", header, table);
+  }
+
+  if (options.verify >= 0) {
+    if (!options.run_point) throw util::InternalError("calibrate: verification asked for, but no way to run a case");
+    std::vector<std::pair<std::string, Eigen::VectorXd>> points{{"map", r.best}};
+    sobol::Random pick(sampler.seed + 2);
+    for (int k = 0; k < options.verify; ++k)
+      points.emplace_back(
+          fmt::format("draw-{}", k + 1),
+          r.draws.row(static_cast<Eigen::Index>(pick.below(static_cast<std::uint64_t>(r.draws.rows())))).transpose());
+    for (const auto& [label, u] : points) {
+      VerifyPoint vp;
+      vp.label = label;
+      for (int j = 0; j < d; ++j) vp.physical.push_back(sobol::to_physical(u(j), prior[static_cast<size_t>(j)]));
+      Eigen::MatrixXd pm, ps;
+      posterior->predict(u.transpose(), pm, ps);
+      for (const Study& s : studies) {
+        std::vector<double> unit;
+        for (const ParameterRange& p : s.config.parameters) {
+          const auto it = std::find_if(outcome.parameters.begin(), outcome.parameters.end(),
+                                       [&](const PosteriorParameter& q) { return q.name == p.name; });
+          const size_t column = static_cast<size_t>(it - outcome.parameters.begin());
+          unit.push_back(std::clamp(sobol::to_unit(vp.physical[column], p.bounds), 0.0, 1.0));
+        }
+        // Resumable: a point measured by an earlier run (same coordinates) is read back, not run again.
+        const fs::path folder = outcome.out / "verify" / label / s.config.name;
+        const fs::path record = outcome.out / "verify" / label / (s.config.name + ".json");
+        std::map<std::string, double> values;
+        std::string error;
+        bool reused = false;
+        if (fs::exists(record)) {
+          std::ifstream in(record);
+          const json j = json::parse(in, nullptr, false);
+          if (!j.is_discarded() && j.contains("unit") && j.at("unit").get<std::vector<double>>() == unit) {
+            values = j.at("observables").get<std::map<std::string, double>>();
+            error = j.at("error").get<std::string>();
+            reused = true;
+          }
+        }
+        if (!reused) {
+          const PointRun run = options.run_point(s.config, folder, unit);
+          values = run.observables;
+          error = run.error;
+          write_file_atomically(record, json{{"unit", unit}, {"observables", values}, {"error", error}}.dump(2));
+        }
+        if (!error.empty()) vp.errors.push_back(fmt::format("{}: {}", s.config.name, error));
+        for (size_t k = 0; k < outcome.targets.size(); ++k) {
+          const PosteriorTarget& t = outcome.targets[k];
+          if (t.study != s.config.name) continue;
+          VerifyPoint::Measured m;
+          m.target = t.name;
+          m.study = t.study;
+          const Eigen::Index c = static_cast<Eigen::Index>(k);
+          m.predicted = pm(0, c);
+          m.low = pm(0, c) - 1.645 * ps(0, c);
+          m.high = pm(0, c) + 1.645 * ps(0, c);
+          if (const auto it = values.find(t.name); it != values.end() && error.empty()) m.value = it->second;
+          vp.measured.push_back(m);
+        }
+      }
+      outcome.verification.push_back(vp);
+    }
+  }
+  write_file_atomically(outcome.out / "posterior.json", posterior_to_json(outcome));
+  return outcome;
+}
+
+std::string posterior_to_json(const PosteriorOutcome& o) {
+  json j;
+  j["method"] = "bayes";
+  j["studies"] = o.studies;
+  json parameters = json::array();
+  for (const PosteriorParameter& p : o.parameters)
+    parameters.push_back(json{{"name", p.name},
+                              {"low", p.low},
+                              {"high", p.high},
+                              {"log", p.log},
+                              {"mean", p.mean},
+                              {"map", p.map},
+                              {"q05", p.q05},
+                              {"q50", p.q50},
+                              {"q95", p.q95},
+                              {"width_ratio", p.width_ratio},
+                              {"identified", p.identified},
+                              {"tau", p.tau},
+                              {"rhat", p.rhat},
+                              {"ess", p.ess}});
+  j["parameters"] = parameters;
+  j["correlation"] = o.correlation;
+  json targets = json::array();
+  for (const PosteriorTarget& t : o.targets)
+    targets.push_back(json{{"name", t.name},
+                           {"study", t.study},
+                           {"model", t.model},
+                           {"q2", std::isfinite(t.q2) ? json(t.q2) : json(nullptr)},
+                           {"value", t.value},
+                           {"sd", t.sd},
+                           {"weight", t.weight},
+                           {"model_sd", t.model_sd},
+                           {"predicted_map", t.predicted_map},
+                           {"predictive_q05", t.predictive_q05},
+                           {"predictive_q50", t.predictive_q50},
+                           {"predictive_q95", t.predictive_q95}});
+  j["targets"] = targets;
+  j["sampler"] = json{{"walkers", o.walkers}, {"steps", o.steps},
+                      {"burn_in", o.burn_in}, {"draws", o.draws},
+                      {"seed", o.seed},       {"evaluations", o.evaluations},
+                      {"seconds", o.seconds}, {"acceptance", o.acceptance}};
+  j["diagnostics"] = json{{"converged", o.converged}, {"advice", o.advice}};
+  json verification = json::array();
+  for (const VerifyPoint& v : o.verification) {
+    json measured = json::array();
+    for (const VerifyPoint::Measured& m : v.measured)
+      measured.push_back(json{{"target", m.target},
+                              {"study", m.study},
+                              {"value", m.value ? json(*m.value) : json(nullptr)},
+                              {"predicted", m.predicted},
+                              {"low", m.low},
+                              {"high", m.high}});
+    verification.push_back(
+        json{{"label", v.label}, {"physical", v.physical}, {"measured", measured}, {"errors", v.errors}});
+  }
+  j["verification"] = verification;
+  return j.dump(2) + "\n";
+}
+
+PosteriorOutcome read_posterior(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw UserError(fmt::format("{}: cannot read", file.string()));
+  PosteriorOutcome o;
+  try {
+    const json j = json::parse(in);
+    o.studies = j.at("studies").get<std::vector<std::string>>();
+    for (const json& e : j.at("parameters")) {
+      PosteriorParameter p;
+      p.name = e.at("name");
+      p.low = e.at("low");
+      p.high = e.at("high");
+      p.log = e.at("log");
+      p.mean = e.at("mean");
+      p.map = e.at("map");
+      p.q05 = e.at("q05");
+      p.q50 = e.at("q50");
+      p.q95 = e.at("q95");
+      p.width_ratio = e.at("width_ratio");
+      p.identified = e.at("identified");
+      p.tau = e.at("tau");
+      p.rhat = e.at("rhat");
+      p.ess = e.at("ess");
+      o.parameters.push_back(p);
+    }
+    o.correlation = j.at("correlation").get<std::vector<std::vector<double>>>();
+    for (const json& e : j.at("targets")) {
+      PosteriorTarget t;
+      t.name = e.at("name");
+      t.study = e.at("study");
+      t.model = e.at("model");
+      t.q2 = e.at("q2").is_number() ? e.at("q2").get<double>() : std::nan("");
+      t.value = e.at("value");
+      t.sd = e.at("sd");
+      t.weight = e.at("weight");
+      t.model_sd = e.at("model_sd");
+      t.predicted_map = e.at("predicted_map");
+      t.predictive_q05 = e.at("predictive_q05");
+      t.predictive_q50 = e.at("predictive_q50");
+      t.predictive_q95 = e.at("predictive_q95");
+      o.targets.push_back(t);
+    }
+    const json& s = j.at("sampler");
+    o.walkers = s.at("walkers");
+    o.steps = s.at("steps");
+    o.burn_in = s.at("burn_in");
+    o.draws = s.at("draws");
+    o.seed = s.at("seed");
+    o.evaluations = s.at("evaluations");
+    o.seconds = s.at("seconds");
+    o.acceptance = s.at("acceptance");
+    o.converged = j.at("diagnostics").at("converged");
+    o.advice = j.at("diagnostics").at("advice");
+    for (const json& e : j.at("verification")) {
+      VerifyPoint v;
+      v.label = e.at("label");
+      v.physical = e.at("physical").get<std::vector<double>>();
+      v.errors = e.at("errors").get<std::vector<std::string>>();
+      for (const json& m : e.at("measured")) {
+        VerifyPoint::Measured x;
+        x.target = m.at("target");
+        x.study = m.at("study");
+        if (!m.at("value").is_null()) x.value = m.at("value").get<double>();
+        x.predicted = m.at("predicted");
+        x.low = m.at("low");
+        x.high = m.at("high");
+        v.measured.push_back(x);
+      }
+      o.verification.push_back(v);
+    }
+  } catch (const json::exception& e) {
+    throw UserError(fmt::format("{}: not a posterior file: {}", file.string(), e.what()));
+  }
+  o.out = file.parent_path();
+  return o;
+}
+
+std::string posterior_text(const PosteriorOutcome& o) {
+  std::string text = fmt::format("posterior of {} ({} walkers × {} steps after {} burn-in, seed {}, {:.1f} s)\n",
+                                 join(o.studies), o.walkers, o.steps, o.burn_in, o.seed, o.seconds);
+  text += fmt::format("  {:<10} {:>11} {:>11} {:>11} {:>11} {:>11} {:>7} {:>10} {:>7} {:>6} {:>8}\n", "parameter",
+                      "mean", "MAP", "5 %", "50 %", "95 %", "width", "identified", "tau", "R-hat", "ESS");
+  for (const PosteriorParameter& p : o.parameters)
+    text += fmt::format(
+        "  {:<10} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>7.3f} {:>10} {:>7.1f} {:>6.3f} {:>8.0f}\n",
+        p.name, p.mean, p.map, p.q05, p.q50, p.q95, p.width_ratio, p.identified, p.tau, p.rhat, p.ess);
+  text += "  (width: 90 % posterior width over the prior's width on the design scale; ~0.9 = not determined)\n";
+  if (o.parameters.size() > 1) {
+    text += "correlations:\n";
+    for (size_t i = 0; i < o.parameters.size(); ++i)
+      for (size_t k = i + 1; k < o.parameters.size(); ++k)
+        text += fmt::format("  {} ~ {}: {:+.3f}\n", o.parameters[i].name, o.parameters[k].name, o.correlation[i][k]);
+  }
+  text += fmt::format("  {:<14} {:<12} {:<10} {:>12} {:>10} {:>12} {:>12} {:>12} {:>12}\n", "target", "study", "model",
+                      "measured", "sd", "at MAP", "pred. 5 %", "pred. 95 %", "model sd");
+  for (const PosteriorTarget& t : o.targets)
+    text +=
+        fmt::format("  {:<14} {:<12} {:<10} {:>12.6g} {:>10.4g} {:>12.6g} {:>12.6g} {:>12.6g} {:>12.4g}\n", t.name,
+                    t.study, t.model, t.value, t.sd, t.predicted_map, t.predictive_q05, t.predictive_q95, t.model_sd);
+  text += fmt::format("diagnostics: acceptance {:.2f}; {}\n", o.acceptance,
+                      o.converged ? "converged (steps >= 50 τ, every R̂ < 1.05)" : "NOT CONVERGED: " + o.advice);
+  for (const VerifyPoint& v : o.verification) {
+    text += fmt::format("verification at {}:\n", v.label);
+    for (const VerifyPoint::Measured& m : v.measured)
+      text += fmt::format("  {:<14} {:<12} measured {:>12} predicted {:.6g} (90 % [{:.6g}, {:.6g}]){}\n", m.target,
+                          m.study, m.value ? fmt::format("{:.6g}", *m.value) : "-", m.predicted, m.low, m.high,
+                          m.value && (*m.value < m.low || *m.value > m.high) ? "  outside" : "");
+    for (const std::string& e : v.errors) text += fmt::format("  failed: {}\n", e);
+  }
+  text += fmt::format("written to {}\n", o.out.string());
+  return text;
+}
+
+}  // namespace demsa::analysis

@@ -1,0 +1,119 @@
+#pragma once
+// `demsa calibrate DIR [DIR ...] --method bayes`: the posterior of the contact parameters given measured values
+// with their uncertainty, on the metamodels of one or several studies (different experiments: a pile and an
+// oedometer study that share parameter names).
+//
+//   1. prior: uniform on each parameter's design scale (log where the study's range is log) over the intersection of
+//      the studies' ranges of that parameter (an empty intersection, or log in one study and linear in another, is
+//      a UserError naming the parameter and both studies);
+//   2. per target observable and study: the candidate metamodel with the best leave-one-out Q² (as the point
+//      calibration); the likelihood is Gaussian with variance σ² (measurement) + the metamodel's variance (GP:
+//      predictive; RSM/RBF: mean squared leave-one-out residual), sobol/posterior.hpp;
+//   3. the affine-invariant ensemble sampler (sobol/ensemble_sampler.hpp), seeded, with τ, split R̂ and ESS;
+//   4. DIR/calibration/ (or --out): posterior_samples.csv, posterior.json; with verify K, the real cases at the MAP
+//      and at K posterior draws (run_point, handed in by the CLI), each kept as verify/<point>/<study>.json so that
+//      a rerun measures only what is missing.
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/observables.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demsa::analysis {
+
+struct PosteriorOptions {
+  std::vector<std::filesystem::path> dirs;  ///< study folders (at least one); the first holds the output
+  std::filesystem::path out;                ///< output folder; empty: dirs[0]/calibration
+  /// "NAME=V±E" or "NAME=V+-E"; "NAME=V1,V2,...±E1,E2,..." (or one E for all) sets NAME_1, NAME_2, ...
+  /// (settlement=... sets settlement_1, ...). Without ±: σ = 0 (the metamodel's error alone).
+  std::vector<std::string> targets;
+  /// "NAME=FILE": a CSV of one measured curve, one row per point (NAME_1, NAME_2, ...), columns `mean` and either
+  /// `sd`, or `low`, `high` and `tests` (min/max over that many tests: σ = (high - low) / d₂(tests)).
+  std::vector<std::string> target_files;
+  std::vector<std::string> weights;   ///< "NAME=W", W >= 0 (tempers that target's likelihood term)
+  std::string model;                  ///< one metamodel for every target; empty: the best Q² per observable
+  int walkers = 0;                    ///< 0: the sampler's default (max(32, 4d))
+  int steps = 3000;                   ///< kept steps per walker
+  int burn_in = 1000;                 ///< discarded steps per walker
+  std::optional<std::uint64_t> seed;  ///< empty: the first study's seed
+  int verify = -1;                    ///< -1: no verification; K >= 0: the MAP and K posterior draws
+  std::function<study::PointRun(const study::StudyConfig& config, const std::filesystem::path& folder,
+                                const std::vector<double>& unit)>
+      run_point;
+  /// Throws util::UserError naming the option and the value.
+  void validate() const;
+};
+
+struct PosteriorParameter {
+  std::string name;
+  double low = 0.0, high = 1.0;                                   ///< prior range (physical)
+  bool log = false;                                               ///< prior uniform in log
+  double mean = 0.0, map = 0.0, q05 = 0.0, q50 = 0.0, q95 = 0.0;  ///< physical
+  double width_ratio = 0.0;  ///< 90 % posterior width / prior width, on the design scale
+  double tau = 0.0, rhat = 0.0, ess = 0.0;
+  std::string identified;  ///< "yes" (< 0.5), "partly" (< 0.8), "no"
+};
+
+struct PosteriorTarget {
+  std::string name;   ///< observable
+  std::string study;  ///< study it belongs to
+  std::string model;  ///< metamodel used
+  double q2 = 0.0;
+  double value = 0.0, sd = 0.0, weight = 1.0;
+  double model_sd = 0.0;                                                    ///< metamodel standard deviation at the MAP
+  double predicted_map = 0.0;                                               ///< metamodel prediction at the MAP
+  double predictive_q05 = 0.0, predictive_q50 = 0.0, predictive_q95 = 0.0;  ///< posterior predictive
+};
+
+/// One verification point: the MAP or a posterior draw, run in every study.
+struct VerifyPoint {
+  std::string label;             ///< "map", "draw-1", ...
+  std::vector<double> physical;  ///< parameter values
+  struct Measured {
+    std::string target;  ///< observable
+    std::string study;
+    std::optional<double> value;   ///< measured (empty when the run failed)
+    double predicted = 0.0;        ///< metamodel mean at the point
+    double low = 0.0, high = 0.0;  ///< 90 % predictive interval at the point (mean ± 1.645 total sd)
+  };
+  std::vector<Measured> measured;
+  std::vector<std::string> errors;  ///< "study: why" for failed runs
+};
+
+/// Plain data; written to <out>/posterior.json.
+struct PosteriorOutcome {
+  std::vector<std::string> studies;
+  std::vector<PosteriorParameter> parameters;
+  std::vector<std::vector<double>> correlation;
+  std::vector<PosteriorTarget> targets;
+  int walkers = 0, steps = 0, burn_in = 0, draws = 0, evaluations = 0;
+  std::uint64_t seed = 0;
+  double acceptance = 0.0;
+  bool converged = false;
+  std::string advice;
+  double seconds = 0.0;  ///< sampling wall time
+  std::vector<VerifyPoint> verification;
+  std::filesystem::path out;
+};
+
+PosteriorOutcome calibrate_posterior(const PosteriorOptions& options);
+
+std::string posterior_to_json(const PosteriorOutcome& outcome);
+/// Reads <out>/posterior.json back; throws util::UserError naming the file.
+PosteriorOutcome read_posterior(const std::filesystem::path& file);
+/// The printed tables (parameters, targets, diagnostics, verification).
+std::string posterior_text(const PosteriorOutcome& outcome);
+
+/// "NAME=V±E" parsing (exposed for tests): names and per-name (value, sd). Throws util::UserError naming `option`.
+struct MeasuredValue {
+  std::string name;
+  double value = 0.0;
+  double sd = 0.0;
+};
+std::vector<MeasuredValue> parse_measured(const std::string& option, const std::string& text);
+
+}  // namespace demsa::analysis

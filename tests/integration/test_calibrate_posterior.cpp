@@ -1,0 +1,241 @@
+// `demsa calibrate --method bayes` through the real binary: synthetic study folders (store written directly) for
+// the posterior, its files and its errors; the fake LIGGGHTS for a joint pile + oedometer calibration with --verify.
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/store.hpp"
+#include "support/synthetic_study.hpp"
+#include "support/test_support.hpp"
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+using namespace demsa::study;
+
+namespace demsa::test {
+namespace {
+namespace fs = std::filesystem;
+
+/// angle depends on mu_pw strongly and on mu_r_pw weakly (u coordinates of the study's own ranges).
+double angle_of(double u1, double u2) { return 21.0 + 12.0 * u1 + 0.3 * u2; }
+
+void write_pile(const fs::path& dir, const std::string& ranges, const std::string& name = "pile-synthetic") {
+  SyntheticStudy study = start_synthetic_study(
+      dir,
+      StudyToml{.name = name,
+                .seed = 3,
+                .samples = 30,
+                .parameters = ranges,
+                .analysis = "metamodels = [\"rsm2\", \"gp\"]\nbootstrap = 5\nbase_samples = 256\n"}
+          .text(),
+      2);
+  for (const SampleRow& row : study.samples) {
+    RunOutcome done;
+    done.exit_code = 0;
+    study.store.record_done(study.store.add_run(row.sample, 1), done, {{"angle", angle_of(row.unit[0], row.unit[1])}});
+  }
+}
+
+/// An oedometer study over mu_pw only (its own range): settlement_k = k · (1 + u) mm.
+void write_oedometer(const fs::path& dir, const std::string& ranges) {
+  SyntheticStudy study =
+      start_synthetic_study(dir,
+                            StudyToml{.name = "oedometer-synthetic",
+                                      .experiment = "oedometer",
+                                      .seed = 4,
+                                      .samples = 20,
+                                      .parameters = ranges,
+                                      .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 5\nbase_samples = 256\n"}
+                                .text(),
+                            3);
+  for (const SampleRow& row : study.samples) {
+    RunOutcome done;
+    done.exit_code = 0;
+    std::map<std::string, double> v;
+    for (int k = 1; k <= 3; ++k) v[fmt::format("settlement_{}", k)] = k * 1e-3 * (1.0 + row.unit[0]);
+    study.store.record_done(study.store.add_run(row.sample, 1), done, v);
+  }
+}
+
+const std::string k_ranges = "mu_pw = { low = 0.4, high = 1.9 }\nmu_r_pw = { low = 0.1, high = 0.5 }\n";
+
+TEST(CalibratePosteriorCli, ATargetWithAnUncertaintyGivesThePosteriorAndItsFiles) {
+  TempDir dir;
+  write_pile(dir / "study", k_ranges);
+  // angle 30 ± 0.5 puts u1 near 0.75 (mu_pw = 1.525); mu_r_pw moves the angle by 0.3° over its range: free.
+  const CommandResult r = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=30±0.5", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& mu = j.at("parameters").at(0);
+  EXPECT_EQ(mu.at("name").get<std::string>(), "mu_pw");
+  EXPECT_NEAR(mu.at("q50").get<double>(), 0.4 + 1.5 * 0.75, 0.03);
+  EXPECT_LT(mu.at("width_ratio").get<double>(), 0.2);
+  EXPECT_EQ(mu.at("identified").get<std::string>(), "yes");
+  EXPECT_GT(j.at("parameters").at(1).at("width_ratio").get<double>(), 0.8);
+  EXPECT_EQ(j.at("parameters").at(1).at("identified").get<std::string>(), "no");
+  EXPECT_TRUE(j.at("diagnostics").at("converged").get<bool>()) << j.at("diagnostics").dump();
+  const fs::path out = dir / "study" / "calibration";
+  for (const char* f : {"posterior.json", "posterior_samples.csv", "posterior_marginals.png", "posterior_corner.png",
+                        "posterior_predictive.png"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  // The report picks the posterior up.
+  const CommandResult report = run_demsa({"report", (dir / "study").string()});
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  EXPECT_NE(read_file(dir / "study" / "report" / "report.md").find("Posterior calibration"), std::string::npos);
+}
+
+TEST(CalibratePosteriorCli, TextOutputPrintsTheTableAndAShortChainIsReportedUnconverged) {
+  TempDir dir;
+  write_pile(dir / "study", k_ranges);
+  const CommandResult r = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=30+-0.5", "--steps",
+                                     "20", "--burn-in", "0", "--no-plots"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("identified"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("NOT CONVERGED"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("raise --steps"), std::string::npos) << r.out;
+}
+
+TEST(CalibratePosteriorCli, TwoStudiesShareTheIntersectionOfTheirRanges) {
+  TempDir dir;
+  write_pile(dir / "pile", k_ranges);
+  write_oedometer(dir / "oedometer", "mu_pw = { low = 1.0, high = 2.5 }\n");
+  // settlement_k = k (1 + u) mm with u on [1.0, 2.5]: u = 0.3 is mu_pw = 1.45, which gives the angle 21 + 12·0.7.
+  const CommandResult r =
+      run_demsa({"calibrate", (dir / "pile").string(), (dir / "oedometer").string(), "--target", "angle=29.4±0.5",
+                 "--target", "settlement=1.3e-3,2.6e-3,3.9e-3±0.05e-3", "--steps", "800", "--json", "--no-plots"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& mu = j.at("parameters").at(0);
+  EXPECT_EQ(mu.at("low").get<double>(), 1.0);
+  EXPECT_EQ(mu.at("high").get<double>(), 1.9);
+  EXPECT_NEAR(mu.at("q50").get<double>(), 1.45, 0.03);
+  ASSERT_EQ(j.at("targets").size(), 4u);
+  EXPECT_EQ(j.at("targets").at(1).at("study").get<std::string>(), "oedometer-synthetic");
+  EXPECT_EQ(j.at("studies").size(), 2u);
+}
+
+TEST(CalibratePosteriorCli, DisjointRangesNameTheParameterAndBothStudies) {
+  TempDir dir;
+  write_pile(dir / "pile", k_ranges);
+  write_oedometer(dir / "oedometer", "mu_pw = { low = 2.0, high = 2.5 }\n");
+  const CommandResult r =
+      run_demsa({"calibrate", (dir / "pile").string(), (dir / "oedometer").string(), "--target", "angle=29±1"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("parameter mu_pw: the ranges [0.4, 1.9] of " + (dir / "pile").string() + " and [2, 2.5] of " +
+                       (dir / "oedometer").string() + " do not overlap"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(CalibratePosteriorCli, BadTargetsNameTheOptionAndTheValue) {
+  TempDir dir;
+  write_pile(dir / "study", k_ranges);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"angle=30±x", "--target 'angle=30±x': 'x' is not a number"},
+      {"angle=30±", "--target 'angle=30±': no uncertainty after '±'"},
+      {"angle=30±-1", "--target 'angle=30±-1': uncertainty -1 must be >= 0"},
+      {"settlement=1,2,3±1,2", "--target 'settlement=1,2,3±1,2': 2 uncertainties for 3 values"},
+      {"slope=3±1", "--target slope: no study has this observable"}};
+  for (const auto& [target, message] : cases) {
+    const CommandResult r = run_demsa({"calibrate", (dir / "study").string(), "--target", target});
+    EXPECT_EQ(r.exit_code, 2) << target;
+    EXPECT_NE(r.err.find(message), std::string::npos) << target << ": " << r.err;
+  }
+  const CommandResult optimize_two =
+      run_demsa({"calibrate", (dir / "study").string(), (dir / "study").string(), "--method", "optimize"});
+  EXPECT_EQ(optimize_two.exit_code, 2);
+  EXPECT_NE(optimize_two.err.find("--method optimize: one study folder"), std::string::npos) << optimize_two.err;
+}
+
+TEST(CalibratePosteriorCli, AMeasuredCurveFromACsvFile) {
+  TempDir dir;
+  write_oedometer(dir / "oedometer", "mu_pw = { low = 1.0, high = 2.5 }\n");
+  // Six tests with min/max bars: σ = (high - low) / d₂(6).
+  write_file(dir / "curve.csv",
+             "mean,low,high,tests\n1.3e-3,1.2e-3,1.4e-3,6\n2.6e-3,2.4e-3,2.8e-3,6\n"
+             "3.9e-3,3.7e-3,4.1e-3,6\n");
+  const CommandResult r =
+      run_demsa({"calibrate", (dir / "oedometer").string(), "--target-file",
+                 "settlement=" + (dir / "curve.csv").string(), "--steps", "500", "--json", "--no-plots"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("targets").size(), 3u);
+  EXPECT_NEAR(j.at("targets").at(0).at("sd").get<double>(), 0.2e-3 / 2.534, 1e-9);
+  EXPECT_EQ(j.at("targets").at(2).at("name").get<std::string>(), "settlement_3");
+  EXPECT_NEAR(j.at("parameters").at(0).at("q50").get<double>(), 1.45, 0.05);
+  write_file(dir / "bad.csv", "mean,low\n1.3e-3,1.2e-3\n");
+  const CommandResult bad = run_demsa(
+      {"calibrate", (dir / "oedometer").string(), "--target-file", "settlement=" + (dir / "bad.csv").string()});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("bad.csv: needs a column 'sd', or the columns 'low', 'high' and 'tests'"), std::string::npos)
+      << bad.err;
+}
+
+TEST(CalibratePosteriorCli, JointFakeRunsVerifyTheMapAndDrawsAndResume) {
+  TempDir tmp;
+  const std::string ranges = "mu_pp = { low = 0.3, high = 0.9 }\n";
+  write_file(tmp / "pile.toml", StudyToml{.name = "fake-pile",
+                                          .samples = 6,
+                                          .parameters = ranges + "mu_r_pp = { low = 0.05, high = 0.3 }\n",
+                                          .tables = "[pile]\nparticles = 300\n",
+                                          .run = fake_liggghts_run_lines(),
+                                          .analysis = "metamodels = [\"rsm1\"]\nbootstrap = 0\n"}
+                                    .text());
+  write_file(tmp / "oedometer.toml", StudyToml{.name = "fake-oedometer",
+                                               .experiment = "oedometer",
+                                               .samples = 6,
+                                               .parameters = "mu_pp = { low = 0.2, high = 0.8 }\n",
+                                               .tables = "[oedometer]\nparticles = 200\n",
+                                               .run = fake_liggghts_run_lines(),
+                                               .analysis = "metamodels = [\"rsm1\"]\nbootstrap = 0\n"}
+                                         .text());
+  FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  for (const char* s : {"pile", "oedometer"}) {
+    const CommandResult run = run_demsa(
+        {"run", (tmp / (std::string(s) + ".toml")).string(), "--dir", (tmp / s).string(), "--no-analyze", "--quiet"});
+    ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  }
+  const Store pile = Store::open_read_only((tmp / "pile" / "study.db").string());
+  const Store oedometer = Store::open_read_only((tmp / "oedometer" / "study.db").string());
+  const double angle = pile.observables().begin()->second.at("angle");
+  const double s1 = oedometer.observables().begin()->second.at("settlement_1");
+  const std::vector<std::string> args{"calibrate",
+                                      (tmp / "pile").string(),
+                                      (tmp / "oedometer").string(),
+                                      "--target",
+                                      fmt::format("angle={:.6g}±2", angle),
+                                      "--target",
+                                      fmt::format("settlement_1={:.6g}±{:.3g}", s1, 0.2 * std::abs(s1) + 1e-6),
+                                      "--steps",
+                                      "200",
+                                      "--verify",
+                                      "2",
+                                      "--json",
+                                      "--no-plots"};
+  const CommandResult r = run_demsa(args);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("verification").size(), 3u);
+  EXPECT_EQ(j.at("verification").at(0).at("label").get<std::string>(), "map");
+  for (const nlohmann::json& v : j.at("verification")) {
+    EXPECT_TRUE(v.at("errors").empty()) << v.dump();
+    ASSERT_EQ(v.at("measured").size(), 2u) << v.dump();
+    for (const nlohmann::json& m : v.at("measured")) {
+      EXPECT_TRUE(m.at("value").is_number()) << m.dump();
+      EXPECT_LT(m.at("low").get<double>(), m.at("high").get<double>());
+    }
+  }
+  const fs::path out = tmp / "pile" / "calibration" / "verify";
+  EXPECT_TRUE(fs::exists(out / "map" / "fake-pile.json"));
+  EXPECT_TRUE(fs::exists(out / "draw-2" / "fake-oedometer.json"));
+  // A second call measures nothing again: every point is read back from its record.
+  const std::string starts = read_file(tmp / "starts.log");
+  const CommandResult again = run_demsa(args);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(read_file(tmp / "starts.log"), starts);
+  EXPECT_EQ(nlohmann::json::parse(again.out).at("verification"), j.at("verification"));
+}
+
+}  // namespace
+}  // namespace demsa::test
