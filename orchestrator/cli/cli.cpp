@@ -121,6 +121,7 @@ int run_cli(int argc, char** argv) {
   register_sensitivity_command(app, state);
   register_postprocess_command(app, state);
   register_compare_command(app, state);
+  register_predict_command(app, state);
 
   // Every error of every command ends here: the subcommands' callbacks run inside parse().
   try {

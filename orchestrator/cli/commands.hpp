@@ -20,5 +20,6 @@ void register_design_command(CLI::App& app, CliState& state);       // design.cp
 void register_sensitivity_command(CLI::App& app, CliState& state);  // sensitivity.cpp
 void register_postprocess_command(CLI::App& app, CliState& state);  // postprocess.cpp
 void register_compare_command(CLI::App& app, CliState& state);      // compare.cpp
+void register_predict_command(CLI::App& app, CliState& state);      // predict.cpp
 
 }  // namespace demsa::cli
