@@ -66,7 +66,7 @@ TEST(CliPredict, StudyFolderModelsReproduceTheTrainingDataAndTheBestIsChosenByQ2
             std::string::npos)
       << r.err;
 
-  // An interpolant reproduces its training data.
+  // An interpolant reproduces its training data (observables.csv holds 10 significant digits of inputs and angle).
   r = run_demsa({"predict", study.string(), "--observable", "angle", "--model", "rbf-cubic", "--points",
                  (tmp / "points.csv").string(), "-o", (tmp / "rbf.csv").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -74,7 +74,7 @@ TEST(CliPredict, StudyFolderModelsReproduceTheTrainingDataAndTheBestIsChosenByQ2
   ASSERT_EQ(rbf.columns, (std::vector<std::string>{"mu_pp", "mu_r_pp", "angle"}));
   ASSERT_EQ(rbf.rows(), observed.rows());
   for (int i = 0; i < rbf.rows(); ++i)
-    EXPECT_NEAR(rbf.values(i, 2), observed.values(i, observed.column_index("angle")), 1e-9) << i;
+    EXPECT_NEAR(rbf.values(i, 2), observed.values(i, observed.column_index("angle")), 1e-7) << i;
 
   // Without --model: the largest Q² of analysis.json.
   const nlohmann::json analysis = nlohmann::json::parse(read_file(study / "analysis" / "analysis.json"));
@@ -126,7 +126,7 @@ TEST(CliPredict, PointsFileErrorsAndPointsOutsideTheBounds) {
   write_file(tmp / "missing.csv", "mu_pp,other\n1.0,2\n");
   CommandResult r = run_demsa({"predict", model, "--points", (tmp / "missing.csv").string()});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find((tmp / "missing.csv").string() + ": no column 'mu_r_pp' (columns: mu_pp, other)"),
+  EXPECT_NE(r.err.find((tmp / "missing.csv").string() + ":1: no column 'mu_r_pp' (columns: mu_pp, other)"),
             std::string::npos)
       << r.err;
   // Two of three points outside [0.7, 1.9] x [0.05, 0.5]: predicted, with a warning that counts them.
@@ -231,7 +231,7 @@ TEST(CliSensitivitySaltelli, ResponseColumnsAppendedToTheDesign) {
   EXPECT_NE(r.err.find("--response y: ambiguous: 'y' is a column of the design"), std::string::npos) << r.err;
   r = run_demsa({"sensitivity", "--saltelli", (tmp / "design_y.csv").string(), "--response", "z"});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("design_y.csv: no column 'z' (columns: block, x1, x2, x3, y)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("design_y.csv:1: no column 'z' (columns: block, x1, x2, x3, y)"), std::string::npos) << r.err;
 }
 
 }  // namespace
