@@ -383,8 +383,8 @@ TEST(CliSensitivityErrors, ConstantOutputIsAnErrorOnBothPaths) {
     data += fmt::format("{},{},{},1\n", std::fmod(0.618034 * i, 1.0), std::fmod(0.7548777 * i + 0.1, 1.0),
                         std::fmod(0.5698403 * i + 0.3, 1.0));
   write_file(dir / "c.csv", data);
-  const CommandResult r = run_demsa({"sensitivity", "--data", (dir / "c.csv").string(), "--inputs", "a,b,c", "--response",
-                                     "y", "--metamodels", "rsm2,rbf-cubic"});
+  const CommandResult r = run_demsa({"sensitivity", "--data", (dir / "c.csv").string(), "--inputs", "a,b,c",
+                                     "--response", "y", "--metamodels", "rsm2,rbf-cubic"});
   EXPECT_EQ(r.exit_code, 2) << r.out;
   EXPECT_NE(r.err.find("c.csv"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("output 'y' is constant (every one of its 30 samples is 1"), std::string::npos) << r.err;
