@@ -187,6 +187,40 @@ TEST(CliOptionNames, OldOutputSpellingWarnsAndStillWorks) {
       << r.err;
 }
 
+TEST(CliPredict, SaveModelWritesOneFileOrAFolder) {
+  TempDir tmp;
+  std::string data = "a,b,y\n";
+  for (int i = 0; i < 20; ++i)
+    data += fmt::format("{},{},{}\n", i * 0.05, (i * 7 % 20) * 0.05, std::sin(i * 0.3) + 0.2 * (i * 7 % 20));
+  write_file(tmp / "data.csv", data);
+  const std::vector<std::string> common{
+      "sensitivity", "--data", (tmp / "data.csv").string(), "--inputs", "a,b", "--response", "y", "--bootstrap", "0",
+      "--base",      "64"};
+  std::vector<std::string> args = common;
+  args.insert(args.end(), {"--metamodels", "rsm2", "--save-model", (tmp / "one.json").string()});
+  CommandResult r = run_demsa(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(tmp / "one.json"))["kind"], "rsm2");
+  args = common;
+  args.insert(args.end(), {"--metamodels", "rsm2,rbf-tps", "--save-model", (tmp / "two.json").string()});
+  r = run_demsa(args);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("2 metamodels (1 response(s) x 2 kind(s)) need a folder, not a .json file"), std::string::npos)
+      << r.err;
+  args = common;
+  args.insert(args.end(), {"--metamodels", "rsm2,rbf-tps", "--save-model", (tmp / "models").string()});
+  r = run_demsa(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(tmp / "models" / "y.rsm2.json"));
+  EXPECT_TRUE(fs::exists(tmp / "models" / "y.rbf-tps.json"));
+  // The Saltelli path fits no metamodel.
+  r = run_demsa({"sensitivity", "--saltelli", (tmp / "data.csv").string(), "--response", "y", "--save-model",
+                 (tmp / "m.json").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--save-model: a Saltelli design gives indices without a metamodel"), std::string::npos)
+      << r.err;
+}
+
 TEST(CliSensitivitySaltelli, ResponseColumnsAppendedToTheDesign) {
   TempDir tmp;
   ASSERT_EQ(
