@@ -24,6 +24,11 @@ class GaussianProcess final : public Metamodel {
   void fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) override;
   /// Fits with fixed hyperparameters (length scales, nugget ratio) instead of a likelihood search.
   void fit_with(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& lengths, double nugget);
+  /// A model saved to a file: fit_with(x, y, lengths, nugget) (deterministic: the same Cholesky factor, LOO
+  /// residuals and summary), then predicts with the saved trend coefficients β, weights α = R⁻¹(y - Fβ) and
+  /// process variance σ². Throws InputError for wrong sizes or a σ² that is not positive.
+  void restore(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& lengths, double nugget,
+               const Eigen::VectorXd& beta, const Eigen::VectorXd& alpha, double process_variance);
   Eigen::VectorXd predict(const Eigen::MatrixXd& x) const override;
   /// Predictive standard deviation (without the trend-estimation term) at the rows of x.
   Eigen::VectorXd predict_sd(const Eigen::MatrixXd& x) const;
@@ -33,10 +38,14 @@ class GaussianProcess final : public Metamodel {
   bool interpolates() const override { return !m_options.nugget; }
 
   const GpOptions& options() const { return m_options; }
-  const Eigen::VectorXd& lengths() const { return m_lengths; }  ///< θ_k
-  double nugget() const { return m_nugget; }                    ///< τ (0 without nugget)
-  double process_variance() const { return m_sigma2; }          ///< σ²
-  double log_likelihood() const { return m_log_likelihood; }    ///< concentrated, at the optimum
+  const Eigen::VectorXd& lengths() const { return m_lengths; }          ///< θ_k
+  double nugget() const { return m_nugget; }                            ///< τ (0 without nugget)
+  double process_variance() const { return m_sigma2; }                  ///< σ²
+  double log_likelihood() const { return m_log_likelihood; }            ///< concentrated, at the optimum
+  const Eigen::VectorXd& trend_coefficients() const { return m_beta; }  ///< β, on trend_basis (1, x_1..x_d)
+  const Eigen::VectorXd& weights() const { return m_alpha; }            ///< α = R⁻¹ (y - Fβ), in the units of y
+  /// Added to the diagonal of every correlation matrix (relative to the unit variance) for a stable Cholesky factor.
+  static double jitter();
 
   /// Concentrated log-likelihood of (x, y) for given hyperparameters (-inf when R is not positive definite).
   /// Exposed for tests and benchmarks.

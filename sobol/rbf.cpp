@@ -68,6 +68,18 @@ void RbfInterpolant::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   m_fitted = true;
 }
 
+void RbfInterpolant::restore(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& weights,
+                             const Eigen::VectorXd& tail) {
+  if (weights.size() != x.rows())
+    throw InputError(fmt::format("{}: {} weights for {} centres", name(), weights.size(), x.rows()));
+  if (tail.size() != x.cols() + 1)
+    throw InputError(
+        fmt::format("{}: {} tail coefficients for {} inputs (needs {})", name(), tail.size(), x.cols(), x.cols() + 1));
+  fit(x, y);
+  m_weights = weights;
+  m_tail = tail;
+}
+
 Eigen::VectorXd RbfInterpolant::predict(const Eigen::MatrixXd& x) const {
   assert(m_fitted && x.cols() == m_x.cols());
   const Eigen::Index d = m_x.cols();

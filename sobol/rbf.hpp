@@ -24,6 +24,10 @@ class RbfInterpolant final : public Metamodel {
   std::unique_ptr<Metamodel> refit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const override;
   bool interpolates() const override { return true; }
 
+  /// A model saved to a file: refits to (x, y) (deterministic: the same LOO residuals and summary), then predicts
+  /// with the saved weights w_i (one per row of x) and tail c_0..c_d. Throws InputError for wrong sizes.
+  void restore(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& weights,
+               const Eigen::VectorXd& tail);
   /// φ(r) of this kind.
   double phi(double r) const;
   const Eigen::VectorXd& weights() const { return m_weights; }  ///< w_i

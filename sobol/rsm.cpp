@@ -113,6 +113,15 @@ void PolynomialRsm::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   m_fitted = true;
 }
 
+void PolynomialRsm::restore(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& coefficients) {
+  const int terms = term_count(std::max(static_cast<int>(x.cols()), 1), m_degree);
+  if (coefficients.size() != terms)
+    throw InputError(fmt::format("{}: {} coefficients for {} terms (degree {} in {} inputs)", name(),
+                                 coefficients.size(), terms, m_degree, x.cols()));
+  fit(x, y);
+  m_coefficients = coefficients;
+}
+
 Eigen::VectorXd PolynomialRsm::predict(const Eigen::MatrixXd& x) const {
   assert(m_fitted && x.cols() == m_x.cols());
   // Blocks of rows keep the basis matrix small (rsm3 in 7-D has 120 terms per row).

@@ -36,6 +36,10 @@ class PolynomialRsm final : public Metamodel {
   const std::vector<std::vector<int>>& terms() const { return m_terms; }
   /// Coefficients on the orthonormal Legendre basis, aligned with terms(). Valid after fit().
   const Eigen::VectorXd& coefficients() const { return m_coefficients; }
+  /// A model saved to a file: refits to (x, y) (deterministic: the same terms, LOO residuals and summary), then
+  /// predicts with the saved `coefficients` (the file's numbers, bit for bit). Throws InputError when their count
+  /// is not C(d + p, p).
+  void restore(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& coefficients);
   /// Number of terms of total degree <= p in d dimensions: C(d + p, p).
   static int term_count(int dimension, int degree);
 

@@ -1,6 +1,7 @@
 #include "orchestrator/analysis/study_analysis.hpp"
 
 #include "orchestrator/analysis/fit.hpp"
+#include "orchestrator/analysis/model_file.hpp"
 #include "orchestrator/analysis/sobol_json.hpp"
 #include "orchestrator/analysis/training_data.hpp"
 #include "orchestrator/study/config.hpp"
@@ -16,6 +17,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -98,6 +100,13 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   sobol_options.stop = options.should_stop;
 
   const sobol::MetamodelOptions model_options = config.analysis.metamodel_options();
+  // Every fitted metamodel as a file (model_file.hpp), written with the rest once everything is computed.
+  SavedModel saved;
+  for (const ParameterRange& p : config.parameters) {
+    saved.inputs.push_back(p.name);
+    saved.bounds.push_back(p.bounds);
+  }
+  std::vector<std::pair<std::string, std::string>> model_files;  // file name, JSON text
   for (const std::string& name : names) {
     const TrainingData data = training_data(config, samples, observables, name);
     ObservableAnalysis analysis;
@@ -124,6 +133,10 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
       model.model = fit.name();
       model.error = fit.error;
       if (fit.ok()) {
+        saved.output = name;
+        saved.model = std::move(fit.model);
+        model_files.emplace_back(model_file_name(name, model.model), model_to_json(saved));
+        fit.model = std::move(saved.model);
         try {
           model.quality = fit.quality;
           model.indices = sobol::metamodel_sobol(*fit.model, sobol_options);
@@ -192,6 +205,16 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     write_text(summary.out_dir / fmt::format("table_{}.csv", o.name), table);
   }
   write_text(summary.out_dir / "metamodels.json", metamodels_json.dump(2) + "\n");
+  // models/ holds the models of this analysis only: a file of a metamodel or observable no longer analysed goes.
+  const fs::path models_dir = summary.out_dir / "models";
+  fs::create_directories(models_dir);
+  for (const fs::directory_entry& entry : fs::directory_iterator(models_dir)) {
+    const std::string file = entry.path().filename().string();
+    const bool current = std::any_of(model_files.begin(), model_files.end(),
+                                     [&](const std::pair<std::string, std::string>& m) { return m.first == file; });
+    if (!current && entry.is_regular_file() && entry.path().extension() == ".json") fs::remove(entry.path());
+  }
+  for (const auto& [file, text] : model_files) write_text(models_dir / file, text);
   write_text(summary.out_dir / "analysis.json", analysis_to_json(summary));
 
   for (const std::string& model_name : models) {

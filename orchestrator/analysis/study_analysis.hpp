@@ -8,6 +8,8 @@
 //   observables.csv                 sample, unit-cube values, physical values, one column per observable
 //   metamodels.json                 per observable and model: quality (R², adj. R², Q², RMSE_LOO) or the error
 //   sobol_<model>.csv / .json       per observable: S1, ST with intervals per parameter (+ S2 in the JSON)
+//   models/<observable>.<model>.json every fitted metamodel as a self-contained file (model_file.hpp), for
+//                                   `demsa predict`
 //   table_<observable>.csv          the paper's Tables 4–7 layout: one row per metamodel, S1 per parameter and
 //                                   the residual 1 − ΣS1
 //   analysis.json                   everything above in one document (samples used, failed samples, settings;

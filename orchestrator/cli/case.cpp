@@ -129,7 +129,8 @@ void register_case_commands(CLI::App& app, CliState& state) {
                                      "Parameter values name=value[,name=value...]; varied parameters not named take "
                                      "the middle of their range");
   sample->excludes(set);
-  sub->add_option("-o,--output", options->output, "Case folder (default case-<K>); it must be empty or new");
+  sub->add_option("-o,--out", options->output, "Case folder (default case-<K>); it must be empty or new");
+  add_deprecated_option(sub, "--output", "-o/--out", options->output);
   sub->add_flag("--overwrite", options->overwrite,
                 "Empty the case folder first when it holds files (e.g. the outputs of an earlier ./run.sh); only a "
                 "folder that holds a case.json is emptied");

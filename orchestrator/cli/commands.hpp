@@ -21,5 +21,6 @@ void register_sensitivity_command(CLI::App& app, CliState& state);  // sensitivi
 void register_postprocess_command(CLI::App& app, CliState& state);  // postprocess.cpp
 void register_compare_command(CLI::App& app, CliState& state);      // compare.cpp
 void register_export_vtk_command(CLI::App& app, CliState& state);   // export_vtk.cpp
+void register_predict_command(CLI::App& app, CliState& state);      // predict.cpp
 
 }  // namespace demsa::cli

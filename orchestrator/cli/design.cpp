@@ -193,6 +193,7 @@ void check_saltelli(const DesignArgs& args, int dimension) {
 /// A missing output folder is the user's error (exit 2), found before any work: the atomic writer would report it
 /// as an I/O error (exit 3) on its temporary file.
 void check_output_folder(const std::string& output) {
+  if (output.empty()) throw UserError("-o/--out FILE is required: the CSV file to write");
   const std::filesystem::path folder = std::filesystem::path(output).parent_path();
   std::error_code ec;
   if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
@@ -316,7 +317,8 @@ void add_common(CLI::App* sub, DesignArgs& args, const std::string& samples_name
       ->each([&args](const std::string&) { args.dimension_given = true; });
   sub->add_option("--param", args.params, "Parameter NAME:LOW:HIGH[:log] (repeat for each parameter)");
   sub->add_option("--seed", args.seed, "Seed of every random choice")->capture_default_str();
-  sub->add_option("-o,--output", args.output, "CSV file to write (header row, one row per sample)")->required();
+  sub->add_option("-o,--out", args.output, "CSV file to write (header row, one row per sample); required");
+  add_deprecated_option(sub, "--output", "-o/--out", args.output);
   sub->add_flag("--json", args.json, "Print the design's description and metrics as JSON");
 }
 

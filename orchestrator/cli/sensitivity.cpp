@@ -1,13 +1,20 @@
 // `demsa sensitivity`: Sobol' indices for any simulator (README "Usage"; paper §5–6), either
-//   --saltelli DESIGN.csv --responses Y.csv   outputs evaluated outside on a `demsa design saltelli` design, or
-//   --data DATA.csv --inputs ... --output ... samples the user already has: metamodels fitted on the unit cube
-//                                             (scaled by --bounds or by the data's range), indices of each.
+//   --saltelli DESIGN.csv --responses Y.csv   outputs evaluated outside on a `demsa design saltelli` design (or
+//   --saltelli DESIGN.csv --response NAME     response columns appended to the design file, the SALib habit), or
+//   --data DATA.csv --inputs ... --response ... samples the user already has: metamodels fitted on the unit cube
+//                                             (scaled by --bounds or by the data's range), indices of each;
+//                                             --save-model writes each fitted model (analysis/model_file.hpp).
+// Option names across the commands: -o/--out is a file or folder demsa writes, --response a column of responses
+// (--output, the old spelling of both, is a deprecated alias that warns).
 // Every input error names the user's file, line, column and value. A constant output (up to round-off) is an error
 // on both paths. SIGINT/SIGTERM stop the long loops (bootstrap, refits, QMC) within a step: exit 128 + N, and the
 // --json file is not written.
 #include "orchestrator/analysis/fit.hpp"
+#include "orchestrator/analysis/model_file.hpp"
 #include "orchestrator/analysis/sobol_json.hpp"
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
+#include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
@@ -22,11 +29,13 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -54,7 +63,8 @@ struct SensitivityArgs {
   double confidence = 0.95;
   int base = 16384;
   std::uint64_t seed = 12345;
-  std::string json;  ///< file, or "-" for standard output
+  std::string json;        ///< file, or "-" for standard output
+  std::string save_model;  ///< --data: model file (one model) or folder (several)
   std::string gp_kernel = "squared-exponential";
   std::string gp_trend = "constant";
   bool gp_nugget = false;
@@ -108,18 +118,43 @@ void write_json(const std::string& target, const nlohmann::json& j) {
 // ---------------------------------------------------------------- --saltelli DESIGN.csv --responses Y.csv
 
 void run_saltelli(const SensitivityArgs& args) {
-  if (args.responses.empty()) throw UserError("--saltelli needs --responses Y.csv (the outputs of every design row)");
+  if (!args.save_model.empty())
+    throw UserError("--save-model: a Saltelli design gives indices without a metamodel: nothing to save (use --data)");
+  const std::vector<std::string> named = split_list(args.outputs);
+  if (args.responses.empty() && named.empty())
+    throw UserError(
+        "--saltelli needs the outputs of every design row: --responses Y.csv (one row per design row), or "
+        "--response NAME[,...] naming response columns appended to the design file");
   CsvReadOptions design_options;
   design_options.require_varying = true;  // a parameter held constant was not sampled: its indices would be noise
   const CsvTable design = read_csv(args.saltelli, design_options);
+  // Responses appended to the design (design columns, then response columns in the same file) when no --responses
+  // file is given; with one, a named column that the design also holds could be either: refused.
+  const bool appended = args.responses.empty();
+  if (appended) {
+    for (const std::string& name : named) design.column_index(name);  // names the file and its columns
+    if (static_cast<int>(named.size()) >= static_cast<int>(design.columns.size()))
+      throw UserError(args.saltelli, 0, "every column is named by --response: no parameter column is left");
+  } else {
+    for (const std::string& name : named)
+      if (design.has_column(name))
+        throw UserError(fmt::format(
+            "--response {}: ambiguous: '{}' is a column of the design {} and --responses {} is given too; drop "
+            "--responses to read the appended column, or rename the design column",
+            name, name, args.saltelli, args.responses));
+  }
   const int block_column = design.column_index("block");
   int replicate_column = -1;  // optional: written by `demsa design saltelli --replicates R`
   for (int k = 0; k < static_cast<int>(design.columns.size()); ++k)
     if (design.columns[static_cast<std::size_t>(k)] == "replicate") replicate_column = k;
   std::vector<std::string> names;
   std::vector<int> parameter_columns;  // column of names[k] in the file
+  const auto is_response = [&](int k) {
+    return appended &&
+           std::find(named.begin(), named.end(), design.columns[static_cast<std::size_t>(k)]) != named.end();
+  };
   for (int k = 0; k < static_cast<int>(design.columns.size()); ++k)
-    if (k != block_column && k != replicate_column) {
+    if (k != block_column && k != replicate_column && !is_response(k)) {
       names.push_back(design.columns[static_cast<std::size_t>(k)]);
       parameter_columns.push_back(k);
     }
@@ -173,12 +208,12 @@ void run_saltelli(const SensitivityArgs& args) {
           args.saltelli, base, replicates > 1 ? fmt::format(" of each of the {} replicates", replicates) : "");
   }
 
-  const CsvTable y = read_csv(args.responses);
+  const CsvTable y = appended ? design : read_csv(args.responses);
   if (y.rows() != design.rows())
     throw UserError(args.responses, 0,
                     fmt::format("{} rows, but the design {} has {}: give one output row per design row, in order",
                                 y.rows(), args.saltelli, design.rows()));
-  const std::vector<std::string> outputs = args.outputs.empty() ? y.columns : split_list(args.outputs);
+  const std::vector<std::string> outputs = named.empty() ? y.columns : named;
 
   sobol::SobolOptions options;
   options.second_order = args.second_order;
@@ -218,8 +253,10 @@ void run_saltelli(const SensitivityArgs& args) {
     j["output"] = name;
     results.push_back(j);
   }
-  write_json(args.json,
-             {{"design", args.saltelli}, {"responses", args.responses}, {"inputs", names}, {"outputs", results}});
+  write_json(args.json, {{"design", args.saltelli},
+                         {"responses", appended ? args.saltelli : args.responses},
+                         {"inputs", names},
+                         {"outputs", results}});
 }
 
 // ---------------------------------------------------------------- --data DATA.csv: metamodels, then indices
@@ -311,14 +348,14 @@ void run_data(const SensitivityArgs& args) {
   const std::vector<std::string> inputs = split_list(args.inputs);
   const std::vector<std::string> outputs = split_list(args.outputs);
   if (inputs.empty()) throw UserError("--data needs --inputs NAME,... (the input columns)");
-  if (outputs.empty()) throw UserError("--data needs --output NAME[,...] (the output columns)");
+  if (outputs.empty()) throw UserError("--data needs --response NAME[,...] (the response columns)");
   for (std::size_t i = 0; i < inputs.size(); ++i)
     for (std::size_t j = i + 1; j < inputs.size(); ++j)
       if (inputs[i] == inputs[j]) throw UserError(fmt::format("--inputs: '{}' is listed twice", inputs[i]));
   for (const std::string& output : outputs)
     for (const std::string& input : inputs)
       if (output == input)
-        throw UserError(fmt::format("'{}' is both an input (--inputs) and an output (--output)", output));
+        throw UserError(fmt::format("'{}' is both an input (--inputs) and a response (--response)", output));
   CsvReadOptions read_options;
   read_options.numeric_columns = inputs;
   read_options.numeric_columns.insert(read_options.numeric_columns.end(), outputs.begin(), outputs.end());
@@ -349,6 +386,26 @@ void run_data(const SensitivityArgs& args) {
     }
   }
   if (kinds.empty()) throw UserError("--metamodels: no metamodel named");
+  // --save-model: one model to a file, several into a folder (named <response>.<metamodel>.json).
+  const std::size_t model_count = outputs.size() * kinds.size();
+  const std::filesystem::path save_path(args.save_model);
+  const bool save_to_file =
+      model_count == 1 && save_path.extension() == ".json" && !std::filesystem::is_directory(save_path);
+  if (!args.save_model.empty()) {
+    if (model_count > 1 && save_path.extension() == ".json" && !std::filesystem::is_directory(save_path))
+      throw UserError(
+          fmt::format("--save-model {}: {} metamodels ({} response(s) x {} kind(s)) need a folder, "
+                      "not a .json file: give a folder (each model is written as "
+                      "<response>.<metamodel>.json)",
+                      args.save_model, model_count, outputs.size(), kinds.size()));
+    const std::filesystem::path parent = save_to_file ? save_path.parent_path() : save_path;
+    std::error_code ec;
+    if (!parent.empty() && !save_to_file) std::filesystem::create_directories(parent, ec);
+    if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+      throw UserError(fmt::format("--save-model {}: the folder '{}' does not exist and cannot be created",
+                                  args.save_model, parent.string()));
+  }
+  std::vector<std::pair<std::filesystem::path, std::string>> model_files;  // written once every model is fitted
 
   sobol::MetamodelSobolOptions options;
   options.base = args.base;
@@ -389,7 +446,7 @@ void run_data(const SensitivityArgs& args) {
     for (const sobol::MetamodelKind kind : kinds) {
       const std::string model_name = sobol::to_string(kind);
       sobol::throw_if_stopped(options.stop);
-      const FittedMetamodel fit = fit_metamodel(kind, model_options, x, y);
+      FittedMetamodel fit = fit_metamodel(kind, model_options, x, y);
       const sobol::MetamodelSummary& summary = fit.quality;
       sobol::SobolResult indices;
       try {
@@ -419,6 +476,11 @@ void run_data(const SensitivityArgs& args) {
                    summary.r2, summary.adjusted_r2, summary.q2, summary.samples);
         print_indices(indices, inputs);
       }
+      if (!args.save_model.empty()) {
+        SavedModel saved{std::move(fit.model), inputs, bounds, output, ""};
+        model_files.emplace_back(save_to_file ? save_path : save_path / model_file_name(output, model_name),
+                                 model_to_json(saved));
+      }
       models.push_back({{"metamodel", model_name},
                         {"quality", metamodel_summary_json(summary)},
                         {"sobol", sobol_result_json(indices, inputs)}});
@@ -431,6 +493,10 @@ void run_data(const SensitivityArgs& args) {
                            {"low", bounds[k].low},
                            {"high", bounds[k].high},
                            {"scale", sobol::to_string(bounds[k].scale)}});
+  for (const auto& [file, text] : model_files) {
+    write_file_atomically(file, text);
+    if (args.json != "-") fmt::print("metamodel written to {}\n", file.string());
+  }
   write_json(args.json, {{"data", args.data},
                          {"samples", data.rows()},
                          {"inputs", inputs},
@@ -448,7 +514,10 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
   sub->add_option("--responses", args->responses, "CSV of outputs, one row per design row (with --saltelli)");
   sub->add_option("--data", args->data, "CSV of samples: input and output columns");
   sub->add_option("--inputs", args->inputs, "Input columns of --data, comma-separated");
-  sub->add_option("--output", args->outputs, "Output column(s), comma-separated (default with --saltelli: all)");
+  sub->add_option("--response", args->outputs,
+                  "Response column(s), comma-separated: of --data, of --responses (default: all), or appended to the "
+                  "--saltelli design (then without --responses)");
+  add_deprecated_option(sub, "--output", "--response", args->outputs);
   sub->add_option("--bounds", args->bounds, "NAME=LOW:HIGH[:log],... bounds of inputs (default: the data's range)");
   sub->add_option("--metamodels", args->metamodels, "rsm1, rsm2, rsm3, rbf-cubic, rbf-tps, gp (comma-separated)")
       ->capture_default_str();
@@ -459,6 +528,9 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
   sub->add_option("--base", args->base, "QMC base sample size N for metamodel indices")->capture_default_str();
   sub->add_option("--seed", args->seed, "Seed of the QMC design and of the bootstrap")->capture_default_str();
   sub->add_option("--json", args->json, "Write the results as JSON to this file ('-': standard output only)");
+  sub->add_option("--save-model", args->save_model,
+                  "With --data: write each fitted metamodel as JSON (for `demsa predict`): a .json file for one "
+                  "model, else a folder of <response>.<metamodel>.json");
   sub->add_option("--gp-kernel", args->gp_kernel, "Correlation of the gp metamodel: squared-exponential, matern52")
       ->capture_default_str();
   sub->add_option("--gp-trend", args->gp_trend, "Trend of the gp metamodel: constant, linear")->capture_default_str();

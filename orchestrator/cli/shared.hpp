@@ -4,6 +4,7 @@
 // compare`).
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/log.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -28,6 +29,17 @@ CLI::Validator positive_number();
 CLI::Validator non_negative_number();
 /// A finite number in [low, high].
 CLI::Validator number_in(double low, double high);
+
+/// The old spelling of a renamed option, kept for one version: hidden from --help, it sets the same value as the new
+/// one and warns "--output is deprecated ...: use --out" each time it is given.
+template <typename T>
+CLI::Option* add_deprecated_option(CLI::App* sub, const std::string& old_name, const std::string& new_name, T& target) {
+  return sub->add_option(old_name, target, "Deprecated spelling of " + new_name)
+      ->group("")
+      ->each([old_name, new_name](const std::string&) {
+        util::log::warn("{} is deprecated and will be removed in the next version: use {}", old_name, new_name);
+      });
+}
 
 /// The command-line option that sets each field of a library's options struct: {"box_side", "--box-side"}.
 using OptionNames = std::vector<std::pair<std::string, std::string>>;

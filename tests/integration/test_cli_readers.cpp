@@ -24,7 +24,7 @@ TEST(CliReaders, DevZeroIsRefusedQuicklyByEveryReader) {
   CommandResult r = run_demsa({"postprocess", "oedometer", "/dev/zero"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(has(r.err, "/dev/zero:1: line longer than 65536 bytes")) << r.err;
-  r = run_demsa({"sensitivity", "--data", "/dev/zero", "--inputs", "a,b", "--output", "y"});
+  r = run_demsa({"sensitivity", "--data", "/dev/zero", "--inputs", "a,b", "--response", "y"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(has(r.err, "/dev/zero:1: line longer than 1048576 bytes: not a CSV table")) << r.err;
   r = run_demsa({"sensitivity", "--saltelli", "/dev/zero", "--responses", "/dev/zero"});
@@ -64,7 +64,7 @@ TEST(CliReaders, CsvWithAByteOrderMark) {
   TempDir dir;
   write_file(dir / "data.csv", "\xEF\xBB\xBF" + data_csv("a,b,y\n"));
   const CommandResult r =
-      run_demsa({"sensitivity", "--data", (dir / "data.csv").string(), "--inputs", "a,b", "--output", "y",
+      run_demsa({"sensitivity", "--data", (dir / "data.csv").string(), "--inputs", "a,b", "--response", "y",
                  "--metamodels", "rsm2", "--bootstrap", "0", "--json", (dir / "out.json").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(read_file(dir / "out.json"));

@@ -95,7 +95,7 @@ TEST(CliSensitivity, MetamodelsOnUserData) {
   TempDir dir;
   write_file(dir / "data.csv", data_csv(60));
   const CommandResult r = run_demsa({"sensitivity", "--data", (dir / "data.csv").string(), "--inputs", "a,b,c",
-                                     "--output", "y", "--bounds", "a=0:10", "--metamodels", "rsm2,rbf-cubic",
+                                     "--response", "y", "--bounds", "a=0:10", "--metamodels", "rsm2,rbf-cubic",
                                      "--bootstrap", "20", "--base", "1024", "--json", (dir / "out.json").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(read_file(dir / "out.json"));
@@ -137,7 +137,7 @@ TEST(CliSensitivityErrors, EachBadInputNamesFileRowColumnAndValue) {
       {"bounds", good, {"--bounds", "a=10:0"}, "low (10) must be less than high (0)"},
       {"outside", good, {"--bounds", "a=0:5"}, "is outside the bounds [0, 5]"},
       {"metamodel", good, {"--metamodels", "rsm2,krig"}, "unknown metamodel 'krig' (valid: rsm1, rsm2, rsm3"},
-      {"no column", good, {"--output", "z"}, "no column 'z' (columns: a, b, c, const, y)"},
+      {"no column", good, {"--response", "z"}, "no column 'z' (columns: a, b, c, const, y)"},
       {"too few", data_csv(12), {"--metamodels", "rsm3"}, "rsm3 needs at least 20 samples for 3 inputs (got 12)"},
       {"duplicate",
        replace_line(good, 12, "0,0.10000000000000001,0.29999999999999999,4,0.01"),
@@ -152,7 +152,7 @@ TEST(CliSensitivityErrors, EachBadInputNamesFileRowColumnAndValue) {
        {"--inputs", "a,b,c,a_per_cent"},
        "data.csv: columns 'a' and 'a_per_cent' are collinear (a_per_cent = 100 * a + 0 in every sample)"},
       {"input twice", good, {"--inputs", "a,b,a"}, "--inputs: 'a' is listed twice"},
-      {"output as input", good, {"--inputs", "a,b,y"}, "'y' is both an input (--inputs) and an output (--output)"},
+      {"output as input", good, {"--inputs", "a,b,y"}, "'y' is both an input (--inputs) and a response (--response)"},
       {"bounds twice", good, {"--bounds", "a=0:10,a=0:20"}, "--bounds: 'a' is given twice"},
       {"bootstrap", good, {"--bootstrap", "-5"}, "--bootstrap -5: must be >= 0"},
       {"confidence", good, {"--confidence", "1.5"}, "--confidence 1.5: must be strictly between 0 and 1"},
@@ -167,7 +167,7 @@ TEST(CliSensitivityErrors, EachBadInputNamesFileRowColumnAndValue) {
     std::vector<std::string> args{"sensitivity", "--data", (dir / "data.csv").string()};
     // the common options, unless the case gives its own
     const std::vector<std::pair<std::string, std::string>> defaults{
-        {"--bootstrap", "0"}, {"--base", "256"}, {"--inputs", "a,b,c"}, {"--output", "y"}, {"--metamodels", "rsm2"}};
+        {"--bootstrap", "0"}, {"--base", "256"}, {"--inputs", "a,b,c"}, {"--response", "y"}, {"--metamodels", "rsm2"}};
     for (const auto& [option, value] : defaults)
       if (std::find(c.extra.begin(), c.extra.end(), option) == c.extra.end()) args.insert(args.end(), {option, value});
     args.insert(args.end(), c.extra.begin(), c.extra.end());
@@ -260,7 +260,7 @@ TEST(CliSensitivity, GpOptionsAndLabelColumns) {
                                      (dir / "data.csv").string(),
                                      "--inputs",
                                      "a,b,c",
-                                     "--output",
+                                     "--response",
                                      "y",
                                      "--metamodels",
                                      "gp",
@@ -383,8 +383,8 @@ TEST(CliSensitivityErrors, ConstantOutputIsAnErrorOnBothPaths) {
     data += fmt::format("{},{},{},1\n", std::fmod(0.618034 * i, 1.0), std::fmod(0.7548777 * i + 0.1, 1.0),
                         std::fmod(0.5698403 * i + 0.3, 1.0));
   write_file(dir / "c.csv", data);
-  const CommandResult r = run_demsa({"sensitivity", "--data", (dir / "c.csv").string(), "--inputs", "a,b,c", "--output",
-                                     "y", "--metamodels", "rsm2,rbf-cubic"});
+  const CommandResult r = run_demsa({"sensitivity", "--data", (dir / "c.csv").string(), "--inputs", "a,b,c",
+                                     "--response", "y", "--metamodels", "rsm2,rbf-cubic"});
   EXPECT_EQ(r.exit_code, 2) << r.out;
   EXPECT_NE(r.err.find("c.csv"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("output 'y' is constant (every one of its 30 samples is 1"), std::string::npos) << r.err;
