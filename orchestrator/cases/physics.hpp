@@ -40,6 +40,23 @@ std::vector<std::string> liggghts_limit_violations(const study::StudyConfig& con
 /// rest falls 2 r_U, the vertical disc spacing.
 double disc_append_interval(double r_upper, double gravity);
 
+/// The contact model's words after `model hertz tangential history` in `pair_style gran` and every `fix wall/gran`:
+/// "rolling_friction cdt", ..., "rolling_friction viscous".
+std::string rolling_model_words(const study::ContactSettings& contact);
+
+/// The `fix property/global` lines of the rolling model's coefficients (docs/study-file.md, [contact]): the per
+/// type-pair coefficient from ${mu_r_pp} and ${mu_r_pw} (coefficientRollingFriction, or coefficientRollingViscosity
+/// for `viscous`), plus ${rolling_damping} for epsd/epsd3 and ${rolling_stiffness} for epsd3.
+std::string rolling_property_lines(const study::ContactSettings& contact);
+
+/// A LIGGGHTS template with the study's rolling model: every "rolling_friction cdt" and the coefficientRollingFriction
+/// line of the templates (written for `cdt`) replaced. The text is returned unchanged for `cdt`.
+std::string with_rolling_model(std::string text, const study::ContactSettings& contact);
+
+/// The value of a rolling coefficient (mu_r_pp, mu_r_pw) that LIGGGHTS reads: μ_R converted to s·m for `viscous`
+/// given in mm·ms, the value itself otherwise.
+double liggghts_rolling_coefficient(const study::ContactSettings& contact, double value);
+
 /// Number of steps of `duration` seconds at time step dt (at least 1).
 long steps_for(double duration, double dt);
 

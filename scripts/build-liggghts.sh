@@ -1,0 +1,135 @@
+#!/usr/bin/env bash
+# Build LIGGGHTS 3.8.0 from Debian's source archive with the project's rolling model
+# (liggghts/rolling_model_viscous.h) and compiled kernels for hertz / tangential history /
+# cohesion off / rolling cdt, epsd, epsd2, epsd3 and viscous (liggghts/style_contact_model_user.whitelist).
+#
+#   scripts/build-liggghts.sh                build (once per source + patch hash), print the prefix
+#   scripts/build-liggghts.sh --print-prefix print the prefix this checkout's build lives in; build nothing
+#   scripts/build-liggghts.sh --jobs N       parallel compile jobs (default 2)
+#
+# The result is a versioned prefix outside the repository:
+#   ${XDG_CACHE_HOME:-$HOME/.cache}/demsa/liggghts-3.8.0-<key>/{bin/liggghts,lib/libliggghts.so,include/liggghts/}
+# <key> = first 16 hex digits of sha256(source tarball hash, the patch files' hashes, RECIPE). A prefix is
+# complete once its `demsa-liggghts.txt` exists (written last); a finished prefix is never rebuilt.
+# demsa finds it through `[run] liggghts`, $DEMSA_LIGGGHTS, or this cache (the newest complete prefix).
+# ccache is used when installed (CCACHE_DIR defaults to <cache>/ccache), so a changed patch rebuilds cheaply.
+# Needs: apt-get (source download), cmake, mpicxx (libopenmpi-dev): scripts/install-deps.sh --liggghts-build.
+set -euo pipefail
+
+RECIPE=1 # bump when the build commands below change the result
+VERSION=3.8.0
+TARBALL=liggghts_3.8.0+repack1.orig.tar.xz
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cache=${XDG_CACHE_HOME:-$HOME/.cache}/demsa
+jobs=2
+print_only=0
+while (($#)); do
+  case $1 in
+    --print-prefix) print_only=1 ;;
+    --jobs) jobs=$2; shift ;;
+    -h | --help) sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "build-liggghts: error: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+patches=("$repo/liggghts/rolling_model_viscous.h" "$repo/liggghts/style_contact_model_user.whitelist")
+for p in "${patches[@]}"; do
+  [[ -f $p ]] || { echo "build-liggghts: error: missing $p" >&2; exit 1; }
+done
+
+say() { echo "build-liggghts: $*" >&2; }
+
+# 1. The upstream tarball, from Debian's source archive through a private deb-src list (the system's apt
+#    configuration is not changed). Debian's patch tarball may be missing (404): apt-get then exits non-zero
+#    after fetching the .orig tarball, which is all this build needs; success is judged by that file.
+src_dl=$cache/src
+mkdir -p "$src_dl"
+if [[ ! -s $src_dl/$TARBALL ]]; then
+  say "fetching $TARBALL from Debian's source archive"
+  apt_dir=$(mktemp -d)
+  trap 'rm -rf "$apt_dir"' EXIT
+  mkdir -p "$apt_dir/sources" "$apt_dir/lists/partial" "$apt_dir/archives/partial"
+  cat >"$apt_dir/sources/debian-src.sources" <<'EOF'
+Types: deb-src
+URIs: http://deb.debian.org/debian
+Suites: bookworm
+Components: main
+Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
+EOF
+  apt_opts=(-o "Dir::Etc::SourceParts=$apt_dir/sources" -o Dir::Etc::SourceList=/dev/null
+    -o "Dir::State::Lists=$apt_dir/lists" -o "Dir::Cache=$apt_dir" -o Debug::NoLocking=1)
+  apt-get "${apt_opts[@]}" -qq update || { say "error: apt-get update of the deb-src list failed"; exit 1; }
+  (cd "$src_dl" && apt-get "${apt_opts[@]}" -qq source --download-only liggghts) ||
+    say "apt-get source exited non-zero (the Debian patch tarball is often missing); checking the upstream tarball"
+  [[ -s $src_dl/$TARBALL ]] || { say "error: $TARBALL was not fetched into $src_dl"; exit 1; }
+fi
+
+key=$( {
+  sha256sum "$src_dl/$TARBALL" | cut -d' ' -f1
+  for p in "${patches[@]}"; do sha256sum "$p" | cut -d' ' -f1; done
+  echo "recipe $RECIPE"
+} | sha256sum | cut -c1-16)
+prefix=$cache/liggghts-$VERSION-$key
+
+if ((print_only)); then
+  echo "$prefix"
+  exit 0
+fi
+if [[ -f $prefix/demsa-liggghts.txt ]]; then
+  say "already built: $prefix"
+  echo "$prefix"
+  exit 0
+fi
+
+command -v cmake >/dev/null || { say "error: cmake not found (scripts/install-deps.sh --liggghts-build)"; exit 1; }
+command -v mpicxx >/dev/null || { say "error: mpicxx not found (scripts/install-deps.sh --liggghts-build)"; exit 1; }
+
+# 2. Unpack into one fixed work tree (a fixed path lets ccache hit across keys), add the patch files.
+work=$cache/work-$VERSION
+rm -rf "$work"
+mkdir -p "$work"
+tar -xJf "$src_dl/$TARBALL" -C "$work"
+src=$work/LIGGGHTS-PUBLIC-$VERSION/src
+[[ -f $src/CMakeLists.txt ]] || { say "error: unexpected tarball layout (no $src/CMakeLists.txt)"; exit 1; }
+cp "${patches[@]}" "$src/"
+say "source in $src, patched with: ${patches[*]##*/}"
+
+# 3. Configure and build the executable and the shared library (the OBJECT library is compiled once).
+launcher=()
+if command -v ccache >/dev/null; then
+  export CCACHE_DIR=${CCACHE_DIR:-$cache/ccache} CCACHE_BASEDIR=$work CCACHE_NOHASHDIR=1
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  say "using ccache ($CCACHE_DIR)"
+fi
+build=$work/build
+start=$(date +%s)
+CC=mpicc CXX=mpicxx cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE= "${launcher[@]}" \
+  -DCMAKE_DISABLE_FIND_PACKAGE_VTK=ON -Wno-dev >"$work/configure.log" 2>&1 ||
+  { say "error: cmake configure failed, see $work/configure.log"; tail -20 "$work/configure.log" >&2; exit 1; }
+say "building with $jobs job(s) (nice 10); log: $work/build.log"
+nice -n 10 cmake --build "$build" --target liggghts_bin liggghts_shared -j "$jobs" >"$work/build.log" 2>&1 ||
+  { say "error: build failed, see $work/build.log"; grep -m 20 -E 'error|Error' "$work/build.log" >&2; exit 1; }
+grep -q 'ROLLING_VISCOUS' "$src/style_contact_model.h" ||
+  { say "error: the viscous kernel is missing from $src/style_contact_model.h"; exit 1; }
+
+# 4. Install into the versioned prefix atomically (a temporary sibling, renamed at the end).
+tmp=$prefix.tmp.$$
+rm -rf "$tmp"
+mkdir -p "$tmp/bin" "$tmp/lib" "$tmp/include/liggghts"
+cp "$build/liggghts" "$tmp/bin/liggghts"
+cp "$build/libliggghts.so" "$tmp/lib/libliggghts.so"
+cp "$src"/*.h "$tmp/include/liggghts/"
+"$tmp/bin/liggghts" -h </dev/null 2>/dev/null | sed -n '/Rolling models for pair gran/,/^\* /p' >"$tmp/rolling-models.txt" || true
+grep -qw viscous "$tmp/rolling-models.txt" || { say "error: the built binary does not list the viscous rolling model"; exit 1; }
+{
+  echo "LIGGGHTS $VERSION from Debian's $TARBALL"
+  echo "key $key"
+  echo "patches ${patches[*]##*/}"
+  echo "built $(date -u +%Y-%m-%dT%H:%M:%SZ) in $(($(date +%s) - start)) s with -j$jobs"
+} >"$tmp/demsa-liggghts.txt"
+rm -rf "$prefix"
+mv "$tmp" "$prefix"
+say "done in $(($(date +%s) - start)) s: $prefix"
+echo "$prefix"
