@@ -365,6 +365,14 @@ std::string run_script(const StudyConfig& c, const CaseRequest& request) {
         "fi\n",
         shell_quote(request.demsa_executable.string()));
     program = "\"$demsa\" drive-oedometer .";
+    // The viscous rolling model is in the library of scripts/build-liggghts.sh only: demsa, which links
+    // libliggghts.so.3, loads that one in its place.
+    if (c.contact.rolling_model == RollingModel::viscous)
+      if (const auto lib = liggghts_library_dir(c.run.liggghts))
+        find_demsa += fmt::format(
+            "# The LIGGGHTS library with the viscous rolling model (scripts/build-liggghts.sh).\n"
+            "export LD_LIBRARY_PATH={}${{LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}}\n",
+            shell_quote(lib->string()));
   } else {
     program =
         shell_quote(c.run.liggghts) + " -in " + k_case_input + " -log " + k_case_log + " -screen " + k_case_screen;

@@ -122,4 +122,15 @@ double liggghts_rolling_coefficient(const ContactSettings& contact, double value
   return contact.rolling_model == RollingModel::viscous ? value * viscous_unit_factor(contact.viscous_unit) : value;
 }
 
+std::optional<std::filesystem::path> liggghts_library_dir(const std::string& executable) {
+  namespace fs = std::filesystem;
+  const fs::path exe(executable);
+  if (!exe.is_absolute() || exe.parent_path().filename() != "bin") return std::nullopt;
+  const fs::path prefix = exe.parent_path().parent_path();
+  std::error_code ec;
+  if (!fs::exists(prefix / "demsa-liggghts.txt", ec) || !fs::exists(prefix / "lib" / "libliggghts.so.3", ec))
+    return std::nullopt;
+  return prefix / "lib";
+}
+
 }  // namespace demsa::cases

@@ -3,6 +3,8 @@
 // time step, the pile's disc schedule, and the limits LIGGGHTS 3.8.0 enforces or silently needs.
 #include "orchestrator/study/config.hpp"
 
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +58,11 @@ std::string with_rolling_model(std::string text, const study::ContactSettings& c
 /// The value of a rolling coefficient (mu_r_pp, mu_r_pw) that LIGGGHTS reads: μ_R converted to s·m for `viscous`
 /// given in mm·ms, the value itself otherwise.
 double liggghts_rolling_coefficient(const study::ContactSettings& contact, double value);
+
+/// The library folder of a LIGGGHTS built by scripts/build-liggghts.sh (`<prefix>/lib` holding libliggghts.so.3,
+/// the soname demsa links) for its executable `<prefix>/bin/liggghts`; nullopt for any other executable. A trial-step
+/// oedometer, driven in-process by demsa, loads that library (LD_LIBRARY_PATH in run.sh) for the `viscous` model.
+std::optional<std::filesystem::path> liggghts_library_dir(const std::string& executable);
 
 /// Number of steps of `duration` seconds at time step dt (at least 1).
 long steps_for(double duration, double dt);
