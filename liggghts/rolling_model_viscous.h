@@ -1,3 +1,5 @@
+// clang-format off
+// (LIGGGHTS's own layout: LIGGGHTS's Make.sh reads the ROLLING_MODEL line at the start of a line.)
 /* ----------------------------------------------------------------------
    Viscous rolling resistance ("model B" of Ai et al. 2011) for LIGGGHTS 3.8.
 
