@@ -1,22 +1,26 @@
 #!/usr/bin/env bash
 # Build LIGGGHTS 3.8.0 from Debian's source archive with the project's rolling model
 # (liggghts/rolling_model_viscous.h) and compiled kernels for hertz / tangential history /
-# cohesion off / rolling cdt, epsd, epsd2, epsd3 and viscous (liggghts/style_contact_model_user.whitelist).
+# cohesion off / rolling off, cdt, epsd, epsd2, epsd3 and viscous (liggghts/style_contact_model.whitelist).
 #
 #   scripts/build-liggghts.sh                build (once per source + patch hash), print the prefix
 #   scripts/build-liggghts.sh --print-prefix print the prefix this checkout's build lives in; build nothing
 #   scripts/build-liggghts.sh --jobs N       parallel compile jobs (default 2)
+#   scripts/build-liggghts.sh --generic-viscous  the same without the compiled viscous kernel, in <prefix>-generic
+#                                            (LIGGGHTS then runs the model through its generic path; for bench/)
 #
 # The result is a versioned prefix outside the repository:
 #   ${XDG_CACHE_HOME:-$HOME/.cache}/demsa/liggghts-3.8.0-<key>/{bin/liggghts,lib/libliggghts.so,include/liggghts/}
-# <key> = first 16 hex digits of sha256(source tarball hash, the patch files' hashes, RECIPE). A prefix is
+# <key> = first 16 hex digits of sha256(source tarball hash, the patch files' hashes, RECIPE). The library is
+# libliggghts.so.3.8.0 with the soname of Debian's, libliggghts.so.3, so that demsa (linked against Debian's) can
+# load it in its place for the in-process trial-step oedometer (LD_LIBRARY_PATH=<prefix>/lib). A prefix is
 # complete once its `demsa-liggghts.txt` exists (written last); a finished prefix is never rebuilt.
 # demsa finds it through `[run] liggghts`, $DEMSA_LIGGGHTS, or this cache (the newest complete prefix).
 # ccache is used when installed (CCACHE_DIR defaults to <cache>/ccache), so a changed patch rebuilds cheaply.
 # Needs: apt-get (source download), cmake, mpicxx (libopenmpi-dev): scripts/install-deps.sh --liggghts-build.
 set -euo pipefail
 
-RECIPE=1 # bump when the build commands below change the result
+RECIPE=2 # bump when the build commands below change the result
 VERSION=3.8.0
 TARBALL=liggghts_3.8.0+repack1.orig.tar.xz
 
@@ -24,17 +28,22 @@ repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cache=${XDG_CACHE_HOME:-$HOME/.cache}/demsa
 jobs=2
 print_only=0
+generic=0
 while (($#)); do
   case $1 in
     --print-prefix) print_only=1 ;;
+    --generic-viscous) generic=1 ;;
     --jobs) jobs=$2; shift ;;
-    -h | --help) sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,23p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "build-liggghts: error: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
 done
 
-patches=("$repo/liggghts/rolling_model_viscous.h" "$repo/liggghts/style_contact_model_user.whitelist")
+# The model header and the list of compiled kernels: the combinations demsa writes. Without the list Make.sh
+# generates 119 combinations (a loop over 3780 in sh: many minutes), and each kernel costs compile time in lammps.cpp;
+# any other combination still runs, through LIGGGHTS's generic path.
+patches=("$repo/liggghts/rolling_model_viscous.h" "$repo/liggghts/style_contact_model.whitelist")
 for p in "${patches[@]}"; do
   [[ -f $p ]] || { echo "build-liggghts: error: missing $p" >&2; exit 1; }
 done
@@ -47,6 +56,7 @@ say() { echo "build-liggghts: $*" >&2; }
 src_dl=$cache/src
 mkdir -p "$src_dl"
 if [[ ! -s $src_dl/$TARBALL ]]; then
+  ((print_only == 0)) || { say "error: $TARBALL is not in $src_dl yet: run scripts/build-liggghts.sh"; exit 1; }
   say "fetching $TARBALL from Debian's source archive"
   apt_dir=$(mktemp -d)
   trap 'rm -rf "$apt_dir"' EXIT
@@ -72,6 +82,7 @@ key=$( {
   echo "recipe $RECIPE"
 } | sha256sum | cut -c1-16)
 prefix=$cache/liggghts-$VERSION-$key
+((generic == 0)) || prefix=$prefix-generic
 
 if ((print_only)); then
   echo "$prefix"
@@ -94,6 +105,11 @@ tar -xJf "$src_dl/$TARBALL" -C "$work"
 src=$work/LIGGGHTS-PUBLIC-$VERSION/src
 [[ -f $src/CMakeLists.txt ]] || { say "error: unexpected tarball layout (no $src/CMakeLists.txt)"; exit 1; }
 cp "${patches[@]}" "$src/"
+if ((generic)); then
+  sed -i '/ROLLING_VISCOUS/d' "$src/style_contact_model.whitelist"
+fi
+# Debian's soname (the upstream CMakeLists gives the library none of its own).
+echo 'SET_TARGET_PROPERTIES(liggghts_shared PROPERTIES VERSION 3.8.0 SOVERSION 3)' >>"$src/CMakeLists.txt"
 say "source in $src, patched with: ${patches[*]##*/}"
 
 # 3. Configure and build the executable and the shared library (the OBJECT library is compiled once).
@@ -111,7 +127,7 @@ CC=mpicc CXX=mpicxx cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE= "${launcher[
 say "building with $jobs job(s) (nice 10); log: $work/build.log"
 nice -n 10 cmake --build "$build" --target liggghts_bin liggghts_shared -j "$jobs" >"$work/build.log" 2>&1 ||
   { say "error: build failed, see $work/build.log"; grep -m 20 -E 'error|Error' "$work/build.log" >&2; exit 1; }
-grep -q 'ROLLING_VISCOUS' "$src/style_contact_model.h" ||
+grep -q 'ROLLING_VISCOUS' "$src/style_contact_model.h" || ((generic)) ||
   { say "error: the viscous kernel is missing from $src/style_contact_model.h"; exit 1; }
 
 # 4. Install into the versioned prefix atomically (a temporary sibling, renamed at the end).
@@ -119,7 +135,8 @@ tmp=$prefix.tmp.$$
 rm -rf "$tmp"
 mkdir -p "$tmp/bin" "$tmp/lib" "$tmp/include/liggghts"
 cp "$build/liggghts" "$tmp/bin/liggghts"
-cp "$build/libliggghts.so" "$tmp/lib/libliggghts.so"
+cp -P "$build"/libliggghts.so* "$tmp/lib/"
+[[ -e $tmp/lib/libliggghts.so.3 ]] || { say "error: no libliggghts.so.3 in $build"; exit 1; }
 cp "$src"/*.h "$tmp/include/liggghts/"
 "$tmp/bin/liggghts" -h </dev/null 2>/dev/null | sed -n '/Rolling models for pair gran/,/^\* /p' >"$tmp/rolling-models.txt" || true
 grep -qw viscous "$tmp/rolling-models.txt" || { say "error: the built binary does not list the viscous rolling model"; exit 1; }

@@ -109,7 +109,10 @@ std::optional<std::string> cached_liggghts_executable() {
   fs::file_time_type newest_time{};
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind("liggghts-", 0) != 0 || name.find(".tmp") != std::string::npos) continue;
+    // A build in progress (".tmp") and the bench's build without the compiled viscous kernel ("-generic") are skipped.
+    if (name.rfind("liggghts-", 0) != 0 || name.find(".tmp") != std::string::npos ||
+        name.find("-generic") != std::string::npos)
+      continue;
     const fs::path stamp = e.path() / "demsa-liggghts.txt";
     const fs::path exe = e.path() / "bin" / "liggghts";
     if (!fs::exists(stamp, ec) || ::access(exe.c_str(), X_OK) != 0) continue;
