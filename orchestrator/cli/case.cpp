@@ -95,7 +95,7 @@ void run_case(const CaseOptions& o, CliState& state) {
     request = request_from_values(config, parse_sets(o.sets));
   }
   request.demsa_executable = util::self_executable();
-  request.liggghts_version = query_liggghts_at(config.run.liggghts).version;
+  if (find_on_path(config.run.liggghts)) request.liggghts_version = query_liggghts_at(config.run.liggghts).version;
   const std::filesystem::path dir =
       o.output.empty() ? std::filesystem::path(o.sample >= 0 ? fmt::format("case-{:06d}", o.sample) : "case-set")
                        : std::filesystem::path(o.output);

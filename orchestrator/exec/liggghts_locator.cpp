@@ -148,6 +148,8 @@ void resolve_liggghts(study::StudyConfig& config, bool refuse) {
   }
   if (!exe) return;  // the run reports a missing executable as it always did
   config.run.liggghts = *exe;
+  // `cdt` is in every LIGGGHTS 3.x: nothing to ask.
+  if (model == RollingModel::cdt) return;
 
   const std::string how =
       "build LIGGGHTS with it by scripts/build-liggghts.sh (README: \"LIGGGHTS with the viscous rolling model\"); "
