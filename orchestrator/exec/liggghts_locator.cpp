@@ -130,6 +130,8 @@ void resolve_liggghts(study::StudyConfig& config, bool refuse) {
   const study::RunSettings defaults;
   const RollingModel model = config.contact.rolling_model;
   const std::string name(study::rolling_model_name(model));
+  // `cdt` is in every LIGGGHTS 3.x: nothing to resolve or ask, and its cases stay as they were.
+  if (model == RollingModel::cdt) return;
   // Stock LIGGGHTS 3.8.0 has every rolling model but the viscous one.
   const bool stock_model = model != RollingModel::viscous;
   std::optional<std::string> exe;
@@ -148,8 +150,6 @@ void resolve_liggghts(study::StudyConfig& config, bool refuse) {
   }
   if (!exe) return;  // the run reports a missing executable as it always did
   config.run.liggghts = *exe;
-  // `cdt` is in every LIGGGHTS 3.x: nothing to ask.
-  if (model == RollingModel::cdt) return;
 
   const std::string how =
       "build LIGGGHTS with it by scripts/build-liggghts.sh (README: \"LIGGGHTS with the viscous rolling model\"); "
