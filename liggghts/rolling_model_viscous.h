@@ -26,7 +26,7 @@
    linear decay, w_t(t + dt) = w_t(t) exp(-c dt) (the exponential integrator
    of a linear ODE; Hochbruck & Ostermann, "Exponential integrators",
    Acta Numerica 19 (2010) 209-286, §2), i.e. the torque
-     M_r = -(I*/dt) (1 - exp(-c dt)) w_t,
+     M_r = -(I* / dt) (1 - exp(-c dt)) w_t,
    so that a contact can at most stop its relative rotation within the step
    and never reverse it. A particle has several contacts whose torques add;
    each contact's one-step decay fraction is therefore capped at 1/8, so
