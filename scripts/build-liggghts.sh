@@ -20,7 +20,7 @@
 # Needs: apt-get (source download), cmake, mpicxx (libopenmpi-dev): scripts/install-deps.sh --liggghts-build.
 set -euo pipefail
 
-RECIPE=2 # bump when the build commands below change the result
+RECIPE=3 # bump when the build commands below change the result
 VERSION=3.8.0
 TARBALL=liggghts_3.8.0+repack1.orig.tar.xz
 
@@ -108,6 +108,12 @@ cp "${patches[@]}" "$src/"
 if ((generic)); then
   sed -i '/ROLLING_VISCOUS/d' "$src/style_contact_model.whitelist"
 fi
+# Two fixes the upstream tree needs with GCC 12 and without VTK (Debian's own patches are not in its archive):
+# utils.h casts an rvalue stream to an lvalue reference (an error since libstdc++ returns Ostream&& from the rvalue
+# inserter, LWG 1203), and dump_mesh_vtk.* lack the LAMMPS_VTK guard of the other VTK dumps.
+sed -i 's|return static_cast< std::ostringstream & >(( std::ostringstream() << std::dec << a ) ).str();|std::ostringstream s; s << std::dec << a; return s.str();|' "$src/utils.h"
+grep -q 'std::ostringstream s; s << std::dec << a; return s.str();' "$src/utils.h" || { say "error: utils.h not patched"; exit 1; }
+rm -f "$src/dump_mesh_vtk.h" "$src/dump_mesh_vtk.cpp"
 # Debian's soname (the upstream CMakeLists gives the library none of its own).
 echo 'SET_TARGET_PROPERTIES(liggghts_shared PROPERTIES VERSION 3.8.0 SOVERSION 3)' >>"$src/CMakeLists.txt"
 say "source in $src, patched with: ${patches[*]##*/}"
