@@ -108,12 +108,15 @@ cp "${patches[@]}" "$src/"
 if ((generic)); then
   sed -i '/ROLLING_VISCOUS/d' "$src/style_contact_model.whitelist"
 fi
-# Two fixes the upstream tree needs with GCC 12 and without VTK (Debian's own patches are not in its archive):
+# Fixes the upstream tree needs with GCC 12 and without VTK (Debian's own patches are not in its archive):
 # utils.h casts an rvalue stream to an lvalue reference (an error since libstdc++ returns Ostream&& from the rvalue
 # inserter, LWG 1203), and dump_mesh_vtk.* lack the LAMMPS_VTK guard of the other VTK dumps.
 sed -i 's|return static_cast< std::ostringstream & >(( std::ostringstream() << std::dec << a ) ).str();|std::ostringstream s; s << std::dec << a; return s.str();|' "$src/utils.h"
 grep -q 'std::ostringstream s; s << std::dec << a; return s.str();' "$src/utils.h" || { say "error: utils.h not patched"; exit 1; }
 rm -f "$src/dump_mesh_vtk.h" "$src/dump_mesh_vtk.cpp"
+# finish.cpp compares a pointer with 0 by `>` (an error in GCC 12): it means "not null".
+sed -i 's|if (neighbor->lists\[m\]->numneigh > 0) {|if (neighbor->lists[m]->numneigh != NULL) {|' "$src/finish.cpp"
+grep -q 'numneigh != NULL' "$src/finish.cpp" || { say "error: finish.cpp not patched"; exit 1; }
 # Debian's soname (the upstream CMakeLists gives the library none of its own).
 echo 'SET_TARGET_PROPERTIES(liggghts_shared PROPERTIES VERSION 3.8.0 SOVERSION 3)' >>"$src/CMakeLists.txt"
 say "source in $src, patched with: ${patches[*]##*/}"
@@ -131,8 +134,9 @@ CC=mpicc CXX=mpicxx cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE= "${launcher[
   -DCMAKE_DISABLE_FIND_PACKAGE_VTK=ON -Wno-dev >"$work/configure.log" 2>&1 ||
   { say "error: cmake configure failed, see $work/configure.log"; tail -20 "$work/configure.log" >&2; exit 1; }
 say "building with $jobs job(s) (nice 10); log: $work/build.log"
-nice -n 10 cmake --build "$build" --target liggghts_bin liggghts_shared -j "$jobs" >"$work/build.log" 2>&1 ||
-  { say "error: build failed, see $work/build.log"; grep -m 20 -E 'error|Error' "$work/build.log" >&2; exit 1; }
+# -k: every file that fails is reported in one pass.
+nice -n 10 cmake --build "$build" --target liggghts_bin liggghts_shared -j "$jobs" -- -k >"$work/build.log" 2>&1 ||
+  { say "error: build failed, see $work/build.log"; grep -m 20 -E ': error:' "$work/build.log" >&2; exit 1; }
 grep -q 'ROLLING_VISCOUS' "$src/style_contact_model.h" || ((generic)) ||
   { say "error: the viscous kernel is missing from $src/style_contact_model.h"; exit 1; }
 
