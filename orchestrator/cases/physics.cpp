@@ -119,7 +119,9 @@ std::string with_rolling_model(std::string text, const ContactSettings& contact)
 }
 
 double liggghts_rolling_coefficient(const ContactSettings& contact, double value) {
-  return contact.rolling_model == RollingModel::viscous ? value * viscous_unit_factor(contact.viscous_unit) : value;
+  // Divided rather than multiplied by 1e-6 (which is not a double): 5 mm·ms is written as 5e-06 s·m.
+  if (contact.rolling_model != RollingModel::viscous || contact.viscous_unit == ViscousUnit::s_m) return value;
+  return value / 1e6;  // mm·ms -> s·m
 }
 
 std::optional<std::filesystem::path> liggghts_library_dir(const std::string& executable) {

@@ -365,8 +365,9 @@ TEST(CaseWriterRolling, ViscousIsWrittenIntoEveryPairAndWallFixInSI) {
     const std::string inputs = all_inputs(tmp / "case");
     EXPECT_EQ(count_of(inputs, "rolling_friction cdt"), 0);
     // pair_style and every wall/gran fix
-    EXPECT_EQ(count_of(inputs, "rolling_friction viscous"), count_of(inputs, "model hertz tangential history"));
-    EXPECT_GE(count_of(inputs, "rolling_friction viscous"), 2);
+    EXPECT_EQ(count_of(inputs, "model hertz tangential history rolling_friction viscous"),
+              count_of(inputs, "model hertz tangential history"));
+    EXPECT_GE(count_of(inputs, "model hertz tangential history rolling_friction viscous"), 2);
     EXPECT_EQ(count_of(inputs, "coefficientRollingFriction"), 0);
     EXPECT_EQ(count_of(inputs, "property/global coefficientRollingViscosity peratomtypepair 2 ${mu_r_pp} ${mu_r_pw}"),
               1);
@@ -386,7 +387,8 @@ TEST(CaseWriterRolling, EpsdModelsWriteTheirDampingAndStiffness) {
   cases::write_case(c, cases::request_from_values(c, {{"mu_r_pp", 0.2}}), tmp / "case");
   const std::string inputs = all_inputs(tmp / "case");
   EXPECT_EQ(count_of(inputs, "rolling_friction cdt"), 0);
-  EXPECT_EQ(count_of(inputs, "rolling_friction epsd3"), count_of(inputs, "model hertz tangential history"));
+  EXPECT_EQ(count_of(inputs, "model hertz tangential history rolling_friction epsd3"),
+            count_of(inputs, "model hertz tangential history"));
   EXPECT_EQ(count_of(inputs, "coefficientRollingViscousDamping peratomtypepair 2 ${rolling_damping}"), 1);
   EXPECT_EQ(count_of(inputs, "rollingStiffness scalar ${rolling_stiffness}"), 1);
   const std::string params = test::read_file(tmp / "case" / "params.liggghts");

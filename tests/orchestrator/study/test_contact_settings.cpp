@@ -1,5 +1,6 @@
 // [contact]: the rolling model and its settings, the unit of the viscous μ_R, and the hash of a study at the default.
 #include "orchestrator/study/config.hpp"
+#include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "support/test_support.hpp"
 
