@@ -71,8 +71,9 @@ std::string contact_lines(const Rolling& r, double E) {
     << "fix m4 all property/global coefficientFriction peratomtypepair 2 1.0 1.0 1.0 1.0\n"
     << r.properties << "pair_style gran model hertz tangential history rolling_friction " << r.model << " " << r.options
     << "\npair_coeff * *\n"
-    << "fix floor all wall/gran model hertz tangential history rolling_friction " << r.model << " " << r.options
-    << " primitive type 2 zplane 0.0\n";
+    // A wall/gran fix takes the model's keywords after its geometry.
+    << "fix floor all wall/gran model hertz tangential history rolling_friction " << r.model
+    << " primitive type 2 zplane 0.0 " << r.options << "\n";
   return s.str();
 }
 
