@@ -253,7 +253,7 @@ TEST(RollingModelsReal, TinyViscousPileAndOedometerRun) {
   // demsa finds the same build (its cache, or $DEMSA_LIGGGHTS) for the viscous model.
   write_and_run("tiny_pile_viscous.toml", tmp / "pile");
   EXPECT_NE(test::read_file(tmp / "pile" / "contact.liggghts").find("coefficientRollingViscosity"), std::string::npos);
-  EXPECT_NE(test::read_file(tmp / "pile" / "pile.liggghts").find("rolling_friction viscous"), std::string::npos);
+  EXPECT_NE(test::read_file(tmp / "pile" / "in.liggghts").find("rolling_friction viscous"), std::string::npos);
   EXPECT_TRUE(fs::exists(tmp / "pile" / "pile_final.dump"));
   write_and_run("tiny_oedometer_viscous.toml", tmp / "oedometer");
   EXPECT_TRUE(fs::exists(tmp / "oedometer" / "plate_states.txt"));
