@@ -4,6 +4,7 @@
 #
 #   scripts/install-deps.sh            build, run and test dependencies
 #   scripts/install-deps.sh --slurm    also the packages of a local SLURM (tests of the slurm executor)
+#   scripts/install-deps.sh --liggghts-build  also what scripts/build-liggghts.sh needs (ccache, xz-utils)
 set -euo pipefail
 
 packages=(
@@ -15,9 +16,13 @@ packages=(
   gnuplot-nox python3-numpy python3-scipy clang-format
   python3-vtk9
 )
-if [[ ${1:-} == --slurm ]]; then
-  packages+=(slurmctld slurmd slurm-client munge)
-fi
+for option in "$@"; do
+  case $option in
+    --slurm) packages+=(slurmctld slurmd slurm-client munge) ;;
+    --liggghts-build) packages+=(ccache xz-utils) ;;
+    *) echo "install-deps: error: unknown option '$option' (--slurm, --liggghts-build)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

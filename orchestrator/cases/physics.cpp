@@ -6,6 +6,8 @@
 #include <cassert>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <string_view>
 
 namespace demsa::cases {
 
@@ -69,6 +71,68 @@ double disc_append_interval(double r_upper, double gravity) { return std::sqrt(4
 long steps_for(double duration, double dt) {
   assert(dt > 0);
   return std::max(1L, std::lround(duration / dt));
+}
+
+namespace {
+constexpr std::string_view k_cdt_words = "rolling_friction cdt";
+constexpr std::string_view k_cdt_property =
+    "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 ${mu_r_pp} ${mu_r_pw} ${mu_r_pw} "
+    "${mu_r_pw}\n";
+}  // namespace
+
+std::string rolling_model_words(const ContactSettings& contact) {
+  return fmt::format("rolling_friction {}", rolling_model_name(contact.rolling_model));
+}
+
+std::string rolling_property_lines(const ContactSettings& contact) {
+  switch (contact.rolling_model) {
+    case RollingModel::cdt:
+    case RollingModel::epsd2:
+      return std::string(k_cdt_property);
+    case RollingModel::epsd:
+      return std::string(k_cdt_property) +
+             "fix m6 all property/global coefficientRollingViscousDamping peratomtypepair 2 ${rolling_damping} "
+             "${rolling_damping} ${rolling_damping} ${rolling_damping}\n";
+    case RollingModel::epsd3:
+      return std::string(k_cdt_property) +
+             "fix m6 all property/global coefficientRollingViscousDamping peratomtypepair 2 ${rolling_damping} "
+             "${rolling_damping} ${rolling_damping} ${rolling_damping}\n"
+             "fix m7 all property/global rollingStiffness scalar ${rolling_stiffness}\n";
+    case RollingModel::viscous:
+      return "# rolling_friction viscous: mu_R in s*m (liggghts/rolling_model_viscous.h)\n"
+             "fix m5 all property/global coefficientRollingViscosity peratomtypepair 2 ${mu_r_pp} ${mu_r_pw} "
+             "${mu_r_pw} ${mu_r_pw}\n";
+  }
+  assert(false && "rolling model without property lines");
+  return {};
+}
+
+std::string with_rolling_model(std::string text, const ContactSettings& contact) {
+  if (contact.rolling_model == RollingModel::cdt) return text;
+  const auto replace_all = [&text](std::string_view from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+  };
+  replace_all(k_cdt_property, rolling_property_lines(contact));
+  replace_all(k_cdt_words, rolling_model_words(contact));
+  return text;
+}
+
+double liggghts_rolling_coefficient(const ContactSettings& contact, double value) {
+  // Divided rather than multiplied by 1e-6 (which is not a double): 5 mm·ms is written as 5e-06 s·m.
+  if (contact.rolling_model != RollingModel::viscous || contact.viscous_unit == ViscousUnit::s_m) return value;
+  return value / 1e6;  // mm·ms -> s·m
+}
+
+std::optional<std::filesystem::path> liggghts_library_dir(const std::string& executable) {
+  namespace fs = std::filesystem;
+  const fs::path exe(executable);
+  if (!exe.is_absolute() || exe.parent_path().filename() != "bin") return std::nullopt;
+  const fs::path prefix = exe.parent_path().parent_path();
+  std::error_code ec;
+  if (!fs::exists(prefix / "demsa-liggghts.txt", ec) || !fs::exists(prefix / "lib" / "libliggghts.so.3", ec))
+    return std::nullopt;
+  return prefix / "lib";
 }
 
 }  // namespace demsa::cases

@@ -3,6 +3,8 @@
 // time step, the pile's disc schedule, and the limits LIGGGHTS 3.8.0 enforces or silently needs.
 #include "orchestrator/study/config.hpp"
 
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,28 @@ std::vector<std::string> liggghts_limit_violations(const study::StudyConfig& con
 /// Pile (paper §3.2): a new disc is appended every t = sqrt(4 r_U / |g|) — the time in which a disc released at
 /// rest falls 2 r_U, the vertical disc spacing.
 double disc_append_interval(double r_upper, double gravity);
+
+/// The contact model's words after `model hertz tangential history` in `pair_style gran` and every `fix wall/gran`:
+/// "rolling_friction cdt", ..., "rolling_friction viscous".
+std::string rolling_model_words(const study::ContactSettings& contact);
+
+/// The `fix property/global` lines of the rolling model's coefficients (docs/study-file.md, [contact]): the per
+/// type-pair coefficient from ${mu_r_pp} and ${mu_r_pw} (coefficientRollingFriction, or coefficientRollingViscosity
+/// for `viscous`), plus ${rolling_damping} for epsd/epsd3 and ${rolling_stiffness} for epsd3.
+std::string rolling_property_lines(const study::ContactSettings& contact);
+
+/// A LIGGGHTS template with the study's rolling model: every "rolling_friction cdt" and the coefficientRollingFriction
+/// line of the templates (written for `cdt`) replaced. The text is returned unchanged for `cdt`.
+std::string with_rolling_model(std::string text, const study::ContactSettings& contact);
+
+/// The value of a rolling coefficient (mu_r_pp, mu_r_pw) that LIGGGHTS reads: μ_R converted to s·m for `viscous`
+/// given in mm·ms, the value itself otherwise.
+double liggghts_rolling_coefficient(const study::ContactSettings& contact, double value);
+
+/// The library folder of a LIGGGHTS built by scripts/build-liggghts.sh (`<prefix>/lib` holding libliggghts.so.3,
+/// the soname demsa links) for its executable `<prefix>/bin/liggghts`; nullopt for any other executable. A trial-step
+/// oedometer, driven in-process by demsa, loads that library (LD_LIBRARY_PATH in run.sh) for the `viscous` model.
+std::optional<std::filesystem::path> liggghts_library_dir(const std::string& executable);
 
 /// Number of steps of `duration` seconds at time step dt (at least 1).
 long steps_for(double duration, double dt);

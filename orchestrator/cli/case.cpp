@@ -79,7 +79,10 @@ class MpiSession {
 };
 
 void run_case(const CaseOptions& o, CliState& state) {
-  const StudyConfig config = load_study(o.study);
+  StudyConfig config = load_study(o.study);
+  // run.sh names the LIGGGHTS found for the study's rolling model; one without it is a warning here (the case may
+  // run elsewhere) and refused by `demsa run`.
+  resolve_liggghts(config, false);
   CaseRequest request;
   if (o.sample >= 0) {
     if (o.sample >= config.samples)
@@ -92,7 +95,7 @@ void run_case(const CaseOptions& o, CliState& state) {
     request = request_from_values(config, parse_sets(o.sets));
   }
   request.demsa_executable = util::self_executable();
-  if (const auto info = query_liggghts()) request.liggghts_version = info->version;
+  if (find_on_path(config.run.liggghts)) request.liggghts_version = query_liggghts_at(config.run.liggghts).version;
   const std::filesystem::path dir =
       o.output.empty() ? std::filesystem::path(o.sample >= 0 ? fmt::format("case-{:06d}", o.sample) : "case-set")
                        : std::filesystem::path(o.output);

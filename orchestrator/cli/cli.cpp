@@ -22,17 +22,31 @@ using namespace demsa::exec;
 
 namespace {
 
+/// "LIGGGHTS 3.8.0 (/usr/bin/liggghts); rolling models: cdt, epsd, ...": read from its `-h` (query_liggghts_at).
+void print_liggghts(const std::string& what, const LiggghtsInfo& info) {
+  if (info.version.empty())
+    fmt::print("{}: found at {}, but its version could not be read from `-h`\n", what, info.executable);
+  else
+    fmt::print("{} {} ({})\n", what, info.version, info.executable);
+  std::string models;
+  for (const std::string& m : info.rolling_models) models += (models.empty() ? "" : ", ") + m;
+  fmt::print("  rolling models: {}\n", models.empty() ? "unknown (not listed by `-h`)" : models);
+}
+
 void print_version() {
   fmt::print("demsa {}\n", k_version);
   if (const auto info = query_liggghts()) {
-    if (info->version.empty())
-      fmt::print("LIGGGHTS: found at {}, but its version could not be read from `-h`\n", info->executable);
-    else
-      fmt::print("LIGGGHTS {} ({})\n", info->version, info->executable);
+    print_liggghts("LIGGGHTS", *info);
   } else {
     fmt::print(
         "LIGGGHTS: not found (no `liggghts` on PATH and DEMSA_LIGGGHTS not set); install it with "
         "scripts/install-deps.sh\n");
+  }
+  if (const auto cached = cached_liggghts_executable()) {
+    print_liggghts("LIGGGHTS of scripts/build-liggghts.sh", query_liggghts_at(*cached));
+  } else {
+    fmt::print("LIGGGHTS of scripts/build-liggghts.sh: none in {} (needed by the viscous rolling model)\n",
+               liggghts_cache_dir().string());
   }
 }
 

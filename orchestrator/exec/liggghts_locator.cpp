@@ -1,11 +1,19 @@
 #include "orchestrator/exec/liggghts_locator.hpp"
 
+#include "orchestrator/cases/physics.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/log.hpp"
 #include "orchestrator/util/process.hpp"
 
+#include <fmt/core.h>
+
 #include <unistd.h>
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <regex>
 #include <sstream>
 
@@ -36,21 +44,138 @@ std::optional<std::string> find_liggghts_executable() {
   return find_on_path("liggghts");
 }
 
-std::optional<LiggghtsInfo> query_liggghts() {
-  const auto exe = find_liggghts_executable();
-  if (!exe) return std::nullopt;
-  LiggghtsInfo info{*exe, ""};
-  // `liggghts -h` prints its banner and exits 1 (stdin is /dev/null: it never waits for input). Run from its argv,
-  // not through a shell, so that any path works; a LIGGGHTS that hangs is not worth waiting for.
-  util::CaptureOptions options;
-  options.merge_stderr = true;
-  options.timeout = std::chrono::seconds(30);
-  const util::CaptureResult r = util::run_capture({*exe, "-h"}, options);
-  const std::string head = r.out.substr(0, 4096);
+LiggghtsInfo parse_liggghts_help(const std::string& executable, const std::string& help) {
+  LiggghtsInfo info{executable, "", {}};
+  const std::string head = help.substr(0, 4096);
   static const std::regex version_re(R"(LIGGGHTS[^\n]*?Version[^\n]*?([0-9]+\.[0-9]+(\.[0-9]+)?))");
   std::smatch m;
   if (std::regex_search(head, m, version_re)) info.version = m[1].str();
+  // "* Rolling models for pair gran:", a blank line, then names in columns up to the next blank line.
+  const std::string heading = "* Rolling models for pair gran:";
+  const std::size_t at = help.find(heading);
+  if (at == std::string::npos) return info;
+  std::istringstream in(help.substr(at + heading.size(), 4096));
+  std::string line;
+  bool started = false;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string word;
+    bool any = false;
+    while (words >> word) {
+      any = true;
+      info.rolling_models.push_back(word);
+    }
+    if (any)
+      started = true;
+    else if (started)
+      break;
+  }
   return info;
+}
+
+LiggghtsInfo query_liggghts_at(const std::string& executable) {
+  static std::mutex mutex;
+  static std::map<std::string, LiggghtsInfo> known;
+  const std::lock_guard lock(mutex);
+  if (const auto it = known.find(executable); it != known.end()) return it->second;
+  // `liggghts -h` prints its banner and the compiled styles and models, and exits 1 (stdin is /dev/null: it never
+  // waits for input). Run from its argv, not through a shell, so that any path works; a LIGGGHTS that hangs is not
+  // worth waiting for.
+  util::CaptureOptions options;
+  options.merge_stderr = true;
+  options.timeout = std::chrono::seconds(30);
+  const util::CaptureResult r = util::run_capture({executable, "-h"}, options);
+  return known[executable] = parse_liggghts_help(executable, r.out);
+}
+
+std::optional<LiggghtsInfo> query_liggghts() {
+  const auto exe = find_liggghts_executable();
+  if (!exe) return std::nullopt;
+  return query_liggghts_at(*exe);
+}
+
+fs::path liggghts_cache_dir() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg == '/') return fs::path(xdg) / "demsa";
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
+    return fs::path(home) / ".cache" / "demsa";
+  return {};
+}
+
+std::optional<std::string> cached_liggghts_executable() {
+  const fs::path dir = liggghts_cache_dir();
+  std::error_code ec;
+  if (dir.empty() || !fs::is_directory(dir, ec)) return std::nullopt;
+  std::optional<std::string> newest;
+  fs::file_time_type newest_time{};
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    // A build in progress (".tmp") and the bench's build without the compiled viscous kernel ("-generic") are skipped.
+    if (name.rfind("liggghts-", 0) != 0 || name.find(".tmp") != std::string::npos ||
+        name.find("-generic") != std::string::npos)
+      continue;
+    const fs::path stamp = e.path() / "demsa-liggghts.txt";
+    const fs::path exe = e.path() / "bin" / "liggghts";
+    if (!fs::exists(stamp, ec) || ::access(exe.c_str(), X_OK) != 0) continue;
+    const fs::file_time_type t = fs::last_write_time(stamp, ec);
+    if (!newest || t > newest_time) {
+      newest = exe.string();
+      newest_time = t;
+    }
+  }
+  return newest;
+}
+
+void resolve_liggghts(study::StudyConfig& config, bool refuse) {
+  using study::RollingModel;
+  const study::RunSettings defaults;
+  const RollingModel model = config.contact.rolling_model;
+  const std::string name(study::rolling_model_name(model));
+  // `cdt` is in every LIGGGHTS 3.x: nothing to resolve or ask, and its cases stay as they were.
+  if (model == RollingModel::cdt) return;
+  // Stock LIGGGHTS 3.8.0 has every rolling model but the viscous one.
+  const bool stock_model = model != RollingModel::viscous;
+  std::optional<std::string> exe;
+  std::string source;
+  if (config.run.liggghts != defaults.liggghts) {
+    exe = find_on_path(config.run.liggghts);
+    source = "[run] liggghts";
+  } else if (const char* env = std::getenv("DEMSA_LIGGGHTS"); env != nullptr && *env != '\0') {
+    exe = find_on_path(env);
+    source = "$DEMSA_LIGGGHTS";
+  } else if (!stock_model && (exe = cached_liggghts_executable())) {
+    source = "the cache " + liggghts_cache_dir().string();
+  } else {
+    exe = find_on_path("liggghts");
+    source = "PATH";
+  }
+  if (!exe) return;  // the run reports a missing executable as it always did
+  config.run.liggghts = *exe;
+
+  const std::string how =
+      "build LIGGGHTS with it by scripts/build-liggghts.sh (README: \"LIGGGHTS with the viscous rolling model\"); "
+      "demsa then finds it in " +
+      liggghts_cache_dir().string() + ", or name it by [run] liggghts or $DEMSA_LIGGGHTS";
+  std::string problem;
+  const LiggghtsInfo info = query_liggghts_at(*exe);
+  if (!info.rolling_models.empty() &&
+      std::find(info.rolling_models.begin(), info.rolling_models.end(), name) == info.rolling_models.end()) {
+    std::string models;
+    for (const std::string& m : info.rolling_models) models += (models.empty() ? "" : ", ") + m;
+    problem = fmt::format(
+        "[contact] rolling_model = \"{}\": the LIGGGHTS found through {} ({}) has only the rolling "
+        "models {}; {}",
+        name, source, *exe, models, how);
+  } else if (model == RollingModel::viscous && config.experiment == study::Experiment::oedometer &&
+             config.oedometer.plate_mode == study::PlateMode::trial_step && !cases::liggghts_library_dir(*exe)) {
+    problem = fmt::format(
+        "[contact] rolling_model = \"viscous\" with plate_mode = \"trial-step\": demsa drives the "
+        "plate in-process and needs the LIGGGHTS library of the same build, which {} ({}) does not "
+        "come with; {}",
+        source, *exe, how);
+  }
+  if (problem.empty()) return;
+  if (refuse) throw util::UserError(config.file.string(), 0, problem);
+  util::log::warn("{}", problem);
 }
 
 }  // namespace demsa::exec

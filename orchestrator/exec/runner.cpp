@@ -1,5 +1,7 @@
 #include "orchestrator/exec/runner.hpp"
 
+#include "orchestrator/exec/liggghts_locator.hpp"
+
 #include "orchestrator/cases/case_writer.hpp"
 #include "orchestrator/exec/case_vtk.hpp"
 #include "orchestrator/exec/failure.hpp"
@@ -421,7 +423,9 @@ void handle_interrupt(Loop& loop) {
 RunSummary run_study(const RunOptions& options) {
   options.validate();
   const auto start = std::chrono::steady_clock::now();
-  const StudyConfig config = load_study(options.study_file);
+  StudyConfig config = load_study(options.study_file);
+  // The LIGGGHTS the cases run, and whether it has the study's rolling model: refused before any case runs.
+  resolve_liggghts(config, !options.dry_run);
   RunSummary summary;
   summary.dir = options.dir.empty() ? default_study_dir(options.study_file) : options.dir;
   summary.dry_run = options.dry_run;

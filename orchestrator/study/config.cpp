@@ -559,6 +559,28 @@ Material material_for(const StudyConfig& config, const std::vector<double>& phys
   return m;
 }
 
+std::string_view rolling_model_name(RollingModel model) {
+  switch (model) {
+    case RollingModel::cdt:
+      return "cdt";
+    case RollingModel::epsd:
+      return "epsd";
+    case RollingModel::epsd2:
+      return "epsd2";
+    case RollingModel::epsd3:
+      return "epsd3";
+    case RollingModel::viscous:
+      return "viscous";
+  }
+  assert(false && "rolling model without a name");
+  return "cdt";
+}
+
+double viscous_unit_factor(ViscousUnit unit) {
+  // 1 mm·ms = 1e-3 m × 1e-3 s = 1e-6 s·m.
+  return unit == ViscousUnit::mm_ms ? 1e-6 : 1.0;
+}
+
 sobol::MetamodelOptions AnalysisSettings::metamodel_options() const {
   sobol::MetamodelOptions o;
   o.gp.kernel = gp_kernel;

@@ -24,6 +24,10 @@ enum class TimestepMode { rayleigh, fixed };
 enum class ExecutorKind { local, slurm };
 /// How the SLURM executor submits: one job array per batch of cases, or one allocation whose cases run as job steps.
 enum class SlurmMode { array, pack };
+/// The rolling-resistance model of every pair and wall contact (docs/study-file.md, [contact]).
+enum class RollingModel { cdt, epsd, epsd2, epsd3, viscous };
+/// The unit in which a study gives the viscous model's μ_R (mu_r_pp, mu_r_pw and their ranges).
+enum class ViscousUnit { s_m, mm_ms };
 
 /// LIGGGHTS (units si) refuses youngsModulus outside [5e6, 1e9] Pa unless `soft_particles yes` /
 /// `hard_particles yes` is given (Material::soft_particles / hard_particles).
@@ -118,6 +122,19 @@ struct OedometerSettings {
   int max_trials = 2000;           ///< per load
 };
 
+/// The contact model's rolling resistance; hertz normal and history tangential are fixed.
+struct ContactSettings {
+  RollingModel rolling_model = RollingModel::cdt;
+  double rolling_damping = 0.3;     ///< η_r of epsd and epsd3 (coefficientRollingViscousDamping), [0, 1]
+  double rolling_stiffness = 2.25;  ///< epsd3: k_r = rolling_stiffness k_n μ_r² R*² (rollingStiffness), >= 1
+  ViscousUnit viscous_unit = ViscousUnit::s_m;  ///< the unit of μ_R for `viscous`
+};
+
+/// The LIGGGHTS name of a rolling model ("cdt", ..., "viscous").
+std::string_view rolling_model_name(RollingModel model);
+/// Factor from the study's μ_R to SI s·m: 1 for s·m, 1e-6 for mm·ms.
+double viscous_unit_factor(ViscousUnit unit);
+
 struct TimestepSettings {
   TimestepMode mode = TimestepMode::rayleigh;
   double fraction = 0.15;  ///< dt = fraction * T_R(r_min, E, ν, ρ); (0, 0.3]
@@ -173,6 +190,7 @@ struct StudyConfig {
   int samples = 16;
   std::vector<ParameterRange> parameters;  ///< the varied parameters, in the paper's order
   Material material;
+  ContactSettings contact;
   PileSettings pile;
   OedometerSettings oedometer;
   TimestepSettings timestep;

@@ -485,11 +485,12 @@ std::vector<Setting> build_settings() {
   add(Row("material", "mu_r_pp")
           .number(FIELD(material.mu_r_pp), k_non_negative)
           .cases("m.mu_r_pp")
-          .doc("particle–particle rolling friction (LIGGGHTS `cdt`, dimensionless)"));
+          .doc("particle–particle rolling coefficient of `[contact] rolling_model` (μ_r of `cdt`, dimensionless; μ_R "
+               "of `viscous` in `viscous_unit`)"));
   add(Row("material", "mu_r_pw")
           .number(FIELD(material.mu_r_pw), k_non_negative)
           .cases("m.mu_r_pw")
-          .doc("particle–wall rolling friction (`cdt`)"));
+          .doc("particle–wall rolling coefficient of `[contact] rolling_model`"));
   add(Row("material", "density")
           .number(FIELD(material.density), k_positive)
           .unit("kg/m³")
@@ -877,6 +878,47 @@ std::vector<Setting> build_settings() {
           .boolean(FIELD(analysis.gp_nugget))
           .doc("estimate a nugget: the GP smooths the noise of DEM responses instead of interpolating it"));
 
+  // [contact]: the rolling model; at their defaults (`cdt`) the rows add nothing to the hash, so the studies made
+  // before the section existed keep their hash.
+  add(Row("contact", "rolling_model")
+          .choice(FIELD(contact.rolling_model),
+                  std::vector<std::pair<std::string, RollingModel>>{{"cdt", RollingModel::cdt},
+                                                                    {"epsd", RollingModel::epsd},
+                                                                    {"epsd2", RollingModel::epsd2},
+                                                                    {"epsd3", RollingModel::epsd3},
+                                                                    {"viscous", RollingModel::viscous}})
+          .cases("contact.rolling_model")
+          .canonical([](const StudyConfig& c) -> Lines {
+            if (c.contact.rolling_model == RollingModel::cdt) return {};
+            return {{"contact.rolling_model", std::string(rolling_model_name(c.contact.rolling_model))}};
+          })
+          .doc("rolling resistance of every pair and wall contact (LIGGGHTS `rolling_friction`); `viscous` is the "
+               "paper's model B and needs the LIGGGHTS of `scripts/build-liggghts.sh`; `mu_r_pp`/`mu_r_pw` are "
+               "its coefficients (see below)"));
+  add(Row("contact", "rolling_damping")
+          .number(FIELD(contact.rolling_damping), between(0, true, 1, true))
+          .cases("contact.rolling_damping")
+          .canonical(unless_default("contact.rolling_damping", FIELD(contact.rolling_damping)))
+          .doc("`epsd`, `epsd3`: viscous damping ratio η_r of the rolling dashpot "
+               "(`coefficientRollingViscousDamping`, dimensionless; Ai et al. 2011 use 0.3)"));
+  add(Row("contact", "rolling_stiffness")
+          .number(FIELD(contact.rolling_stiffness), at_least(1))
+          .cases("contact.rolling_stiffness")
+          .canonical(unless_default("contact.rolling_stiffness", FIELD(contact.rolling_stiffness)))
+          .doc("`epsd3`: prefactor of the rolling stiffness k_r = factor × k_n μ_r² R*² (`rollingStiffness`, "
+               "dimensionless, >= 1 in SI; `epsd` fixes it at 2.25, Ai et al. 2011)"));
+  add(Row("contact", "viscous_unit")
+          .choice(FIELD(contact.viscous_unit),
+                  std::vector<std::pair<std::string, ViscousUnit>>{{"s*m", ViscousUnit::s_m},
+                                                                   {"mm*ms", ViscousUnit::mm_ms}})
+          .cases("contact.viscous_unit")
+          .canonical([](const StudyConfig& c) -> Lines {
+            if (c.contact.viscous_unit == ViscousUnit::s_m) return {};
+            return {{"contact.viscous_unit", "mm*ms"}};
+          })
+          .doc("`viscous`: the unit of `mu_r_pp`, `mu_r_pw` and their `[parameters]` ranges: SI `s*m`, or the "
+               "paper's `mm*ms` (Table 3; 1 mm·ms = 1e-6 s·m, converted when the case is written)"));
+
   std::vector<Setting> settings;
   for (Row& row : rows) settings.push_back(std::move(row).finish());
   // The parameter ranges obey the rules of their [material] values.
@@ -976,6 +1018,39 @@ std::string SettingBounds::rule() const {
   return (low && high ? "must lie in " : "must be ") + text();
 }
 
+/// [contact]: one paragraph per rolling model (docs/study-file.md).
+const char* const k_contact_intro =
+    "Every pair and wall contact is Hertz normal (`model hertz`, damping from `e_r`) with Mindlin tangential "
+    "(`tangential history`, capped by Coulomb friction) and one rolling model, written into `pair_style gran` "
+    "and every `fix wall/gran` of both experiments. The coefficients `mu_r_pp` and `mu_r_pw` (`[material]` and "
+    "`[parameters]`) are the chosen model's rolling coefficient; its meaning and unit depend on the model.";
+const char* const k_contact_notes =
+    "- `cdt` (default; LIGGGHTS `src/rolling_model_cdt.h`, doc `gran_rolling_friction_cdt`; Ai et al. 2011 "
+    "model A): a constant torque μ_r k_n δ_n R* against the tangential relative rotation. `mu_r_*` is the "
+    "dimensionless coefficientRollingFriction μ_r (a lever arm of μ_r R*). Stock LIGGGHTS.\n"
+    "- `epsd` (`src/rolling_model_epsd.h`; Ai et al. 2011 model C, elastic-plastic spring-dashpot): a rolling "
+    "spring k_r = 2.25 k_n μ_r² R*² capped at μ_r \\|F_n\\| R*, plus a dashpot of damping ratio `rolling_damping` "
+    "(coefficientRollingViscousDamping η_r, dimensionless) while the spring is not at its cap. `mu_r_*`: μ_r, "
+    "dimensionless. Stock LIGGGHTS.\n"
+    "- `epsd2` (`src/rolling_model_epsd2.h`; Iwashita and Oda 1998): the spring of `epsd` with k_r = k_t R*² "
+    "(k_t the tangential stiffness), capped at μ_r \\|F_n\\| R*, no dashpot. `mu_r_*`: μ_r, dimensionless. Stock "
+    "LIGGGHTS.\n"
+    "- `epsd3` (`src/rolling_model_epsd3.h`): `epsd` with k_r = `rolling_stiffness` × k_n μ_r² R*² "
+    "(rollingStiffness, dimensionless, >= 1 in SI) and the dashpot ratio `rolling_damping`. `mu_r_*`: μ_r, "
+    "dimensionless. Stock LIGGGHTS.\n"
+    "- `viscous` (the paper's eq. 8: Ai et al. 2011 model B; `liggghts/rolling_model_viscous.h` of this "
+    "repository, doc `liggghts/rolling_model_viscous.md`): the torque μ_R \\|F_n\\| ω_t against the tangential "
+    "relative angular velocity ω_t, so that `mu_r_*` is μ_R with units of length × time "
+    "(coefficientRollingViscosity in s·m). Give it in SI (`viscous_unit = \"s*m\"`) or in the paper's mm·ms "
+    "(`viscous_unit = \"mm*ms\"`: Table 3's μ_R,PP ∈ [0.45, 4.5] and μ_R,PW ∈ [0.8, 5] mm·ms are [0.45e-6, "
+    "4.5e-6] and [0.8e-6, 5e-6] s·m; 1 mm·ms = 1e-6 s·m); the case writer converts to s·m. Explicitly "
+    "integrated the torque is stiff (unstable once μ_R \\|F_n\\| dt / I* > 2); each contact therefore applies "
+    "over one step the exact exponential decay of ω_t that its torque causes, its one-step fraction capped at "
+    "1/8 (the header's comment gives the derivation), which equals model B whenever the rolling relaxes over "
+    "more than about 8 steps. A purely viscous torque gives no static rolling resistance (ω = 0, no torque). Not "
+    "in stock LIGGGHTS: build it with `scripts/build-liggghts.sh` (README); demsa refuses a `viscous` study "
+    "before any case runs when the LIGGGHTS it found lacks the model.";
+
 const std::vector<SettingSection>& setting_sections() {
   static const std::vector<SettingSection> sections{
       {"study", "", ""},
@@ -989,9 +1064,10 @@ const std::vector<SettingSection>& setting_sections() {
        "paper's order; at least one is required.",
        ""},
       {"material", "",
-       "The rolling model: the paper's viscous model B (Ai et al. 2011) is not in LIGGGHTS 3.8.0; `cdt` is the "
-       "nearest (a constant torque μ_r k_n δ_n R*), so its coefficients are not the paper's numbers; choose the "
-       "ranges per study."},
+       "The rolling coefficients `mu_r_pp` and `mu_r_pw` are those of `[contact] rolling_model`: dimensionless "
+       "for `cdt` (the default), `epsd`, `epsd2` and `epsd3`, length × time for the paper's `viscous` model B "
+       "(in the unit of `[contact] viscous_unit`)."},
+      {"contact", k_contact_intro, k_contact_notes},
       {"pile", "Defaults: particle set 1 of the paper's Table 2.",
        "Discs: ring k of a disc has radius 2 r_U k; disc k of the column is at pedestal top + r_U + 2 r_U k; one "
        "more disc is appended every sqrt(4 r_U/\\|g\\|).\n\n"

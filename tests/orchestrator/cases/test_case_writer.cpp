@@ -1,6 +1,7 @@
 // Case folders: the files, their determinism, run.sh, case.json, the refusal of settings LIGGGHTS cannot run,
 // and the paper-size presets (written, not run).
 #include "orchestrator/cases/case_writer.hpp"
+#include "orchestrator/cases/embedded_templates.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "support/test_support.hpp"
@@ -296,6 +297,104 @@ TEST(CaseWriter, PaperPresetsWriteFullCases) {
   EXPECT_EQ(s.particles, 4642);
   EXPECT_EQ(data_atoms(read_file(tmp / "oed" / "oedometer_particles.data")), 4642);
   EXPECT_EQ(count_lines_starting(read_file(tmp / "oed" / "oedometer_particles.data"), "4642 1 "), 1);
+}
+
+}  // namespace
+}  // namespace demsa
+
+namespace demsa {
+namespace {
+
+/// Every *.liggghts file of a case folder, concatenated.
+std::string all_inputs(const std::filesystem::path& dir) {
+  std::string text;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".liggghts") text += test::read_file(e.path());
+  return text;
+}
+
+/// The value of `variable NAME equal VALUE` in params.liggghts; "" when absent.
+std::string param(const std::string& params, const std::string& name) {
+  std::istringstream in(params);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::string variable, key, style, value;
+    if (words >> variable >> key >> style >> value && variable == "variable" && key == name) return value;
+  }
+  return "";
+}
+
+int count_of(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(CaseWriterRolling, TheDefaultWritesTheCdtTemplatesAsTheyAre) {
+  const study::StudyConfig c = study::parse_study(
+      "[study]\nname = \"t\"\nexperiment = \"pile\"\n[parameters]\nE = { low = 1e8, high = 1e9 }\n"
+      "[pile]\nparticles = 300\n",
+      "study.toml");
+  test::TempDir tmp;
+  cases::CaseRequest r = cases::request_from_unit_point(c, 0, {0.5});
+  cases::write_case(c, r, tmp / "case");
+  for (const char* name : {"contact.liggghts", "pile.liggghts"}) {
+    const std::string written =
+        test::read_file(tmp / "case" / (std::string(name) == "pile.liggghts" ? "in.liggghts" : name));
+    EXPECT_EQ(written, cases::embedded_templates().at(name)) << name;
+  }
+  EXPECT_EQ(test::read_file(tmp / "case" / "params.liggghts").find("rolling_damping"), std::string::npos);
+}
+
+TEST(CaseWriterRolling, ViscousIsWrittenIntoEveryPairAndWallFixInSI) {
+  for (const std::string oedometer : {"", "servo", "trial-step"}) {
+    SCOPED_TRACE(oedometer.empty() ? "pile" : oedometer);
+    const std::string experiment = oedometer.empty() ? "pile" : "oedometer";
+    const std::string table = oedometer.empty() ? "[pile]\nparticles = 300\n"
+                                                : "[oedometer]\nparticles = 300\nplate_mode = \"" + oedometer + "\"\n";
+    const study::StudyConfig c = study::parse_study(
+        "[study]\nname = \"t\"\nexperiment = \"" + experiment +
+            "\"\n[parameters]\nmu_r_pp = { low = 0.45, high = 4.5 }\n[contact]\nrolling_model = \"viscous\"\n"
+            "viscous_unit = \"mm*ms\"\n[material]\nmu_r_pw = 5\n" +
+            table,
+        "study.toml");
+    test::TempDir tmp;
+    cases::CaseRequest r = cases::request_from_values(c, {{"mu_r_pp", 2.0}});
+    r.demsa_executable = "/usr/bin/demsa";
+    cases::write_case(c, r, tmp / "case");
+    const std::string inputs = all_inputs(tmp / "case");
+    EXPECT_EQ(count_of(inputs, "rolling_friction cdt"), 0);
+    // pair_style and every wall/gran fix
+    EXPECT_EQ(count_of(inputs, "model hertz tangential history rolling_friction viscous"),
+              count_of(inputs, "model hertz tangential history"));
+    EXPECT_GE(count_of(inputs, "model hertz tangential history rolling_friction viscous"), 2);
+    EXPECT_EQ(count_of(inputs, "coefficientRollingFriction"), 0);
+    EXPECT_EQ(count_of(inputs, "property/global coefficientRollingViscosity peratomtypepair 2 ${mu_r_pp} ${mu_r_pw}"),
+              1);
+    // mm·ms to s·m
+    const std::string params = test::read_file(tmp / "case" / "params.liggghts");
+    EXPECT_EQ(param(params, "mu_r_pp"), "2e-06") << params;
+    EXPECT_EQ(param(params, "mu_r_pw"), "5e-06") << params;
+  }
+}
+
+TEST(CaseWriterRolling, EpsdModelsWriteTheirDampingAndStiffness) {
+  const study::StudyConfig c = study::parse_study(
+      "[study]\nname = \"t\"\nexperiment = \"pile\"\n[parameters]\nmu_r_pp = { low = 0.05, high = 0.5 }\n"
+      "[contact]\nrolling_model = \"epsd3\"\nrolling_damping = 0.25\nrolling_stiffness = 3\n[pile]\nparticles = 300\n",
+      "study.toml");
+  test::TempDir tmp;
+  cases::write_case(c, cases::request_from_values(c, {{"mu_r_pp", 0.2}}), tmp / "case");
+  const std::string inputs = all_inputs(tmp / "case");
+  EXPECT_EQ(count_of(inputs, "rolling_friction cdt"), 0);
+  EXPECT_EQ(count_of(inputs, "model hertz tangential history rolling_friction epsd3"),
+            count_of(inputs, "model hertz tangential history"));
+  EXPECT_EQ(count_of(inputs, "coefficientRollingViscousDamping peratomtypepair 2 ${rolling_damping}"), 1);
+  EXPECT_EQ(count_of(inputs, "rollingStiffness scalar ${rolling_stiffness}"), 1);
+  const std::string params = test::read_file(tmp / "case" / "params.liggghts");
+  EXPECT_EQ(param(params, "rolling_damping"), "0.25") << params;
+  EXPECT_EQ(param(params, "rolling_stiffness"), "3") << params;
+  EXPECT_EQ(param(params, "mu_r_pp"), "0.2") << params;
 }
 
 }  // namespace

@@ -170,6 +170,7 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
        "servo_kd, servo_max_steps, servo_check_steps, rest_velocity, trial_steps, relax_steps, "
        "trial_reduction, trial_step0, trial_floor, max_trials"},
       {"timestep", "mode, fraction, value, skin"},
+      {"contact", "rolling_model, rolling_damping, rolling_stiffness, viscous_unit"},
       {"run", "executor, ranks, parallel, oversubscribe, timeout, retries, lost_fraction, liggghts, mpirun, slurm"},
       {"run.slurm", "mode, partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval"},
       {"analysis", "metamodels, second_order, bootstrap, confidence, base_samples, gp_kernel, gp_trend, gp_nugget"},

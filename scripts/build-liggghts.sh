@@ -1,0 +1,162 @@
+#!/usr/bin/env bash
+# Build LIGGGHTS 3.8.0 from Debian's source archive with the project's rolling model
+# (liggghts/rolling_model_viscous.h) and compiled kernels for hertz / tangential history /
+# cohesion off / rolling off, cdt, epsd, epsd2, epsd3 and viscous (liggghts/style_contact_model.whitelist).
+#
+#   scripts/build-liggghts.sh                build (once per source + patch hash), print the prefix
+#   scripts/build-liggghts.sh --print-prefix print the prefix this checkout's build lives in; build nothing
+#   scripts/build-liggghts.sh --jobs N       parallel compile jobs (default 2)
+#   scripts/build-liggghts.sh --generic-viscous  the same without the compiled viscous kernel, in <prefix>-generic
+#                                            (LIGGGHTS then runs the model through its generic path; for bench/)
+#
+# The result is a versioned prefix outside the repository:
+#   ${XDG_CACHE_HOME:-$HOME/.cache}/demsa/liggghts-3.8.0-<key>/{bin/liggghts,lib/libliggghts.so,include/liggghts/}
+# <key> = first 16 hex digits of sha256(source tarball hash, the patch files' hashes, RECIPE). The library is
+# libliggghts.so.3.8.0 with the soname of Debian's, libliggghts.so.3, so that demsa (linked against Debian's) can
+# load it in its place for the in-process trial-step oedometer (LD_LIBRARY_PATH=<prefix>/lib). A prefix is
+# complete once its `demsa-liggghts.txt` exists (written last); a finished prefix is never rebuilt.
+# demsa finds it through `[run] liggghts`, $DEMSA_LIGGGHTS, or this cache (the newest complete prefix).
+# ccache is used when installed (CCACHE_DIR defaults to <cache>/ccache), so a changed patch rebuilds cheaply.
+# Needs: apt-get (source download), cmake, mpicxx (libopenmpi-dev): scripts/install-deps.sh --liggghts-build.
+set -euo pipefail
+
+RECIPE=3 # bump when the build commands below change the result
+VERSION=3.8.0
+TARBALL=liggghts_3.8.0+repack1.orig.tar.xz
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cache=${XDG_CACHE_HOME:-$HOME/.cache}/demsa
+jobs=2
+print_only=0
+generic=0
+while (($#)); do
+  case $1 in
+    --print-prefix) print_only=1 ;;
+    --generic-viscous) generic=1 ;;
+    --jobs) jobs=$2; shift ;;
+    -h | --help) sed -n '2,23p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "build-liggghts: error: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+# The model header and the list of compiled kernels: the combinations demsa writes. Without the list Make.sh
+# generates 119 combinations (a loop over 3780 in sh: many minutes), and each kernel costs compile time in lammps.cpp;
+# any other combination still runs, through LIGGGHTS's generic path.
+patches=("$repo/liggghts/rolling_model_viscous.h" "$repo/liggghts/style_contact_model.whitelist")
+for p in "${patches[@]}"; do
+  [[ -f $p ]] || { echo "build-liggghts: error: missing $p" >&2; exit 1; }
+done
+
+say() { echo "build-liggghts: $*" >&2; }
+
+# 1. The upstream tarball, from Debian's source archive through a private deb-src list (the system's apt
+#    configuration is not changed). Debian's patch tarball may be missing (404): apt-get then exits non-zero
+#    after fetching the .orig tarball, which is all this build needs; success is judged by that file.
+src_dl=$cache/src
+mkdir -p "$src_dl"
+if [[ ! -s $src_dl/$TARBALL ]]; then
+  ((print_only == 0)) || { say "error: $TARBALL is not in $src_dl yet: run scripts/build-liggghts.sh"; exit 1; }
+  say "fetching $TARBALL from Debian's source archive"
+  apt_dir=$(mktemp -d)
+  trap 'rm -rf "$apt_dir"' EXIT
+  mkdir -p "$apt_dir/sources" "$apt_dir/lists/partial" "$apt_dir/archives/partial"
+  cat >"$apt_dir/sources/debian-src.sources" <<'EOF'
+Types: deb-src
+URIs: http://deb.debian.org/debian
+Suites: bookworm
+Components: main
+Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
+EOF
+  apt_opts=(-o "Dir::Etc::SourceParts=$apt_dir/sources" -o Dir::Etc::SourceList=/dev/null
+    -o "Dir::State::Lists=$apt_dir/lists" -o "Dir::Cache=$apt_dir" -o Debug::NoLocking=1)
+  apt-get "${apt_opts[@]}" -qq update || { say "error: apt-get update of the deb-src list failed"; exit 1; }
+  (cd "$src_dl" && apt-get "${apt_opts[@]}" -qq source --download-only liggghts) ||
+    say "apt-get source exited non-zero (the Debian patch tarball is often missing); checking the upstream tarball"
+  [[ -s $src_dl/$TARBALL ]] || { say "error: $TARBALL was not fetched into $src_dl"; exit 1; }
+fi
+
+key=$( {
+  sha256sum "$src_dl/$TARBALL" | cut -d' ' -f1
+  for p in "${patches[@]}"; do sha256sum "$p" | cut -d' ' -f1; done
+  echo "recipe $RECIPE"
+} | sha256sum | cut -c1-16)
+prefix=$cache/liggghts-$VERSION-$key
+((generic == 0)) || prefix=$prefix-generic
+
+if ((print_only)); then
+  echo "$prefix"
+  exit 0
+fi
+if [[ -f $prefix/demsa-liggghts.txt ]]; then
+  say "already built: $prefix"
+  echo "$prefix"
+  exit 0
+fi
+
+command -v cmake >/dev/null || { say "error: cmake not found (scripts/install-deps.sh --liggghts-build)"; exit 1; }
+command -v mpicxx >/dev/null || { say "error: mpicxx not found (scripts/install-deps.sh --liggghts-build)"; exit 1; }
+
+# 2. Unpack into one fixed work tree (a fixed path lets ccache hit across keys), add the patch files.
+work=$cache/work-$VERSION
+rm -rf "$work"
+mkdir -p "$work"
+tar -xJf "$src_dl/$TARBALL" -C "$work"
+src=$work/LIGGGHTS-PUBLIC-$VERSION/src
+[[ -f $src/CMakeLists.txt ]] || { say "error: unexpected tarball layout (no $src/CMakeLists.txt)"; exit 1; }
+cp "${patches[@]}" "$src/"
+if ((generic)); then
+  sed -i '/ROLLING_VISCOUS/d' "$src/style_contact_model.whitelist"
+fi
+# Fixes the upstream tree needs with GCC 12 and without VTK (Debian's own patches are not in its archive):
+# utils.h casts an rvalue stream to an lvalue reference (an error since libstdc++ returns Ostream&& from the rvalue
+# inserter, LWG 1203), and dump_mesh_vtk.* lack the LAMMPS_VTK guard of the other VTK dumps.
+sed -i 's|return static_cast< std::ostringstream & >(( std::ostringstream() << std::dec << a ) ).str();|std::ostringstream s; s << std::dec << a; return s.str();|' "$src/utils.h"
+grep -q 'std::ostringstream s; s << std::dec << a; return s.str();' "$src/utils.h" || { say "error: utils.h not patched"; exit 1; }
+rm -f "$src/dump_mesh_vtk.h" "$src/dump_mesh_vtk.cpp"
+# finish.cpp compares a pointer with 0 by `>` (an error in GCC 12): it means "not null".
+sed -i 's|if (neighbor->lists\[m\]->numneigh > 0) {|if (neighbor->lists[m]->numneigh != NULL) {|' "$src/finish.cpp"
+grep -q 'numneigh != NULL' "$src/finish.cpp" || { say "error: finish.cpp not patched"; exit 1; }
+# Debian's soname (the upstream CMakeLists gives the library none of its own).
+echo 'SET_TARGET_PROPERTIES(liggghts_shared PROPERTIES VERSION 3.8.0 SOVERSION 3)' >>"$src/CMakeLists.txt"
+say "source in $src, patched with: ${patches[*]##*/}"
+
+# 3. Configure and build the executable and the shared library (the OBJECT library is compiled once).
+launcher=()
+if command -v ccache >/dev/null; then
+  export CCACHE_DIR=${CCACHE_DIR:-$cache/ccache} CCACHE_BASEDIR=$work CCACHE_NOHASHDIR=1
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  say "using ccache ($CCACHE_DIR)"
+fi
+build=$work/build
+start=$(date +%s)
+CC=mpicc CXX=mpicxx cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE= "${launcher[@]}" \
+  -DCMAKE_DISABLE_FIND_PACKAGE_VTK=ON -Wno-dev >"$work/configure.log" 2>&1 ||
+  { say "error: cmake configure failed, see $work/configure.log"; tail -20 "$work/configure.log" >&2; exit 1; }
+say "building with $jobs job(s) (nice 10); log: $work/build.log"
+# -k: every file that fails is reported in one pass.
+nice -n 10 cmake --build "$build" --target liggghts_bin liggghts_shared -j "$jobs" -- -k >"$work/build.log" 2>&1 ||
+  { say "error: build failed, see $work/build.log"; grep -m 20 -E ': error:' "$work/build.log" >&2; exit 1; }
+grep -q 'ROLLING_VISCOUS' "$src/style_contact_model.h" || ((generic)) ||
+  { say "error: the viscous kernel is missing from $src/style_contact_model.h"; exit 1; }
+
+# 4. Install into the versioned prefix atomically (a temporary sibling, renamed at the end).
+tmp=$prefix.tmp.$$
+rm -rf "$tmp"
+mkdir -p "$tmp/bin" "$tmp/lib" "$tmp/include/liggghts"
+cp "$build/liggghts" "$tmp/bin/liggghts"
+cp -P "$build"/libliggghts.so* "$tmp/lib/"
+[[ -e $tmp/lib/libliggghts.so.3 ]] || { say "error: no libliggghts.so.3 in $build"; exit 1; }
+cp "$src"/*.h "$tmp/include/liggghts/"
+"$tmp/bin/liggghts" -h </dev/null 2>/dev/null | sed -n '/Rolling models for pair gran/,/^\* /p' >"$tmp/rolling-models.txt" || true
+grep -qw viscous "$tmp/rolling-models.txt" || { say "error: the built binary does not list the viscous rolling model"; exit 1; }
+{
+  echo "LIGGGHTS $VERSION from Debian's $TARBALL"
+  echo "key $key"
+  echo "patches ${patches[*]##*/}"
+  echo "built $(date -u +%Y-%m-%dT%H:%M:%SZ) in $(($(date +%s) - start)) s with -j$jobs"
+} >"$tmp/demsa-liggghts.txt"
+rm -rf "$prefix"
+mv "$tmp" "$prefix"
+say "done in $(($(date +%s) - start)) s: $prefix"
+echo "$prefix"
