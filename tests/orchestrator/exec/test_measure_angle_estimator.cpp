@@ -48,6 +48,8 @@ TEST(AngleEstimatorSetting, MeasureCaseUsesIt) {
   const double robust = exec::measure_case(config, tmp.path()).at(std::string(study::k_angle));
   postprocess::PileAngleOptions options;
   options.estimator = postprocess::AngleEstimator::robust;
+  options.level_low = postprocess::k_robust_level_low;  // the robust estimator's own band of levels
+  options.level_high = postprocess::k_robust_level_high;
   // The dump holds 9 significant digits: the same angle to well below a thousandth of a degree.
   EXPECT_NEAR(robust, postprocess::measure_pile_angle(particles, options).angle_mean, 1e-3);
   EXPECT_NEAR(paper, postprocess::measure_pile_angle(particles, {}).angle_mean, 1e-3);
