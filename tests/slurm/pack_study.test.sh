@@ -8,63 +8,9 @@
 set -euo pipefail
 : "${DEMSA_BINARY:?}" "${DEMSA_SOURCE_DIR:?}"
 
-W=$(mktemp -d "${TMPDIR:-/tmp}/demsa-pack-XXXXXX")
-started_slurm=0
-demsa_pid=
-RUN_ID=${W##*-}
-DIR="$W/pack study $RUN_ID"
-JOB_NAME="demsa-pack_study_$RUN_ID"
-cleanup() {
-  local rc=$?
-  [ -n "$demsa_pid" ] && kill -KILL "$demsa_pid" 2>/dev/null || true
-  squeue -h -o %A -n "$JOB_NAME" 2>/dev/null | sort -u | xargs -r scancel 2>/dev/null || true
-  if [ "$started_slurm" = 1 ]; then "$DEMSA_SOURCE_DIR/scripts/stop-local-slurm.sh" || true; fi
-  if [ "$rc" = 0 ] && [ -z "${DEMSA_KEEP_TEST_DIRS:-}" ]; then rm -rf "$W"; else echo "test folder kept: $W"; fi
-  exit "$rc"
-}
-fail() { echo "FAIL: $*" >&2; exit 1; }
-trap cleanup EXIT
-
-if sinfo -h -o %T >/dev/null 2>&1 && [ -n "$(sinfo -h -o %T 2>/dev/null)" ]; then
-  echo "using the SLURM that is already running: $(sinfo -h -o '%P %D %T' | head -1)"
-else
-  [ "$(id -u)" = 0 ] || fail "no SLURM is running and starting one needs root (scripts/start-local-slurm.sh)"
-  started_slurm=1
-  "$DEMSA_SOURCE_DIR/scripts/start-local-slurm.sh"
-fi
-
-FAKE="$DEMSA_SOURCE_DIR/tests/integration/fake_liggghts"
-cat > "$W/study.toml" <<TOML
-[study]
-name = "pack-check"
-experiment = "pile"
-seed = 3
-
-[design]
-method = "lhs"
-samples = 6
-
-[parameters]
-mu_pp = { low = 0.2, high = 0.8 }
-e_r = { low = 0.3, high = 0.7 }
-
-[pile]
-particles = 300
-
-[run]
-executor = "slurm"
-liggghts = "$FAKE/liggghts"
-mpirun = "$FAKE/mpirun"
-ranks = 1
-retries = 0
-
-[run.slurm]
-mode = "pack"
-throttle = 2
-time_limit = "00:05:00"
-poll_interval = 0.5
-TOML
-export FAKE_LIGGGHTS_PLAN=""
+PACK_TEST=pack_study
+# shellcheck source=tests/slurm/pack_lib.sh
+source "$DEMSA_SOURCE_DIR/tests/slurm/pack_lib.sh"
 
 jobs_of_study() { squeue -h -t all -n "$JOB_NAME" -o %F 2>/dev/null | sort -u; }
 # every sample in starts.log exactly once
