@@ -81,6 +81,19 @@ fs::path launch_failure_path(const fs::path& work_dir, const std::string& job, i
   return sentinel_dir(work_dir) / fmt::format("{}_{}.srun", job, task);
 }
 
+namespace {
+
+/// The bash lines both scripts begin with: the array of case folders and the sentinel folder, quoted.
+std::string case_list_lines(const SlurmSubmission& submission) {
+  std::string s = "cases=(\n";
+  for (const auto& folder : submission.case_folders) s += "  " + util::shell_quote(folder.string()) + "\n";
+  s += ")\n";
+  s += "sentinels=" + util::shell_quote(sentinel_dir(submission.work_dir).string()) + "\n";
+  return s;
+}
+
+}  // namespace
+
 std::string render_batch_script(const SlurmSubmission& submission) {
   assert(!submission.case_folders.empty());
   std::string s;
@@ -88,10 +101,7 @@ std::string render_batch_script(const SlurmSubmission& submission) {
   s += "# demsa job array: task i runs ./run.sh in the i-th case folder (output to run.out there) and, when it\n";
   s += "# ends, writes its sentinel SENTINELS/JOB_TASK atomically: \"exit N\", or \"signal TERM\" when SLURM\n";
   s += "# stops it (scancel, time limit). The submitting options are on the sbatch command line.\n";
-  s += "cases=(\n";
-  for (const auto& folder : submission.case_folders) s += "  " + util::shell_quote(folder.string()) + "\n";
-  s += ")\n";
-  s += "sentinels=" + util::shell_quote(sentinel_dir(submission.work_dir).string()) + "\n";
+  s += case_list_lines(submission);
   s += R"SH(task=${SLURM_ARRAY_TASK_ID:?not started as a SLURM array task}
 case_dir=${cases[$task]}
 sentinel="$sentinels/${SLURM_ARRAY_JOB_ID}_$task"
@@ -144,10 +154,7 @@ std::string render_pack_script(const SlurmSubmission& submission) {
   s += "# ./run.sh in its folder (output to run.out there) and, when it ends, writes its sentinel SENTINELS/JOB_i\n";
   s += "# atomically: \"exit N\", \"timeout\" (stopped at the time limit), or \"signal TERM\" when SLURM stops it\n";
   s += "# (scancel, the allocation's end). The submitting options are on the sbatch command line.\n";
-  s += "cases=(\n";
-  for (const auto& folder : submission.case_folders) s += "  " + util::shell_quote(folder.string()) + "\n";
-  s += ")\n";
-  s += "sentinels=" + util::shell_quote(sentinel_dir(submission.work_dir).string()) + "\n";
+  s += case_list_lines(submission);
   s += fmt::format("ranks={}\nparallel={}\ncase_seconds={}  # [run.slurm] time_limit per case; 0 = none\n",
                    submission.ranks, pack_parallel(submission), limit);
   s += R"SH(job=${SLURM_JOB_ID:?not started by sbatch}
