@@ -230,17 +230,28 @@ void GaussianProcess::finish_fit(const Eigen::VectorXd& lengths, double nugget) 
   // ill-conditioned for smooth kernels, and the rounding of (y - mean)/sd alone moves the predictions: on 160 points
   // in 3-D (squared exponential, cond(R) about 1e12) they were 2.3e-9 relative from the same GP solved in long
   // double, 1.2e-9 once refined.
+  // The residuals are computed in long double (mixed-precision refinement, Higham 2002 §12.1: with cond(R) u < 1 it
+  // converges to the solution of the system as R holds it in double, at the residual's precision); in double they
+  // left the weights ~1e-9 from that solution.
   {
-    const Eigen::MatrixXd r = training_correlation(m_options.kernel, scaled(m_x, lengths), nugget);
+    using MatrixL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+    using VectorL = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
+    const MatrixL r = training_correlation(m_options.kernel, scaled(m_x, lengths), nugget).cast<long double>();
+    const MatrixL fl = f.cast<long double>();
+    const VectorL yl = m_y.cast<long double>();
+    VectorL alpha = m_alpha.cast<long double>();
+    VectorL beta = m_beta.cast<long double>();
     const Eigen::MatrixXd rinv_f = s.llt.solve(f);
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(f.transpose() * rinv_f);
     for (int step = 0; step < 2; ++step) {
-      const Eigen::VectorXd top = m_y - r * m_alpha - f * m_beta;
-      const Eigen::VectorXd bottom = -(f.transpose() * m_alpha);
+      const Eigen::VectorXd top = (yl - r * alpha - fl * beta).cast<double>();
+      const Eigen::VectorXd bottom = (-(fl.transpose() * alpha)).cast<double>();
       const Eigen::VectorXd d_beta = qr.solve(rinv_f.transpose() * top - bottom);
-      m_alpha += s.llt.solve(top - f * d_beta);
-      m_beta += d_beta;
+      alpha += s.llt.solve(top - f * d_beta).cast<long double>();
+      beta += d_beta.cast<long double>();
     }
+    m_alpha = alpha.cast<double>();
+    m_beta = beta.cast<double>();
   }
   m_sigma2 = (m_y - f * m_beta).dot(m_alpha) / static_cast<double>(m_y.size());
   m_llt = std::move(s.llt);
@@ -293,6 +304,24 @@ Eigen::VectorXd GaussianProcess::predict(const Eigen::MatrixXd& x) const {
     const Eigen::MatrixXd xb = x.middleRows(start, rows);
     out.segment(start, rows) =
         trend_basis(xb) * m_beta + cross_correlation(m_options.kernel, scaled(xb, m_lengths), centres) * m_alpha;
+  }
+  return out;
+}
+
+Eigen::VectorXd GaussianProcess::predict_precise(const Eigen::MatrixXd& x) const {
+  assert(m_fitted && x.cols() == m_x.cols());
+  const Eigen::MatrixXd centres = scaled(m_x, m_lengths).transpose();  // one column per training point
+  const Eigen::MatrixXd points = scaled(x, m_lengths).transpose();
+  const Eigen::MatrixXd trend = trend_basis(x);
+  Eigen::VectorXd out(x.rows());
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    long double sum = 0.0L;
+    for (Eigen::Index k = 0; k < m_beta.size(); ++k)
+      sum += static_cast<long double>(trend(i, k)) * static_cast<long double>(m_beta(k));
+    for (Eigen::Index j = 0; j < centres.cols(); ++j)
+      sum += static_cast<long double>(kernel_of_r2(m_options.kernel, (points.col(i) - centres.col(j)).squaredNorm())) *
+             static_cast<long double>(m_alpha(j));
+    out(i) = static_cast<double>(sum);
   }
   return out;
 }

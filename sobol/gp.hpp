@@ -30,6 +30,11 @@ class GaussianProcess final : public Metamodel {
   void restore(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& lengths, double nugget,
                const Eigen::VectorXd& beta, const Eigen::VectorXd& alpha, double process_variance);
   Eigen::VectorXd predict(const Eigen::MatrixXd& x) const override;
+  /// predict() with the distances to the training points taken as exact differences and the sum k(x)ᵀα accumulated
+  /// in long double: the weights α of a smooth kernel are large and cancel (cond(R) ~ 1e12), and the rounding of a
+  /// double sum moved predictions by ~1e-9 relative. For `demsa predict`; the analysis, which predicts millions of
+  /// points, keeps predict().
+  Eigen::VectorXd predict_precise(const Eigen::MatrixXd& x) const;
   /// Predictive standard deviation (without the trend-estimation term) at the rows of x.
   Eigen::VectorXd predict_sd(const Eigen::MatrixXd& x) const;
   Eigen::VectorXd loo_residuals() const override { return m_loo; }

@@ -171,7 +171,8 @@ void run_predict(const PredictArgs& args) {
 
   Eigen::MatrixXd table(n, d + 1 + (args.standard_deviation ? 1 : 0));
   table.leftCols(d) = physical;
-  table.col(d) = saved.model->predict(unit);
+  // A GP's sum k(x)ᵀα cancels: accumulated in long double (sobol/gp.hpp, predict_precise).
+  table.col(d) = gp ? gp->predict_precise(unit) : saved.model->predict(unit);
   std::vector<std::string> header = saved.inputs;
   header.push_back(saved.output);
   if (args.standard_deviation) {

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # `demsa predict` against an independent numpy/scipy implementation (predict_numpy_check.py): 160 training points,
 # 10,000 test points; rsm2, rsm3, rbf-cubic and rbf-tps fitted in Python from the same data, the GP rebuilt from its
-# saved hyperparameters and training data (in long double); 1e-9 relative, and for the GP without a nugget, whose
-# correlation matrix has a condition number of 1e12 here, 1e-8 (predict_numpy_check.py says why).
+# saved hyperparameters and training data (in long double): 1e-9 relative for every prediction (the GP without a
+# nugget, whose correlation matrix has a condition number of 1e12 here, included: predict_numpy_check.py says how).
 set -euo pipefail
 : "${DEMSA_BINARY:?}" "${DEMSA_SOURCE_DIR:?}"
 python=${DEMSA_PYTHON:-/usr/bin/python3}

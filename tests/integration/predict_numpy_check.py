@@ -30,10 +30,12 @@ from scipy.linalg import cho_factor, cho_solve
 
 TOLERANCE = 1e-9
 # The GP without a nugget: its correlation matrix has a condition number of about 1e12 on this data (printed), and
-# two double-precision solutions of it differ by several 1e-9 (numpy in double against long double: 4.3e-9; demsa
-# 1.7e-9); the standard deviation is the square root of a difference that cancels. With an estimated nugget (at least
-# 1e-8) the problem is well conditioned and the predictions are held to TOLERANCE.
-GP_TOLERANCES = {"models": {"prediction": 1e-8, "sd": 1e-5, "variance": 1e-6},
+# two double-precision solutions of it differ by several 1e-9 (numpy in double against long double: 4.3e-9). demsa
+# refines its weights with residuals in long double and `demsa predict` sums k(x)ᵀα in long double (sobol/gp.hpp):
+# 6e-10 from the long-double reference, held to TOLERANCE like every other model. The standard deviation is the
+# square root of a difference that cancels, and the process variance comes from the weights: looser bounds there.
+# With an estimated nugget (at least 1e-8) the problem is well conditioned.
+GP_TOLERANCES = {"models": {"prediction": TOLERANCE, "sd": 1e-5, "variance": 1e-6},
                  "models-nugget": {"prediction": TOLERANCE, "sd": 1e-7, "variance": TOLERANCE}}
 # The inputs of the test problem: name, low, high, scale. The same bounds are given to `demsa sensitivity`.
 INPUTS = [("a", 0.0, 2.0, "uniform"), ("b", -1.0, 1.0, "uniform"), ("c", 1.0, 100.0, "log")]
