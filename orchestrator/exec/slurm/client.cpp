@@ -92,6 +92,17 @@ std::string case_list_lines(const SlurmSubmission& submission) {
   return s;
 }
 
+/// The user's [run.slurm] prologue under its heading comment, ending in a newline.
+std::string prologue_lines(const SlurmSubmission& submission, std::string_view note) {
+  const std::string& prologue = submission.settings.prologue;
+  std::string s = fmt::format("# ---- prologue ([run.slurm] prologue){}\n", note);
+  if (!prologue.empty()) {
+    s += prologue;
+    if (prologue.back() != '\n') s += "\n";
+  }
+  return s;
+}
+
 }  // namespace
 
 std::string render_batch_script(const SlurmSubmission& submission) {
@@ -127,11 +138,7 @@ fi
 # mpirun refuses to run as root unless told (a local test cluster runs everything as root)
 if [ "$(id -u)" = 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
 )SH";
-  s += "# ---- prologue ([run.slurm] prologue)\n";
-  if (!submission.settings.prologue.empty()) {
-    s += submission.settings.prologue;
-    if (submission.settings.prologue.back() != '\n') s += "\n";
-  }
+  s += prologue_lines(submission, "");
   s += R"SH(# ---- the case
 ./run.sh > run.out 2>&1 &
 child=$!
@@ -219,11 +226,7 @@ trap 'stopping=1' TERM
 # mpirun refuses to run as root unless told (a local test cluster runs everything as root)
 if [ "$(id -u)" = 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
 )SH";
-  s += "# ---- prologue ([run.slurm] prologue), once for every case\n";
-  if (!submission.settings.prologue.empty()) {
-    s += submission.settings.prologue;
-    if (submission.settings.prologue.back() != '\n') s += "\n";
-  }
+  s += prologue_lines(submission, ", once for every case");
   s += R"SH(# ---- the cases
 launch() {  # $1: case index
   local i=$1 sentinel="$sentinels/${job}_$1" rc started ended
