@@ -365,8 +365,8 @@ std::string run_script(const StudyConfig& c, const CaseRequest& request) {
         "fi\n",
         shell_quote(request.demsa_executable.string()));
     program = "\"$demsa\" drive-oedometer .";
-    // The viscous rolling model is in the library of scripts/build-liggghts.sh only: demsa, which links
-    // libliggghts.so.3, loads that one in its place.
+    // The viscous rolling model is in the library of scripts/build-liggghts.sh only: demsa, which loads
+    // libliggghts.so.3 at run time as the dynamic loader finds it (driver/liggghts_library.hpp), finds that one.
     if (c.contact.rolling_model == RollingModel::viscous)
       if (const auto lib = liggghts_library_dir(c.run.liggghts))
         find_demsa += fmt::format(

@@ -60,8 +60,9 @@ std::string with_rolling_model(std::string text, const study::ContactSettings& c
 double liggghts_rolling_coefficient(const study::ContactSettings& contact, double value);
 
 /// The library folder of a LIGGGHTS built by scripts/build-liggghts.sh (`<prefix>/lib` holding libliggghts.so.3,
-/// the soname demsa links) for its executable `<prefix>/bin/liggghts`; nullopt for any other executable. A trial-step
-/// oedometer, driven in-process by demsa, loads that library (LD_LIBRARY_PATH in run.sh) for the `viscous` model.
+/// the soname `demsa drive-oedometer` loads) for its executable `<prefix>/bin/liggghts`; nullopt for any other
+/// executable. A trial-step oedometer, driven in-process by demsa, loads that library (LD_LIBRARY_PATH in run.sh) for
+/// the `viscous` model.
 std::optional<std::filesystem::path> liggghts_library_dir(const std::string& executable);
 
 /// Number of steps of `duration` seconds at time step dt (at least 1).

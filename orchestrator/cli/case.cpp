@@ -11,7 +11,6 @@
 #include "orchestrator/util/process.hpp"
 
 #include <fmt/core.h>
-#include <mpi.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -67,16 +66,6 @@ std::vector<std::pair<std::string, double>> parse_sets(const std::vector<std::st
   }
   return out;
 }
-
-/// MPI_Init for the life of the object and MPI_Finalize at its end, also when the driver throws (run_cli() then
-/// prints the error after MPI has been shut down).
-class MpiSession {
- public:
-  MpiSession() { MPI_Init(nullptr, nullptr); }
-  ~MpiSession() { MPI_Finalize(); }
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
-};
 
 void run_case(const CaseOptions& o, CliState& state) {
   StudyConfig config = load_study(o.study);
@@ -147,10 +136,7 @@ void register_case_commands(CLI::App& app, CliState& state) {
   CLI::App* driver = app.add_subcommand("drive-oedometer", "Run a trial-step oedometer case in-process");
   driver->group("");  // internal: run.sh calls it under mpirun
   driver->add_option("case_dir", *driver_dir, "Case folder")->required()->check(CLI::ExistingDirectory);
-  driver->callback([driver_dir, &state] {
-    const MpiSession mpi;
-    state.exit_code = drive_oedometer(*driver_dir);
-  });
+  driver->callback([driver_dir, &state] { state.exit_code = drive_oedometer(*driver_dir); });
 }
 
 }  // namespace demsa::cli

@@ -1,13 +1,11 @@
 #include "orchestrator/driver/oedometer_driver.hpp"
 
 #include "orchestrator/cases/case_writer.hpp"
+#include "orchestrator/driver/liggghts_library.hpp"
 #include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
-#include <mpi.h>
 #include <nlohmann/json.hpp>
-
-#include <liggghts/library.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,38 +20,66 @@ using namespace demsa::cases;
 
 namespace {
 
+/// MPI_Init for the life of the object and MPI_Finalize at its end, also when the driver throws (run_cli() then
+/// prints the error after MPI has been shut down).
+class MpiSession {
+ public:
+  explicit MpiSession(const LiggghtsLibrary& lib) : m_lib(lib) {
+    int initialized = 0;
+    m_lib.mpi_initialized(&initialized);
+    if (!initialized) m_lib.mpi_init(nullptr, nullptr);
+  }
+  ~MpiSession() {
+    int finalized = 0;
+    m_lib.mpi_finalized(&finalized);
+    if (!finalized) m_lib.mpi_finalize();
+  }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+
+  int rank() const {
+    int rank = 0;
+    m_lib.mpi_comm_rank(m_lib.comm_world, &rank);
+    return rank;
+  }
+
+ private:
+  const LiggghtsLibrary& m_lib;
+};
+
 /// One LIGGGHTS instance on MPI_COMM_WORLD.
 class Liggghts {
  public:
-  Liggghts() {
+  explicit Liggghts(const LiggghtsLibrary& lib) : m_lib(lib) {
     std::vector<std::string> args{"liggghts", "-log", k_case_log, "-screen", k_case_screen};
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
-    lammps_open(static_cast<int>(argv.size()), argv.data(), MPI_COMM_WORLD, &m_lmp);
+    m_lib.open(static_cast<int>(argv.size()), argv.data(), m_lib.comm_world, &m_lmp);
   }
-  ~Liggghts() { lammps_close(m_lmp); }
+  ~Liggghts() { m_lib.close(m_lmp); }
   Liggghts(const Liggghts&) = delete;
   Liggghts& operator=(const Liggghts&) = delete;
 
-  void command(const std::string& line) { lammps_command(m_lmp, line.c_str()); }
+  void command(const std::string& line) { m_lib.command(m_lmp, line.c_str()); }
   /// `include` sent as a command is only queued; files go through lammps_file.
-  void file(const std::string& path) { lammps_file(m_lmp, path.c_str()); }
+  void file(const std::string& path) { m_lib.file(m_lmp, path.c_str()); }
   /// Element i (0-based) of a fix's global vector; LIGGGHTS mallocs the value.
   double fix_vector(const std::string& id, int i) {
-    auto* p = static_cast<double*>(lammps_extract_fix(m_lmp, id.c_str(), 0, 1, i, 0));
+    auto* p = static_cast<double*>(m_lib.extract_fix(m_lmp, id.c_str(), 0, 1, i, 0));
     const double v = p ? *p : NAN;
     std::free(p);
     return v;
   }
   double variable(const std::string& name) {
     std::string n = name;
-    auto* p = static_cast<double*>(lammps_extract_variable(m_lmp, n.data(), nullptr));
+    auto* p = static_cast<double*>(m_lib.extract_variable(m_lmp, n.data(), nullptr));
     const double v = p ? *p : NAN;
     std::free(p);
     return v;
   }
 
  private:
+  const LiggghtsLibrary& m_lib;
   void* m_lmp = nullptr;
 };
 
@@ -92,12 +118,12 @@ double reduced_trial_step(const TrialStepOptions& options, double step, double l
 
 int drive_oedometer(const std::filesystem::path& case_dir) {
   const TrialStepOptions options = read_trial_step_options(case_dir);
+  const LiggghtsLibrary lib = load_liggghts_library();
+  const MpiSession mpi(lib);
   std::filesystem::current_path(case_dir);
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const bool writer = rank == 0;
+  const bool writer = mpi.rank() == 0;
 
-  Liggghts lmp;
+  Liggghts lmp(lib);
   lmp.file(k_case_input);  // pour, settle, place the plate (oedometer_trial.liggghts)
   double z = lmp.variable("plate_z0");
 

@@ -1,6 +1,7 @@
 #pragma once
 // The paper's force-driven load plate for the oedometer (§4), run in-process through LIGGGHTS's library
-// interface (library.h): `demsa drive-oedometer CASE_DIR`, started by the case's run.sh under mpirun.
+// interface (library.h, loaded at run time: liggghts_library.hpp): `demsa drive-oedometer CASE_DIR`, started by the
+// case's run.sh under mpirun.
 //
 // For every load L_n: back the state up (write_restart), move the plate down by the trial step δ over n_s steps
 // (fix move/mesh), and read the plate force F. While F ≤ L_n the trial is kept and the next one starts. When
@@ -36,7 +37,8 @@ double reduced_trial_step(const TrialStepOptions& options, double step, double l
 /// Runs the case in `case_dir` (in.liggghts sets up and settles; then the loop above) and writes
 /// plate_history.txt (one row per trial: step load_N plate_z_m force_N trial delta_m accepted, where `step`
 /// counts every integration step since loading began, restored ones included), plate_states.txt and
-/// oedometer_final.dump. MPI must be initialised. Returns 0 when every load converged, 1 otherwise.
+/// oedometer_final.dump. Loads the LIGGGHTS library (load_liggghts_library) and initialises and finalises its MPI.
+/// Returns 0 when every load converged, 1 otherwise.
 int drive_oedometer(const std::filesystem::path& case_dir);
 
 }  // namespace demsa::driver
