@@ -45,8 +45,6 @@ int main(int argc, char** argv) {
   pp::PileAngleOptions paper;
   pp::PileAngleOptions robust;
   robust.estimator = pp::AngleEstimator::robust;
-  robust.level_low = pp::k_robust_level_low;  // its own band of levels, as demsa measures with it
-  robust.level_high = pp::k_robust_level_high;
   fmt::print(
       "| angle [deg] | jitter [mm] | paper bias | paper sd | paper max abs | robust bias | robust sd | robust max abs "
       "|\n");

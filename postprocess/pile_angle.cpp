@@ -50,6 +50,16 @@ std::string to_string(AngleEstimator estimator) {
 
 std::vector<std::string> angle_estimator_names() { return {"paper", "robust"}; }
 
+double PileAngleOptions::low_level() const {
+  if (level_low) return *level_low;
+  return estimator == AngleEstimator::robust ? k_robust_level_low : k_paper_level_low;
+}
+
+double PileAngleOptions::high_level() const {
+  if (level_high) return *level_high;
+  return estimator == AngleEstimator::robust ? k_robust_level_high : k_paper_level_high;
+}
+
 void PileAngleOptions::validate() const {
   auto bad = [](const char* field, double value, const char* rule) {
     return std::invalid_argument(fmt::format("PileAngleOptions.{} = {}: {}", field, value, rule));
@@ -62,9 +72,11 @@ void PileAngleOptions::validate() const {
   if (particle_type < 0) throw bad("particle_type", particle_type, "must be 0 (all atoms) or an atom type >= 1");
   if (directions < 1) throw bad("directions", directions, "must be at least 1");
   if (levels < 2) throw bad("levels", levels, "must be at least 2");
-  if (!(level_low > 0.0 && level_low < 1.0)) throw bad("level_low", level_low, "must be in (0, 1)");
-  if (!(level_high > level_low && level_high < 1.0))
-    throw bad("level_high", level_high, fmt::format("must be in (level_low = {}, 1)", level_low).c_str());
+  const double low = low_level();
+  const double high = high_level();
+  if (!(low > 0.0 && low < 1.0)) throw bad("level_low", low, "must be in (0, 1)");
+  if (!(high > low && high < 1.0))
+    throw bad("level_high", high, fmt::format("must be in (level_low = {}, 1)", low).c_str());
   if (min_points < 2) throw bad("min_points", min_points, "must be at least 2 (a line needs two points)");
   if (!std::isfinite(target_angle)) throw bad("target_angle", target_angle, "must be finite [deg]");
 }
@@ -145,6 +157,8 @@ PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOp
   PileAngleOptions options = requested;
   const bool robust = options.estimator == AngleEstimator::robust;
   if (robust) options.point = BoundaryPointKind::surface;  // exact heights: the roughness is all radial
+  options.level_low = options.low_level();                 // the band measured, echoed in the result
+  options.level_high = options.high_level();
   PileAngleResult result;
   result.options = options;
   for (std::size_t j = 0; j < particles.size(); ++j)
@@ -174,7 +188,7 @@ PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOp
   for (int k = 0; k < nl; ++k)
     result.level_heights[static_cast<std::size_t>(k)] =
         result.pile_height *
-        (options.level_low + (options.level_high - options.level_low) * static_cast<double>(k) / (nl - 1));
+        (*options.level_low + (*options.level_high - *options.level_low) * static_cast<double>(k) / (nl - 1));
 
   // Directions e_i = (cos φ_i, −sin φ_i), φ_i = 360° i / φ_N (paper eq. 9); n_i is the horizontal normal of the
   // vertical half-plane spanned by e_i and the z axis.
@@ -318,7 +332,7 @@ PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOp
     throw InputError(fmt::format(
         "no direction has {} boundary points between {} h_P and {} h_P (h_P = {} m, {} particles on the pedestal): "
         "not a pile",
-        options.min_points, options.level_low, options.level_high, result.pile_height, kept.size()));
+        options.min_points, *options.level_low, *options.level_high, result.pile_height, kept.size()));
 
   // The angle of repose is the mean over the directions (paper §3.3); also their spread.
   double sum = 0.0;

@@ -15,6 +15,7 @@
 #include "postprocess/dump.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,9 @@ std::vector<std::string> angle_estimator_names();
 /// 2 mm of jitter) at 0.20–0.75 to −0.30° / −0.23° / +0.47° at 0.25–0.80 (docs/benchmarks.md).
 constexpr double k_robust_level_low = 0.25;
 constexpr double k_robust_level_high = 0.80;
+/// The paper's band of levels (§3.3: 0.2 h_P to 0.75 h_P), which the paper's estimator uses unless told otherwise.
+constexpr double k_paper_level_low = 0.20;
+constexpr double k_paper_level_high = 0.75;
 
 struct PileAngleOptions {
   double pedestal_radius = 0.050;  ///< r_cy: particles with centre further from the axis are dropped [m] (> 0)
@@ -67,12 +71,20 @@ struct PileAngleOptions {
   int particle_type = 1;           ///< atom type of the particles (demsa: 1); 0 = every atom counts
   int directions = 180;            ///< φ_N, number of directions (paper: 180); ≥ 1
   int levels = 10;                 ///< number of equidistant height levels; ≥ 2
-  double level_low = 0.20;         ///< lowest level as a fraction of h_P (paper: 0.2); in (0, level_high)
-  double level_high = 0.75;        ///< highest level as a fraction of h_P (paper: 0.75); in (level_low, 1)
-  int min_points = 3;              ///< a direction with fewer boundary points is skipped; ≥ 2
+  /// Lowest level as a fraction of h_P, in (0, level_high); unset: the estimator's band (k_paper_level_low for
+  /// `paper`, k_robust_level_low for `robust`).
+  std::optional<double> level_low;
+  /// Highest level as a fraction of h_P, in (level_low, 1); unset: the estimator's band (k_paper_level_high,
+  /// k_robust_level_high).
+  std::optional<double> level_high;
+  int min_points = 3;                                   ///< a direction with fewer boundary points is skipped; ≥ 2
   BoundaryPointKind point = BoundaryPointKind::centre;  ///< which point of a boundary particle is fitted (paper)
   AngleEstimator estimator = AngleEstimator::paper;     ///< line fit and averaging (see AngleEstimator)
   double target_angle = 33.5;  ///< φ̂ for E_φ [deg] (paper: mean of the measured 32° and 35°)
+
+  /// The levels measured: level_low / level_high when set, else the estimator's band.
+  double low_level() const;
+  double high_level() const;
 
   /// Throws std::invalid_argument naming the field, its value and the rule.
   void validate() const;
@@ -103,7 +115,8 @@ struct DirectionLine {
 };
 
 struct PileAngleResult {
-  PileAngleOptions options;         ///< echo of the options used (robust: point = surface, the points it fits)
+  PileAngleOptions options;         ///< echo of the options used (robust: point = surface, the points it fits;
+                                    ///< level_low and level_high set to the band measured)
   std::size_t particles_total = 0;  ///< atoms given (of particle_type)
   std::size_t particles_on_pedestal = 0;
   double pile_height = 0;                  ///< h_P above the pedestal top [m]

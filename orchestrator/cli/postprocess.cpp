@@ -43,8 +43,8 @@ nlohmann::json to_json(const pp::PileAngleResult& r, const std::string& dump, co
                   {"particle_type", r.options.particle_type},
                   {"directions", r.options.directions},
                   {"levels", r.options.levels},
-                  {"level_low", r.options.level_low},
-                  {"level_high", r.options.level_high},
+                  {"level_low", r.options.low_level()},
+                  {"level_high", r.options.high_level()},
                   {"min_points", r.options.min_points},
                   {"point", pp::to_string(r.options.point)},
                   {"estimator", pp::to_string(r.options.estimator)},
@@ -149,6 +149,8 @@ struct PileArgs {
   const CLI::Option* estimator_option = nullptr;
   const CLI::Option* level_low = nullptr;
   const CLI::Option* level_high = nullptr;
+  double level_low_value = pp::k_paper_level_low;    ///< --level-low
+  double level_high_value = pp::k_paper_level_high;  ///< --level-high
 };
 
 bool given(const CLI::Option* option) { return option != nullptr && option->count() > 0; }
@@ -246,9 +248,11 @@ void run_pile(const PileArgs& a) {
   options.estimator = pp::angle_estimator_from_string(a.estimator);
   const fs::path dump = resolve_dump(a.dump, "pile_final.dump");
   const std::string case_json = apply_case_settings(a, dump, options);
-  if (options.estimator == pp::AngleEstimator::robust && !given(a.level_low) && !given(a.level_high)) {
-    options.level_low = pp::k_robust_level_low;  // the robust estimator's own band (postprocess/pile_angle.hpp)
-    options.level_high = pp::k_robust_level_high;
+  // Levels on the command line hold for either estimator (an end not given at its default, the paper's); without
+  // them each estimator measures on its own band (PileAngleOptions leaves them unset).
+  if (given(a.level_low) || given(a.level_high)) {
+    options.level_low = a.level_low_value;
+    options.level_high = a.level_high_value;
   }
   const pp::Particles particles = pp::read_particles(dump);
   pp::PileAngleResult r;
@@ -398,13 +402,13 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
                                "case.json, else this value)")
                      ->check(number_in(2, 100000))
                      ->capture_default_str();
-  pile->level_low = p->add_option("--level-low", pile->options.level_low,
+  pile->level_low = p->add_option("--level-low", pile->level_low_value,
                                   fmt::format("Lowest level as a fraction of h_P (default: {} for --estimator robust)",
                                               pp::k_robust_level_low))
                         ->check(number_in(0.0, 1.0))
                         ->capture_default_str();
   pile->level_high =
-      p->add_option("--level-high", pile->options.level_high,
+      p->add_option("--level-high", pile->level_high_value,
                     fmt::format("Highest level as a fraction of h_P (default: {} for --estimator robust)",
                                 pp::k_robust_level_high))
           ->check(number_in(0.0, 1.0))

@@ -3,6 +3,7 @@
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/observables.hpp"
 #include "orchestrator/study/parameters.hpp"
+#include "orchestrator/study/pile_measurement.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/error.hpp"
 #include "postprocess/oedometer.hpp"
@@ -60,18 +61,8 @@ std::map<std::string, double> measure_case(const StudyConfig& config, const fs::
   std::map<std::string, double> values;
   if (config.experiment == Experiment::pile) {
     const postprocess::Particles particles = postprocess::read_particles(folder / k_pile_final_dump, 1);
-    postprocess::PileAngleOptions options;
-    options.pedestal_radius = config.pile.pedestal_radius;
-    options.pedestal_top = config.pile.pedestal_height;
-    options.directions = config.pile.directions;
-    options.levels = config.pile.levels;
-    options.target_angle = config.pile.target_angle;
-    options.estimator = postprocess::angle_estimator_from_string(config.pile.angle_estimator);
-    if (options.estimator == postprocess::AngleEstimator::robust) {
-      options.level_low = postprocess::k_robust_level_low;
-      options.level_high = postprocess::k_robust_level_high;
-    }
-    const postprocess::PileAngleResult result = postprocess::measure_pile_angle(particles, options);
+    const postprocess::PileAngleResult result =
+        postprocess::measure_pile_angle(particles, pile_angle_options(config.pile));
     values[std::string(k_angle)] = result.angle_mean;
     values[std::string(k_pile_height)] = result.pile_height;
     values[std::string(k_angle_sd)] = result.angle_sd;

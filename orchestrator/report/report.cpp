@@ -12,6 +12,7 @@
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/observables.hpp"
 #include "orchestrator/study/parameters.hpp"
+#include "orchestrator/study/pile_measurement.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -554,18 +555,8 @@ ReportSection pile_section(const StudyData& s, int sample, const Plotter& plotte
   section.heading = fmt::format("Sample {}: the pile (paper Fig. 4)", sample);
   const fs::path folder = case_dir(dir, sample);
   const postprocess::Particles particles = postprocess::read_particles(folder / k_pile_final_dump, 1);
-  postprocess::PileAngleOptions options;
-  options.pedestal_radius = s.config.pile.pedestal_radius;
-  options.pedestal_top = s.config.pile.pedestal_height;
-  options.directions = s.config.pile.directions;
-  options.levels = s.config.pile.levels;
-  options.target_angle = s.config.pile.target_angle;
   // The estimator the study measured with ([pile] angle_estimator), so that the figure shows the stored angle.
-  options.estimator = postprocess::angle_estimator_from_string(s.config.pile.angle_estimator);
-  if (options.estimator == postprocess::AngleEstimator::robust) {
-    options.level_low = postprocess::k_robust_level_low;
-    options.level_high = postprocess::k_robust_level_high;
-  }
+  const postprocess::PileAngleOptions options = pile_angle_options(s.config.pile);
   const postprocess::PileAngleResult r = postprocess::measure_pile_angle(particles, options);
   PileSideView view;
   view.title = fmt::format("sample {}", sample);

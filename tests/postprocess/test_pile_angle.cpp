@@ -158,6 +158,32 @@ TEST(PileAngleErrors, FlatLayerHasNoLines) {
   }
 }
 
+TEST(PileAngleOptionsLevels, UnsetLevelsTakeTheEstimatorsBand) {
+  PileAngleOptions o;
+  EXPECT_FALSE(o.level_low.has_value());
+  EXPECT_DOUBLE_EQ(o.low_level(), 0.20);  // paper §3.3
+  EXPECT_DOUBLE_EQ(o.high_level(), 0.75);
+  o.estimator = AngleEstimator::robust;
+  EXPECT_DOUBLE_EQ(o.low_level(), k_robust_level_low);
+  EXPECT_DOUBLE_EQ(o.high_level(), k_robust_level_high);
+  o.level_high = 0.7;  // a level given wins; the other end stays the estimator's
+  EXPECT_DOUBLE_EQ(o.low_level(), k_robust_level_low);
+  EXPECT_DOUBLE_EQ(o.high_level(), 0.7);
+  // The result echoes the band it measured on, and its level heights follow it.
+  const Particles particles = test::make_synthetic_pile({});
+  PileAngleOptions robust;
+  robust.estimator = AngleEstimator::robust;
+  const PileAngleResult r = measure_pile_angle(particles, robust);
+  ASSERT_TRUE(r.options.level_low && r.options.level_high);
+  EXPECT_DOUBLE_EQ(*r.options.level_low, k_robust_level_low);
+  EXPECT_DOUBLE_EQ(*r.options.level_high, k_robust_level_high);
+  EXPECT_DOUBLE_EQ(r.level_heights.front(), k_robust_level_low * r.pile_height);
+  EXPECT_DOUBLE_EQ(r.level_heights.back(), k_robust_level_high * r.pile_height);
+  const PileAngleResult paper = measure_pile_angle(particles, {});
+  EXPECT_DOUBLE_EQ(*paper.options.level_low, 0.20);
+  EXPECT_DOUBLE_EQ(paper.level_heights.back(), 0.75 * paper.pile_height);
+}
+
 TEST(PileAngleErrors, OptionsValidateNamesField) {
   PileAngleOptions o;
   o.levels = 1;

@@ -3,7 +3,7 @@
 #   sobol/ and postprocess/ never include orchestrator/, nor each other;
 #   inside orchestrator/, each folder includes only the folders below it:
 #     util <- study <- cases <- exec, cases <- driver, study <- analysis <- report, and cli on top;
-#   only orchestrator/driver/ includes LIGGGHTS (the one target that links it).
+#   only orchestrator/driver/ includes LIGGGHTS (the one target that loads it).
 set -euo pipefail
 cd "${DEMSA_SOURCE_DIR:?}"
 bad=$(grep -nE '#include[[:space:]]*[<"](orchestrator|postprocess)/' sobol/*.hpp sobol/*.cpp || true)
@@ -12,7 +12,7 @@ bad+=$(grep -nE '#include[[:space:]]*[<"](orchestrator|sobol)/' postprocess/*.hp
 # folder -> the folders (inside orchestrator/ or beside it) it may include
 declare -A allowed=(
   [util]="util"
-  [study]="util study sobol"
+  [study]="util study sobol postprocess"
   [cases]="util study cases sobol"
   [driver]="util study cases driver"
   [exec]="util study cases exec sobol postprocess"

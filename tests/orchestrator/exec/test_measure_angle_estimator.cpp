@@ -4,6 +4,7 @@
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/parameters.hpp"
+#include "orchestrator/study/pile_measurement.hpp"
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "postprocess/pile_angle.hpp"
@@ -34,6 +35,28 @@ TEST(AngleEstimatorSetting, ParsedCheckedAndHashedWhenNotTheDefault) {
   EXPECT_NE(message.find("unknown value 'best' (valid: paper, robust)"), std::string::npos) << message;
   // The study accepts exactly the estimators postprocess/ has.
   EXPECT_EQ(study::find_setting("pile", "angle_estimator")->choices, postprocess::angle_estimator_names());
+}
+
+TEST(AngleEstimatorSetting, StudyPileSettingsBecomeTheOptions) {
+  study::StudyConfig config =
+      study::parse_study(k_base +
+                             "[pile]\npedestal_radius = 0.04\npedestal_height = 0.004\ndirections = 90\nlevels = 7\n"
+                             "target_angle = 30.5\nangle_estimator = \"robust\"\n",
+                         "study.toml");
+  const postprocess::PileAngleOptions o = study::pile_angle_options(config.pile);
+  EXPECT_DOUBLE_EQ(o.pedestal_radius, 0.04);
+  EXPECT_DOUBLE_EQ(o.pedestal_top, 0.004);
+  EXPECT_EQ(o.directions, 90);
+  EXPECT_EQ(o.levels, 7);
+  EXPECT_DOUBLE_EQ(o.target_angle, 30.5);
+  EXPECT_EQ(o.estimator, postprocess::AngleEstimator::robust);
+  // The band is the estimator's own: left unset, 0.25-0.80 for robust, the paper's 0.20-0.75 otherwise.
+  EXPECT_FALSE(o.level_low || o.level_high);
+  EXPECT_DOUBLE_EQ(o.low_level(), postprocess::k_robust_level_low);
+  EXPECT_DOUBLE_EQ(o.high_level(), postprocess::k_robust_level_high);
+  config.pile.angle_estimator = "paper";
+  EXPECT_DOUBLE_EQ(study::pile_angle_options(config.pile).low_level(), 0.20);
+  EXPECT_DOUBLE_EQ(study::pile_angle_options(config.pile).high_level(), 0.75);
 }
 
 TEST(AngleEstimatorSetting, MeasureCaseUsesIt) {
