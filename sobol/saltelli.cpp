@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <utility>
 
 namespace demsa::sobol {
 
@@ -417,15 +418,18 @@ namespace {
 
 /// Ranks 0..n-1 of v (ties get the mean of their ranks), for Spearman's correlation.
 Eigen::VectorXd ranks(const Eigen::VectorXd& v) {
-  std::vector<Eigen::Index> order(static_cast<std::size_t>(v.size()));
-  for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<Eigen::Index>(k);
-  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return v(a) < v(b); });
+  // (value, index) pairs sorted by value: the comparisons read the values in place rather than through the
+  // indices (the rank check of `demsa sensitivity --saltelli` at N = 2^14, d = 3: about 8 ms to 5 ms, perf).
+  std::vector<std::pair<double, Eigen::Index>> order(static_cast<std::size_t>(v.size()));
+  for (std::size_t k = 0; k < order.size(); ++k)
+    order[k] = {v(static_cast<Eigen::Index>(k)), static_cast<Eigen::Index>(k)};
+  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   Eigen::VectorXd r(v.size());
   for (std::size_t k = 0; k < order.size();) {
     std::size_t end = k + 1;
-    while (end < order.size() && v(order[end]) == v(order[k])) ++end;
+    while (end < order.size() && order[end].first == order[k].first) ++end;
     const double mean_rank = 0.5 * static_cast<double>(k + end - 1);
-    for (std::size_t t = k; t < end; ++t) r(order[t]) = mean_rank;
+    for (std::size_t t = k; t < end; ++t) r(order[t].second) = mean_rank;
     k = end;
   }
   return r;
