@@ -259,5 +259,20 @@ TEST(RollingModelsReal, TinyViscousPileAndOedometerRun) {
   EXPECT_TRUE(fs::exists(tmp / "oedometer" / "plate_states.txt"));
 }
 
+TEST(RollingModelsReal, TinyViscousTrialStepOedometerDrivesThePatchedLibrary) {
+  REQUIRE_PATCHED(exe);
+  test::TempDir tmp;
+  // The trial-step plate runs inside demsa, which loads libliggghts.so.3 at run time: run.sh puts the patched build's
+  // lib/ on LD_LIBRARY_PATH, and Debian's library would stop at `rolling_friction viscous`.
+  write_and_run("tiny_oedometer_trial_viscous.toml", tmp / "trial");
+  EXPECT_NE(
+      test::read_file(tmp / "trial" / "run.sh").find((fs::path(exe).parent_path().parent_path() / "lib").string()),
+      std::string::npos);
+  EXPECT_NE(test::read_file(tmp / "trial" / "log.liggghts").find("rolling_friction viscous"), std::string::npos);
+  const std::string states = test::read_file(tmp / "trial" / "plate_states.txt");
+  EXPECT_NE(states.find("\n100 "), std::string::npos) << states;
+  EXPECT_NE(states.find("\n400 "), std::string::npos) << states;
+}
+
 }  // namespace
 }  // namespace demsa
