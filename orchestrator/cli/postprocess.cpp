@@ -248,12 +248,6 @@ void run_pile(const PileArgs& a) {
   options.estimator = pp::angle_estimator_from_string(a.estimator);
   const fs::path dump = resolve_dump(a.dump, "pile_final.dump");
   const std::string case_json = apply_case_settings(a, dump, options);
-  // Levels on the command line hold for either estimator (an end not given at its default, the paper's); without
-  // them each estimator measures on its own band (PileAngleOptions leaves them unset).
-  if (given(a.level_low) || given(a.level_high)) {
-    options.level_low = a.level_low_value;
-    options.level_high = a.level_high_value;
-  }
   const pp::Particles particles = pp::read_particles(dump);
   pp::PileAngleResult r;
   try {
@@ -428,6 +422,12 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
   p->add_option("--target-angle", pile->options.target_angle, "Target angle for E_phi [deg]")->capture_default_str();
   p->add_flag("--json", pile->json, "Print the whole result (lines and boundary particles included) as JSON");
   p->callback([pile] {
+    // Levels on the command line hold for either estimator (an end not given at its default, the paper's); without
+    // them each estimator measures on its own band (PileAngleOptions leaves them unset).
+    if (given(pile->level_low) || given(pile->level_high)) {
+      pile->options.level_low = pile->level_low_value;
+      pile->options.level_high = pile->level_high_value;
+    }
     validate_command_line(pile->options, {{"pedestal_radius", "--pedestal-radius"},
                                           {"pedestal_top", "--pedestal-top"},
                                           {"axis_x", "--axis-x"},
