@@ -14,6 +14,10 @@ times, and CPU times (user + system: of the child processes for demsa and awk, f
 included; `time.process_time` inside the OpenTURNS process), which a loaded machine inflates much less.
 
 usage: /usr/bin/python3 bench/saltelli_pipeline.py DEMSA [N=16384] [RUNS=5] [BOOTSTRAP=200] [--design-once]
+           [--evaluator awk|compiled]
+
+--evaluator compiled evaluates Ishigami with bench/ishigami_eval (built beside demsa in BUILD/bench/), as a compiled
+simulator would, instead of awk (the default).
 
 --design-once writes the design once (timed once) and times the evaluation and `demsa sensitivity` on every run:
 for measuring the analysis while the design command is being changed.
@@ -71,7 +75,7 @@ def children_cpu():
     return r.ru_utime + r.ru_stime
 
 
-def demsa_once(demsa, n, bootstrap, work, design_seconds=None):
+def demsa_once(demsa, n, bootstrap, work, evaluator, design_seconds=None):
     """(design, awk, sensitivity, whole) wall times and the same CPU times of one demsa pipeline."""
     design, y = os.path.join(work, "design.csv"), os.path.join(work, "y.csv")
     c0, t0 = children_cpu(), time.perf_counter()
@@ -81,7 +85,7 @@ def demsa_once(demsa, n, bootstrap, work, design_seconds=None):
     if design_seconds is not None:
         t0, c0 = t1 - design_seconds[0], c1 - design_seconds[1]
     with open(design) as fin, open(y, "w") as fout:
-        run(["awk", AWK_ISHIGAMI], stdin=fin, stdout=fout)
+        run(evaluator, stdin=fin, stdout=fout)
     c2, t2 = children_cpu(), time.perf_counter()
     run([demsa, "sensitivity", "--saltelli", design, "--responses", y, "--bootstrap", str(bootstrap)],
         stdout=subprocess.DEVNULL)
@@ -102,7 +106,20 @@ def main():
         sys.exit(__doc__)
     design_once = "--design-once" in sys.argv
     args = [a for a in sys.argv[1:] if a != "--design-once"]
+    evaluator_name = "awk"
+    if "--evaluator" in args:
+        k = args.index("--evaluator")
+        if k + 1 >= len(args) or args[k + 1] not in ("awk", "compiled"):
+            sys.exit("--evaluator takes awk or compiled")
+        evaluator_name = args[k + 1]
+        del args[k:k + 2]
     demsa = args[0]
+    evaluator = ["awk", AWK_ISHIGAMI]
+    if evaluator_name == "compiled":
+        compiled = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(demsa))), "bench", "ishigami_eval")
+        if not os.access(compiled, os.X_OK):
+            sys.exit(f"{compiled} not found: build the bench target ishigami_eval")
+        evaluator = [compiled]
     n = int(args[1]) if len(args) > 1 else 16384
     runs = int(args[2]) if len(args) > 2 else 5
     bootstrap = int(args[3]) if len(args) > 3 else 200
@@ -115,7 +132,7 @@ def main():
             wall = write_design(demsa, n, os.path.join(work, "design.csv"))
             design_seconds = (wall, children_cpu() - c0)
         for _ in range(runs):
-            wall, cpu = demsa_once(demsa, n, bootstrap, work, design_seconds)
+            wall, cpu = demsa_once(demsa, n, bootstrap, work, evaluator, design_seconds)
             walls.append(wall)
             cpus.append(cpu)
             wall, cpu = openturns_once(n, bootstrap)
@@ -131,11 +148,11 @@ def main():
     print("| step | demsa wall [s] | demsa CPU [s] | OpenTURNS 1.20 wall [s] | OpenTURNS CPU [s] |")
     print("|---|---|---|---|---|")
     print(f"| design | {med[0]:.3f} | {cmed[0]:.3f} | | |")
-    print(f"| Ishigami on every row (awk, outside demsa) | {med[1]:.3f} | {cmed[1]:.3f} | | |")
+    print(f"| Ishigami on every row ({evaluator_name}, outside demsa) | {med[1]:.3f} | {cmed[1]:.3f} | | |")
     print(f"| sensitivity --saltelli (read CSVs, S1, ST, intervals) | {med[2]:.3f} | {cmed[2]:.3f} | | |")
     print(f"| whole pipeline | {med[3]:.3f} | {cmed[3]:.3f} | {ot_med:.3f} | {ot_cmed:.3f} |")
     print(f"ratio demsa / OpenTURNS, whole pipeline: wall {med[3] / ot_med:.2f}, CPU {cmed[3] / ot_cmed:.2f}; "
-          f"demsa without the awk evaluation: wall {(med[3] - med[1]) / ot_med:.2f}, "
+          f"demsa without the {evaluator_name} evaluation: wall {(med[3] - med[1]) / ot_med:.2f}, "
           f"CPU {(cmed[3] - cmed[1]) / ot_cmed:.2f}")
 
 
