@@ -9,7 +9,7 @@
 // Simulator: f(x) = Σ_i a_i φ(x_i) + c φ(x_1) φ(x_2) + ε, φ(u) = √2 sin(2π u) (mean 0, variance 1 on [0,1]),
 // ε ~ N(0, σ²): V = Σ a_i² + c², S1_i = a_i²/V, ST_1 = (a_1² + c²)/V, ST_2 = (a_2² + c²)/V, ST_i = S1_i otherwise.
 //
-//   build/bench/refine_vs_lhs [FIRST_SEED] [LAST_SEED] [W] [BATCH] [INITIAL]
+//   build/bench/refine_vs_lhs [FIRST_SEED] [LAST_SEED] [W] [BATCH] [INITIAL] [alc|variance]
 #include "sobol/augment.hpp"
 #include "sobol/design.hpp"
 #include "sobol/gp.hpp"
@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <string>
 #include <vector>
 
 namespace {
@@ -106,7 +107,8 @@ struct Outcome {
   double error = 0.0;
 };
 
-Outcome refine(std::uint64_t seed, double target, int batch, int initial, int max_samples) {
+Outcome refine(std::uint64_t seed, double target, int batch, int initial, int max_samples,
+               SelectionCriterion criterion) {
   Random rng(seed * 7919 + 1);
   Eigen::MatrixXd x = maximin_lhs(initial, seed);
   Eigen::VectorXd y = simulate(x, rng);
@@ -118,6 +120,8 @@ Outcome refine(std::uint64_t seed, double target, int batch, int initial, int ma
     if (e.max_half_width <= target || x.rows() >= max_samples)
       return {static_cast<int>(x.rows()), e.max_half_width, e.max_error};
     VarianceSelectionOptions o;
+    o.criterion = criterion;
+    o.candidates = 1000;
     o.batch = batch;
     o.seed = seed * 1000 + static_cast<std::uint64_t>(step);
     const Eigen::MatrixXd add = select_by_variance({e.gp.get()}, x, o);
@@ -177,12 +181,15 @@ int main(int argc, char** argv) {
   const double target = argc > 3 ? std::atof(argv[3]) : 0.05;
   const int batch = argc > 4 ? std::atoi(argv[4]) : 10;
   const int initial = argc > 5 ? std::atoi(argv[5]) : 30;
+  const SelectionCriterion criterion = argc > 6 && std::string(argv[6]) == "variance"
+                                           ? SelectionCriterion::variance
+                                           : SelectionCriterion::integrated_variance;
   const int max_samples = 1200;
   std::vector<double> refined, shots, ratios, seconds_refine, seconds_shot;
   for (int seed = first; seed <= last; ++seed) {
     const auto s = static_cast<std::uint64_t>(seed);
     auto t0 = std::chrono::steady_clock::now();
-    const Outcome r = refine(s, target, batch, initial, max_samples);
+    const Outcome r = refine(s, target, batch, initial, max_samples, criterion);
     auto t1 = std::chrono::steady_clock::now();
     const Outcome o = one_shot(s, target, initial, 5, max_samples);
     auto t2 = std::chrono::steady_clock::now();

@@ -32,6 +32,34 @@ double pair_sum(const Eigen::MatrixXd& x, Eigen::Index first_new, double p) {
   return std::log(sum) / p - std::log(d_min);
 }
 
+/// The GP's correlation between the rows of a and b (its kernel and length scales; gp.hpp).
+Eigen::MatrixXd correlation(const GaussianProcess& gp, const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  const Eigen::VectorXd inverse = gp.lengths().cwiseInverse();
+  const Eigen::MatrixXd sa = a * inverse.asDiagonal();
+  const Eigen::MatrixXd sb = b * inverse.asDiagonal();
+  Eigen::MatrixXd r2 = (-2.0 * sa * sb.transpose()).colwise() + sa.rowwise().squaredNorm();
+  r2.rowwise() += sb.rowwise().squaredNorm().transpose();
+  r2 = r2.cwiseMax(0.0);
+  if (gp.options().kernel == GpKernel::squared_exponential) return (-0.5 * r2.array()).exp().matrix();
+  const Eigen::ArrayXXd r = r2.array().sqrt() * std::sqrt(5.0);
+  return ((1.0 + r + r.square() / 3.0) * (-r).exp()).matrix();
+}
+
+/// Integrated-variance reduction of observing each candidate, for a GP whose training inputs are x (in units of its
+/// process variance): mean over the reference points of k_n(ref, c)² / (k_n(c, c) + τ).
+Eigen::VectorXd integrated_variance_reduction(const GaussianProcess& gp, const Eigen::MatrixXd& x,
+                                              const Eigen::MatrixXd& candidates, const Eigen::MatrixXd& reference) {
+  Eigen::MatrixXd r = correlation(gp, x, x);
+  r.diagonal().array() += gp.nugget() + GaussianProcess::jitter();
+  const Eigen::LLT<Eigen::MatrixXd> llt(r);
+  const Eigen::MatrixXd k_xc = correlation(gp, x, candidates);
+  const Eigen::MatrixXd a = llt.solve(k_xc);  // R⁻¹ k(X, c)
+  const Eigen::MatrixXd cov = correlation(gp, reference, candidates) - correlation(gp, reference, x) * a;
+  const Eigen::ArrayXd variance = (1.0 - (k_xc.array() * a.array()).colwise().sum()).max(0.0).transpose();
+  const Eigen::ArrayXd denominator = variance + gp.nugget() + GaussianProcess::jitter();
+  return (cov.array().square().colwise().mean().transpose() / denominator).matrix();
+}
+
 }  // namespace
 
 Eigen::MatrixXd extend_sobol(int start, int added, int dimension, std::uint64_t seed) {
@@ -132,6 +160,7 @@ Eigen::MatrixXd extend_lhs(const Eigen::MatrixXd& existing, int added, std::uint
 void VarianceSelectionOptions::validate() const {
   if (batch < 1) throw InputError(fmt::format("batch = {}: must be >= 1", batch));
   if (candidates < batch) throw InputError(fmt::format("candidates = {}: must be >= batch ({})", candidates, batch));
+  if (reference < 1) throw InputError(fmt::format("reference = {}: must be >= 1", reference));
   if (!(min_distance_fraction >= 0))
     throw InputError(fmt::format("min_distance_fraction = {}: must be >= 0", min_distance_fraction));
 }
@@ -147,6 +176,10 @@ Eigen::MatrixXd select_by_variance(const std::vector<const GaussianProcess*>& mo
   const Eigen::Index n = existing.rows();
 
   const Eigen::MatrixXd candidates = latin_hypercube(options.candidates, static_cast<int>(d), options.seed);
+  const Eigen::MatrixXd reference =
+      options.criterion == SelectionCriterion::integrated_variance
+          ? latin_hypercube(options.reference, static_cast<int>(d), options.seed ^ 0x5851F42D4C957F2DULL)
+          : Eigen::MatrixXd();
   // The design's typical spacing: mean nearest-neighbour distance, shrunk to the density after the batch.
   double spacing = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -171,8 +204,12 @@ Eigen::MatrixXd select_by_variance(const std::vector<const GaussianProcess*>& mo
   for (int b = 0; b < options.batch; ++b) {
     Eigen::VectorXd score = Eigen::VectorXd::Zero(candidates.rows());
     for (const GaussianProcess* m : current) {
-      const Eigen::VectorXd sd = m->predict_sd(candidates);
-      score += (sd.array().square() / m->process_variance()).matrix();
+      if (options.criterion == SelectionCriterion::integrated_variance) {
+        score += integrated_variance_reduction(*m, m->training_inputs(), candidates, reference);
+      } else {
+        const Eigen::VectorXd sd = m->predict_sd(candidates);
+        score += (sd.array().square() / m->process_variance()).matrix();
+      }
     }
     Eigen::Index pick = -1;
     for (double limit = options.min_distance_fraction * spacing; pick < 0; limit *= 0.5) {

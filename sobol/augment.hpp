@@ -15,9 +15,10 @@
 //     random pairings, then a local search of column swaps between new points and exchanges with unused empty
 //     strata, kept when φ_p over the pairs that involve a new point decreases (the same moves as the ESE optimiser
 //     of design.cpp, Jin, Chen & Sudjianto 2005, greedy acceptance).
-//   - select_by_variance: a batch of points where Gaussian-process metamodels are least sure — the largest
-//     predictive variance (the "maximum MSE" sequential design of Sacks, Welch, Mitchell & Wynn 1989, Statistical
-//     Science 4(4), §5; Gramacy & Lee 2009 call it ALM) summed over the metamodels after dividing each by its
+//   - select_by_variance: a batch of points where Gaussian-process metamodels are least sure — by default the
+//     largest reduction of the integrated predictive variance (Cohn 1996, "ALC" in Gramacy & Lee 2009, Technometrics
+//     51(2); the IMSE of Sacks, Welch, Mitchell & Wynn 1989, Statistical Science 4(4), §5), or the largest
+//     predictive variance itself (their "maximum MSE", ALM), summed over the metamodels after dividing each by its
 //     process variance, among the points of a space-filling candidate set that keep a minimum distance to every
 //     point already in the design. A batch is chosen one point at a time: the predictive variance of a GP with
 //     fixed hyperparameters depends on the input locations only, so each chosen point is added to the training
@@ -54,7 +55,22 @@ Eigen::MatrixXd extend_lhs(const Eigen::MatrixXd& existing, int added, std::uint
 /// 2.3 restricted to those pairs): the criterion extend_lhs minimises.
 double phi_p_of_new(const Eigen::MatrixXd& points, Eigen::Index first_new, double p = 50.0);
 
+/// What a refinement batch maximises.
+enum class SelectionCriterion {
+  /// The reduction of the predictive variance integrated over the cube that observing the point would bring
+  /// (Cohn 1996, "Neural network exploration using optimal experiment design"; "ALC" in Gramacy & Lee 2009; the
+  /// IMSE criterion of Sacks et al. 1989 §5 one point at a time): mean over reference points x of
+  /// k_n(x, c)² / (σ_n²(c) + τ), posterior covariances of the GP in units of its process variance. The Sobol'
+  /// indices are integrals over the cube, which this criterion serves; it keeps away from the corners where the
+  /// pointwise variance is largest but that weigh little in the integrals.
+  integrated_variance,
+  /// The predictive variance at the point itself (maximum MSE, Sacks et al. 1989; "ALM" in Gramacy & Lee 2009).
+  variance,
+};
+
 struct VarianceSelectionOptions {
+  SelectionCriterion criterion = SelectionCriterion::integrated_variance;
+  int reference = 500;    ///< reference points (a Latin hypercube) of integrated_variance, >= 1
   int batch = 4;          ///< points to choose, >= 1
   int candidates = 2000;  ///< space-filling candidate points (a Latin hypercube), >= batch
   /// A candidate closer than this fraction of the design's typical spacing to any design or chosen point is not
@@ -64,8 +80,9 @@ struct VarianceSelectionOptions {
   void validate() const;       ///< throws InputError naming the field
 };
 
-/// `options.batch` points (rows) chosen by the largest summed normalised predictive variance of `models` (fitted
-/// GPs on the same inputs, those of `existing`), one at a time as described at the top of this file. When the
+/// `options.batch` points (rows) chosen by the largest summed criterion of `models` (fitted GPs on the same inputs,
+/// those of `existing`; each in units of its process variance), one at a time as described at the top of this
+/// file. When the
 /// minimum-distance constraint leaves no candidate, it is halved until one qualifies. Throws InputError for no
 /// model, an unfitted model, or a dimension that differs from existing's.
 Eigen::MatrixXd select_by_variance(const std::vector<const GaussianProcess*>& models, const Eigen::MatrixXd& existing,

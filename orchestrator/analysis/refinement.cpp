@@ -113,7 +113,7 @@ std::vector<SampleRow> choose_refinement_points(const StudyConfig& config, const
   } else {
     sobol::VarianceSelectionOptions options;
     options.batch = batch;
-    options.candidates = std::max(2000, 50 * batch);
+    options.candidates = std::max(1000, 50 * batch);
     options.seed = seed;
     unit = sobol::select_by_variance(gps, existing, options);
   }

@@ -174,7 +174,8 @@ TEST(RefineFake, AddsBatchesUntilTheBudgetAndRecordsTheHistory) {
   }
   expect_done_once(tmp / "study");
   const std::string csv = test::read_file(tmp / "study" / "analysis" / "refine.csv");
-  EXPECT_EQ(csv.rfind("iteration,samples,decision,target,max_half_width_angle\n", 0), 0u) << csv;
+  EXPECT_EQ(csv.rfind("iteration,samples,decision,target,max_half_width_angle,max_half_width_pile_height\n", 0), 0u)
+      << csv;
   const nlohmann::json json = nlohmann::json::parse(test::read_file(tmp / "study" / "analysis" / "refine.json"));
   ASSERT_EQ(json.size(), 4u);
   EXPECT_TRUE(json[0].at("indices").at("angle").at("S1").contains("mu_pp"));

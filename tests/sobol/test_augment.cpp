@@ -125,16 +125,20 @@ TEST(Augment, VarianceSelectionGoesWhereTheGpKnowsLeast) {
   o.batch = 5;
   o.candidates = 500;
   o.seed = 2;
-  const Eigen::MatrixXd chosen = select_by_variance({&gp}, x, o);
-  ASSERT_EQ(chosen.rows(), 5);
-  for (Eigen::Index i = 0; i < chosen.rows(); ++i) {
-    EXPECT_GT(chosen(i, 1), 0.5) << "point " << i;
-    EXPECT_LE(chosen(i, 0), 1.0);
-    EXPECT_GE(chosen(i, 0), 0.0);
+  for (const SelectionCriterion criterion : {SelectionCriterion::integrated_variance, SelectionCriterion::variance}) {
+    SCOPED_TRACE(criterion == SelectionCriterion::variance ? "variance" : "integrated variance");
+    o.criterion = criterion;
+    const Eigen::MatrixXd chosen = select_by_variance({&gp}, x, o);
+    ASSERT_EQ(chosen.rows(), 5);
+    for (Eigen::Index i = 0; i < chosen.rows(); ++i) {
+      EXPECT_GT(chosen(i, 1), 0.5) << "point " << i;
+      EXPECT_LE(chosen(i, 0), 1.0);
+      EXPECT_GE(chosen(i, 0), 0.0);
+    }
+    // Later picks see the earlier ones (the GP's variance with them added) and keep apart.
+    EXPECT_GT(min_distance(chosen), 0.05);
+    EXPECT_EQ(select_by_variance({&gp}, x, o), chosen);
   }
-  EXPECT_GT(min_distance(chosen), 0.1);
-  // The first pick is the candidate of largest variance; later picks see it and move away.
-  EXPECT_EQ(select_by_variance({&gp}, x, o), chosen);
 }
 
 TEST(Augment, VarianceSelectionRefusesNoModel) {
