@@ -148,6 +148,34 @@ TEST(ExtendFake, ExtendCommandGrowsASobolDesignWithItsNextPoints) {
   EXPECT_EQ(test::run_demsa({"extend", dir, "--samples", "2.5"}).exit_code, 2);
 }
 
+TEST(ExtendFake, GrowthSurvivesSigkillAtRandomMoments) {
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", study_text(6));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.3);
+  const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
+  ASSERT_EQ(test::run_demsa(args).exit_code, 0);
+  test::write_file(tmp / "study.toml", study_text(14));
+  std::mt19937 rng(31);
+  std::uniform_int_distribution<int> delay_ms(50, 1500);
+  for (int round = 0; round < 6; ++round) {
+    const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    ::kill(pid, SIGKILL);
+    wait_exit(pid);
+  }
+  const test::CommandResult final_run = test::run_demsa(args);
+  ASSERT_EQ(final_run.exit_code, 0) << final_run.out << final_run.err << test::read_file(tmp / "demsa.log");
+  const Store store = Store::open_read_only((tmp / "study" / "study.db").string());
+  EXPECT_EQ(store.samples().size(), 14u);
+  EXPECT_EQ(store.design_samples(), 14);
+  int extended = 0;
+  for (const EventRow& e : store.events()) extended += e.kind == "extended";
+  EXPECT_EQ(extended, 1);  // one extension, whichever run made it
+  expect_done_once(tmp / "study");
+  const std::map<int, int> starts = starts_per_sample(tmp.path());
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(starts.at(k), 1) << "sample " << k << " ran again";
+}
+
 TEST(RefineFake, AddsBatchesUntilTheBudgetAndRecordsTheHistory) {
   test::TempDir tmp;
   test::write_file(tmp / "study.toml", study_text(8));
