@@ -6,12 +6,12 @@
 //     (fit.hpp's ranking), and the largest half-width (upper − lower)/2 of its S1 and ST intervals (the design
 //     bootstrap of sobol/metamodel_sobol.hpp). The loop stops once every observable's is at most the target W.
 //   - choose_refinement_points: a Gaussian process (the study's [analysis] GP settings) fitted to each analysable
-//     observable, and a batch chosen by the largest summed normalised predictive variance among space-filling
-//     candidates kept apart from every sample of the store (sobol::select_by_variance; Sacks, Welch, Mitchell & Wynn
-//     1989). The Sobol' indices are variance ratios of the response over the whole cube, and the design bootstrap
-//     that gives their intervals refits the metamodel on resampled points: both shrink where the metamodel is
-//     unsure, which is where its predictive variance is largest. When no observable admits a GP (too few samples),
-//     the batch is a maximin Latin-hypercube extension of the samples instead (sobol::extend_lhs).
+//     observable, and a batch chosen by the largest summed integrated-variance reduction (ALC: Cohn 1996; Gramacy &
+//     Lee 2009) among space-filling candidates kept apart from every sample of the store (sobol::select_by_variance,
+//     sobol/augment.hpp). The Sobol' indices are variance ratios of the response integrated over the cube, and the
+//     design bootstrap that gives their intervals refits the metamodel on resampled points: both are surer where
+//     the metamodel's integrated variance is small. When no observable admits a GP (too few samples), the batch is
+//     a maximin Latin-hypercube extension of the samples instead (sobol::extend_lhs).
 #include "orchestrator/analysis/analysis_json.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/store.hpp"
