@@ -137,6 +137,8 @@ int run_cli(int argc, char** argv) {
   register_compare_command(app, state);
   register_export_vtk_command(app, state);
   register_predict_command(app, state);
+  register_extend_command(app, state);
+  register_refine_command(app, state);
 
   // Every error of every command ends here: the subcommands' callbacks run inside parse().
   try {

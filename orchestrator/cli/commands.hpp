@@ -22,5 +22,7 @@ void register_postprocess_command(CLI::App& app, CliState& state);  // postproce
 void register_compare_command(CLI::App& app, CliState& state);      // compare.cpp
 void register_export_vtk_command(CLI::App& app, CliState& state);   // export_vtk.cpp
 void register_predict_command(CLI::App& app, CliState& state);      // predict.cpp
+void register_extend_command(CLI::App& app, CliState& state);       // extend.cpp
+void register_refine_command(CLI::App& app, CliState& state);       // refine.cpp
 
 }  // namespace demsa::cli

@@ -44,6 +44,15 @@ CLI::Validator number_in(double low, double high) {
   return number_check([low, high](double v) { return v >= low && v <= high; }, fmt::format("in [{}, {}]", low, high));
 }
 
+CLI::Validator integer_in(long low, long high) {
+  const std::string text = fmt::format("a whole number in [{}, {}]", low, high);
+  return number_check(
+      [low, high](double v) {
+        return v == std::floor(v) && v >= static_cast<double>(low) && v <= static_cast<double>(high);
+      },
+      text);
+}
+
 std::string name_options(std::string message, const OptionNames& names) {
   const auto identifier = [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; };
   for (const auto& [field, option] : names) {

@@ -29,6 +29,8 @@ CLI::Validator positive_number();
 CLI::Validator non_negative_number();
 /// A finite number in [low, high].
 CLI::Validator number_in(double low, double high);
+/// A whole number in [low, high] ("--batch: 2.5: must be a whole number in [1, 100000]").
+CLI::Validator integer_in(long low, long high);
 
 /// The old spelling of a renamed option, kept for one version: hidden from --help, it sets the same value as the new
 /// one and warns "--output is deprecated ...: use --out" each time it is given.

@@ -16,12 +16,14 @@
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/process.hpp"
 #include "orchestrator/util/signals.hpp"
+#include "sobol/augment.hpp"
 #include "sobol/design.hpp"
 #include "sobol/scaling.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <chrono>
 #include <limits>
 #include <numbers>
@@ -63,20 +65,6 @@ FailureOptions failure_options(const StudyConfig& config, long particles) {
   options.kinetic_energy_limit = kinetic_energy_limit(config, particles);
   options.load_steps = config.experiment == Experiment::oedometer ? static_cast<int>(config.oedometer.loads.size()) : 0;
   return options;
-}
-
-std::string design_csv(const StudyConfig& config, const std::vector<SampleRow>& samples) {
-  std::string text = "sample";
-  for (const ParameterRange& p : config.parameters) text += ",u_" + p.name;
-  for (const ParameterRange& p : config.parameters) text += "," + p.name;
-  text += "\n";
-  for (const SampleRow& s : samples) {
-    text += std::to_string(s.sample);
-    for (double u : s.unit) text += fmt::format(",{:.17g}", u);
-    for (double x : s.physical) text += fmt::format(",{:.17g}", x);
-    text += "\n";
-  }
-  return text;
 }
 
 /// The result.json of a run, when the file is complete and belongs to run `run` of sample `sample`.
@@ -153,6 +141,54 @@ std::vector<SampleRow> draw_design(const StudyConfig& config) {
   return rows;
 }
 
+std::string design_csv(const StudyConfig& config, const std::vector<SampleRow>& samples) {
+  std::string text = "sample";
+  for (const ParameterRange& p : config.parameters) text += ",u_" + p.name;
+  for (const ParameterRange& p : config.parameters) text += "," + p.name;
+  text += "\n";
+  for (const SampleRow& s : samples) {
+    text += std::to_string(s.sample);
+    for (double u : s.unit) text += fmt::format(",{:.17g}", u);
+    for (double x : s.physical) text += fmt::format(",{:.17g}", x);
+    text += "\n";
+  }
+  return text;
+}
+
+std::vector<SampleRow> design_extension(const StudyConfig& config, const std::vector<SampleRow>& existing,
+                                        int design_samples, int added) {
+  const int d = static_cast<int>(config.parameters.size());
+  const sobol::DesignKind kind = sobol::design_kind_from_string(config.design);
+  Eigen::MatrixXd unit;
+  if (kind == sobol::DesignKind::sobol) {
+    unit = sobol::extend_sobol(design_samples, added, d, config.seed);
+  } else {
+    Eigen::MatrixXd old(static_cast<Eigen::Index>(existing.size()), d);
+    for (std::size_t i = 0; i < existing.size(); ++i)
+      for (int k = 0; k < d; ++k)
+        old(static_cast<Eigen::Index>(i), k) = existing[i].unit.at(static_cast<std::size_t>(k));
+    sobol::LhsExtensionOptions options;
+    options.centred = kind == sobol::DesignKind::lhs_centred;
+    // One seed per extension: the study's, mixed with the count it starts from (splitmix64's constant).
+    const std::uint64_t seed = config.seed ^ (0x9E3779B97F4A7C15ULL * static_cast<std::uint64_t>(existing.size() + 1));
+    unit = sobol::extend_lhs(old, added, seed, options);
+  }
+  std::vector<sobol::Bounds> bounds;
+  for (const ParameterRange& p : config.parameters) bounds.push_back(p.bounds);
+  const Eigen::MatrixXd physical = sobol::to_physical(unit, bounds);
+  std::vector<SampleRow> rows;
+  for (Eigen::Index i = 0; i < unit.rows(); ++i) {
+    SampleRow row;
+    row.sample = static_cast<int>(existing.size() + static_cast<std::size_t>(i));
+    for (Eigen::Index j = 0; j < unit.cols(); ++j) {
+      row.unit.push_back(unit(i, j));
+      row.physical.push_back(physical(i, j));
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 // ----------------------------------------------------------------------------------------------- run_study
 
 namespace {
@@ -170,7 +206,25 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
   Store store(db.string());
   const std::string hash = design_hash(config);
   if (const std::optional<std::string> stored = store.design_hash()) {
-    if (*stored != hash) {
+    // A raised [design] samples is an extension: everything else hashes as the stored design.
+    StudyConfig at_stored = config;
+    at_stored.samples = store.design_samples();
+    if (*stored != hash && design_hash(at_stored) == *stored) {
+      if (config.samples < at_stored.samples)
+        throw UserError(fmt::format(
+            "{}: [design] samples = {}, but the study in {} has {} design samples already; a design can grow, not "
+            "shrink (its cases are run or reserved): set samples = {} or more, or start a new study with `demsa run "
+            "--new` or another --dir",
+            study_file.string(), config.samples, dir.string(), at_stored.samples, at_stored.samples));
+      const std::vector<SampleRow> existing = store.samples();
+      const std::vector<SampleRow> added =
+          design_extension(config, existing, at_stored.samples, config.samples - at_stored.samples);
+      store.add_samples(added, "extended",
+                        fmt::format("design {} grown from {} to {} samples (samples {} to {})", config.design,
+                                    at_stored.samples, config.samples, added.front().sample, added.back().sample),
+                        hash);
+      write_file_atomically(dir / k_design_file, design_csv(config, store.samples()));
+    } else if (*stored != hash) {
       // The frozen copy is the last file the study accepted: it names the changed keys (when it still reads).
       std::string changed;
       try {
@@ -199,6 +253,92 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
   if (!fs::equivalent(study_file, frozen, ec)) write_file_atomically(frozen, util::read_file(study_file));
   return store;
 }
+
+/// The study text with the value of [design] samples replaced, or nothing when the file has no such line.
+std::optional<std::string> with_samples(const std::string& text, int samples) {
+  std::string out;
+  std::string section;
+  bool replaced = false;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    std::string line = text.substr(start, end - start);
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first != std::string::npos && line[first] == '[') {
+      const std::size_t close = line.find(']', first);
+      section = close == std::string::npos ? "" : line.substr(first + 1, close - first - 1);
+      section.erase(0, section.find_first_not_of(" \t"));
+      section.erase(section.find_last_not_of(" \t") + 1);
+    } else if (!replaced && section == "design" && first != std::string::npos &&
+               line.compare(first, 7, "samples") == 0) {
+      std::size_t at = first + 7;
+      while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+      if (at < line.size() && line[at] == '=') {
+        ++at;
+        while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+        std::size_t digits = at;
+        while (digits < line.size() && std::isdigit(static_cast<unsigned char>(line[digits]))) ++digits;
+        if (digits > at) {
+          line = line.substr(0, at) + std::to_string(samples) + line.substr(digits);
+          replaced = true;
+        }
+      }
+    }
+    out += line;
+    if (end < text.size()) out += '\n';
+    start = end + 1;
+  }
+  if (!replaced) return std::nullopt;
+  return out;
+}
+
+}  // namespace
+
+int extend_study(const fs::path& dir, int samples) {
+  require_study_folder(dir);
+  const StudyLock lock(dir);
+  const fs::path frozen = dir / k_frozen_study;
+  const StudyConfig before = load_study(frozen);
+  int design = 0;
+  {
+    const Store store((dir / k_store_file).string());
+    if (const std::optional<std::string> stored = store.design_hash()) {
+      design = store.design_samples();
+      StudyConfig at_stored = before;
+      at_stored.samples = design;
+      if (design_hash(at_stored) != *stored)
+        throw UserError(
+            fmt::format("{}: the study file there no longer matches its store (design hash {} stored, {} "
+                        "for the file); `demsa run` with the study's own file repairs or refuses it",
+                        frozen.string(), *stored, design_hash(at_stored)));
+    } else {
+      throw UserError(fmt::format("{}: the store holds no design yet; `demsa run` creates it", dir.string()));
+    }
+  }
+  if (samples < design)
+    throw UserError(
+        fmt::format("--samples {}: the study in {} has {} design samples already; a design can grow, not "
+                    "shrink",
+                    samples, dir.string(), design));
+  const std::optional<std::string> text = with_samples(util::read_file(frozen), samples);
+  if (!text) throw UserError(fmt::format("{}: no `samples = N` line in its [design] section", frozen.string()));
+  // The new file is read as a study file (bounds of samples, e.g. at most 4096 for an optimised LHS) before the
+  // store changes; open_study then extends the store and writes it as the frozen copy.
+  const fs::path candidate = dir / ".study.extend.toml";
+  write_file_atomically(candidate, *text);
+  StudyConfig after;
+  try {
+    after = load_study(candidate);
+  } catch (const UserError& e) {
+    fs::remove(candidate);
+    throw UserError(fmt::format("--samples {}: {}", samples, e.what()));
+  }
+  { Store store = open_study(after, candidate, dir, false); }
+  fs::remove(candidate);
+  return samples - design;
+}
+
+namespace {
 
 /// What the runner keeps of a case from its start to its end.
 struct InFlight {

@@ -88,4 +88,22 @@ RunSummary run_study(const RunOptions& options);
 /// `demsa case --sample K` draw the same points on any machine and under any load.
 std::vector<study::SampleRow> draw_design(const study::StudyConfig& config);
 
+/// The `added` design points that extend the study's samples `existing` (the store's, refinement points included),
+/// of which the first `design_samples` are the design's: the next points of the sequence for a Sobol' design
+/// (sobol::extend_sobol), a maximin Latin-hypercube extension of all existing points otherwise (sobol::extend_lhs).
+/// Deterministic in the study's seed and the counts. Sample indices continue existing's.
+std::vector<study::SampleRow> design_extension(const study::StudyConfig& config,
+                                               const std::vector<study::SampleRow>& existing, int design_samples,
+                                               int added);
+
+/// The text of DIR/design.csv for these samples.
+std::string design_csv(const study::StudyConfig& config, const std::vector<study::SampleRow>& samples);
+
+/// `demsa extend DIR --samples N`: grows the design of the study in `dir` (its frozen study file) to `samples` design
+/// points, as a raised `[design] samples` does in `demsa run`: the new points are added to the store in one
+/// transaction, design.csv and the frozen study file follow. Nothing runs. Returns the number of points added (0
+/// when the design has that many already). Throws util::UserError for a count below the design's (shrinking), a
+/// count the study file refuses, or a study another demsa holds.
+int extend_study(const std::filesystem::path& dir, int samples);
+
 }  // namespace demsa::exec

@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <fstream>
@@ -256,6 +257,44 @@ PlotFiles plot_predicted_vs_observed(const Plotter& plotter, const PredictedVsOb
       "       $points using 1:2 with points pt 7 ps 0.9 lc rgb '{}' title 'sample (left out of the fit)'\n",
       k_grey, k_blue);
   return plotter.render(stem, p.title, data, body);
+}
+
+// ----------------------------------------------------------------------------------------- refine history
+
+PlotFiles plot_refine_history(const Plotter& plotter, const RefineHistoryPlot& h, const fs::path& stem) {
+  static constexpr std::array<const char*, 6> colours{k_blue, k_red, k_purple, "#2ca02c", "#ff7f0e", "#8c564b"};
+  std::string data;
+  for (std::size_t o = 0; o < h.observables.size(); ++o) {
+    data += fmt::format("$w{} << EOD\n", o);
+    for (std::size_t i = 0; i < h.samples.size(); ++i) {
+      const double w = h.half_width[o][i];
+      if (std::isfinite(w) && w > 0) data += fmt::format("{} {}\n", num(h.samples[i]), num(w));
+    }
+    data += "EOD\n";
+  }
+  std::string body;
+  body += fmt::format("  set title {} noenhanced\n", gnuplot_quote(h.title));
+  body += "  set xlabel 'done samples'\n  set ylabel 'largest S1/ST interval half-width'\n";
+  body += "  set logscale y\n  set format y '%g'\n  set grid lc rgb '#dddddd'\n  set key top right box opaque\n";
+  // The target and every width inside the y range, with room around them on the log scale.
+  double low = h.target, high = h.target;
+  for (const std::vector<double>& line : h.half_width)
+    for (const double w : line)
+      if (std::isfinite(w) && w > 0) {
+        low = std::min(low, w);
+        high = std::max(high, w);
+      }
+  if (low > 0) body += fmt::format("  set yrange [{}:{}]\n", num(low / 1.6), num(high * 1.6));
+  std::vector<double> xs = h.samples;
+  const std::pair<double, double> xr = padded(finite_range({&xs}), 0.05);
+  body += fmt::format("  set xrange [{}:{}]\n", num(xr.first), num(xr.second == xr.first ? xr.first + 1 : xr.second));
+  body += fmt::format("  plot {} with lines dt 2 lw 2 lc rgb '{}' title {}", num(h.target), k_grey,
+                      gnuplot_quote(fmt::format("target W = {}", num(h.target))));
+  for (std::size_t o = 0; o < h.observables.size(); ++o)
+    body += fmt::format(", \\\n       $w{} using 1:2 with linespoints pt 7 lw 2 lc rgb '{}' title {} noenhanced", o,
+                        colours[o % colours.size()], gnuplot_quote(h.observables[o]));
+  body += "\n";
+  return plotter.render(stem, h.title, data, body);
 }
 
 // ----------------------------------------------------------------------------------------- response scatter

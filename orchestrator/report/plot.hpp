@@ -103,6 +103,17 @@ struct ResponseScatter {
 };
 PlotFiles plot_response_scatter(const Plotter& plotter, const ResponseScatter& data, const std::filesystem::path& stem);
 
+/// `demsa refine`'s history: the largest S1/ST interval half-width of each observable against the done samples,
+/// with the target W as a horizontal line (log y axis).
+struct RefineHistoryPlot {
+  std::string title;
+  double target = 0.0;                          ///< W
+  std::vector<std::string> observables;         ///< one line each
+  std::vector<double> samples;                  ///< x of each step
+  std::vector<std::vector<double>> half_width;  ///< [observable][step]; NaN: no interval at that step
+};
+PlotFiles plot_refine_history(const Plotter& plotter, const RefineHistoryPlot& data, const std::filesystem::path& stem);
+
 /// A particle of the measured pile, with the direction in which it is a boundary particle (paper §3.3, Fig. 4a).
 struct PileParticle {
   double x = 0, y = 0, z = 0;  ///< centre [m]

@@ -300,6 +300,7 @@ struct StudyData {
   std::map<int, std::map<std::string, double>> observables;
   std::vector<RunRow> runs;
   StoreCounts counts;
+  std::vector<RefineStep> refine;  ///< `demsa refine`'s steps (empty when never refined)
 };
 
 ReportSection summary_section(const StudyData& s) {
@@ -762,6 +763,44 @@ ReportSection posterior_section(const PosteriorOutcome& p, const fs::path& sampl
   return section;
 }
 
+/// `demsa refine`'s steps: a table and the half-widths against the samples, with the target as a line.
+ReportSection refine_section(const std::vector<RefineStep>& steps, const Plotter& plotter, const fs::path& out,
+                             ReportSummary& summary) {
+  ReportSection section;
+  section.heading = "Refinement";
+  RefineHistoryPlot plot;
+  plot.target = steps.back().target;
+  plot.title = fmt::format("demsa refine: largest Sobol' interval half-width, target {}", short_number(plot.target));
+  for (const RefineStep& step : steps)
+    for (const auto& [name, w] : step.max_half_width)
+      if (std::find(plot.observables.begin(), plot.observables.end(), name) == plot.observables.end())
+        plot.observables.push_back(name);
+  plot.half_width.assign(plot.observables.size(), {});
+  ReportTable table;
+  table.caption = "Steps of `demsa refine`: largest S1/ST interval half-width per observable (its best metamodel)";
+  table.header = {"step", "samples", "decision"};
+  for (const std::string& o : plot.observables) table.header.push_back(o);
+  for (const RefineStep& step : steps) {
+    plot.samples.push_back(step.samples);
+    std::vector<std::string> row{std::to_string(step.iteration), std::to_string(step.samples), step.decision};
+    for (std::size_t o = 0; o < plot.observables.size(); ++o) {
+      const auto it = step.max_half_width.find(plot.observables[o]);
+      const double w = it == step.max_half_width.end() ? k_nan : it->second;
+      plot.half_width[o].push_back(w);
+      row.push_back(fixed4(w));
+    }
+    table.rows.push_back(row);
+  }
+  section.paragraphs.push_back(
+      fmt::format("{} refinement step(s), the last with {} done samples ({}); target half-width {}.", steps.size(),
+                  steps.back().samples, steps.back().decision, short_number(plot.target)));
+  section.tables.push_back(table);
+  section.figures.push_back({"Largest S1/ST interval half-width against the done samples (dashed: the target)",
+                             plot_refine_history(plotter, plot, out / "refine_history")});
+  summary.images.push_back(section.figures.back().files.png);
+  return section;
+}
+
 }  // namespace
 
 ReportSummary write_study_report(const ReportOptions& options) {
@@ -776,6 +815,7 @@ ReportSummary write_study_report(const ReportOptions& options) {
     s.observables = store.observables();
     s.runs = store.runs();
     s.counts = store.counts();
+    s.refine = store.refine_history();
   }
   const fs::path analysis_file = dir / "analysis" / "analysis.json";
   if (!fs::exists(analysis_file)) {
@@ -806,6 +846,8 @@ ReportSummary write_study_report(const ReportOptions& options) {
       analysis.base_samples));
   for (const ObservableAnalysis& observable : analysis.observables)
     doc.sections.push_back(observable_section(s, observable, analysis.parameters, plotter, summary.out_dir, summary));
+
+  if (!s.refine.empty()) doc.sections.push_back(refine_section(s.refine, plotter, summary.out_dir, summary));
 
   if (summary.sample_shown >= 0) {
     try {

@@ -428,7 +428,8 @@ std::vector<Setting> build_settings() {
                              k_max_optimised_lhs_samples))
           .cases("samples")
           .doc("number of samples (the paper: 160 pile, 200 oedometer); the optimised Latin hypercubes keep an "
-               "N × N matrix of the sample pairs"));
+               "N × N matrix of the sample pairs. Raising it in an existing study extends the design (the finished "
+               "cases are kept, docs/refine.md); lowering it is refused"));
 
   // [parameters]: one table row per contact parameter; the admissible values are those of its [material] row.
   for (const ContactParameter& p : contact_parameters()) {

@@ -9,8 +9,10 @@
 
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -79,6 +81,14 @@ CREATE TABLE IF NOT EXISTS observables (
   value REAL NOT NULL,
   run INTEGER NOT NULL REFERENCES runs(id),
   PRIMARY KEY (sample, name));
+CREATE TABLE IF NOT EXISTS refine_history (
+  samples INTEGER PRIMARY KEY,
+  iteration INTEGER NOT NULL,
+  target REAL NOT NULL,
+  time REAL NOT NULL,
+  decision TEXT NOT NULL,
+  max_half_width TEXT NOT NULL,
+  indices TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS events (
   id INTEGER PRIMARY KEY AUTOINCREMENT,
   time REAL NOT NULL,
@@ -337,6 +347,95 @@ std::vector<SampleRow> Store::samples() const {
     rows.push_back(
         {q.getColumn(0).getInt(), from_json(q.getColumn(1).getString()), from_json(q.getColumn(2).getString())});
   return rows;
+}
+
+int Store::design_samples() const {
+  SQLite::Statement q(*m_db, "SELECT value FROM meta WHERE key = 'design_samples'");
+  if (q.executeStep()) return std::stoi(q.getColumn(0).getString());
+  SQLite::Statement count(*m_db, "SELECT count(*) FROM samples");
+  count.executeStep();
+  return count.getColumn(0).getInt();
+}
+
+void Store::add_samples(const std::vector<SampleRow>& samples, const std::string& kind, const std::string& message,
+                        const std::optional<std::string>& design_hash) {
+  const int design = design_samples();
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  int next = 0;
+  {
+    SQLite::Statement q(*m_db, "SELECT coalesce(max(sample) + 1, 0) FROM samples");
+    q.executeStep();
+    next = q.getColumn(0).getInt();
+  }
+  SQLite::Statement insert(*m_db, "INSERT INTO samples(sample, unit, physical) VALUES (?, ?, ?)");
+  for (const SampleRow& s : samples) {
+    if (s.sample != next)
+      throw std::logic_error(fmt::format("Store::add_samples: sample {} after {}", s.sample, next - 1));
+    insert.bind(1, s.sample);
+    insert.bind(2, to_json(s.unit));
+    insert.bind(3, to_json(s.physical));
+    insert.exec();
+    insert.reset();
+    ++next;
+  }
+  SQLite::Statement meta(*m_db, "INSERT OR REPLACE INTO meta(key, value) VALUES (?, ?)");
+  const auto set_meta = [&](const std::string& key, const std::string& value) {
+    meta.bind(1, key);
+    meta.bind(2, value);
+    meta.exec();
+    meta.reset();
+  };
+  if (design_hash) {
+    set_meta("design_hash", *design_hash);
+    set_meta("design_samples", std::to_string(design + static_cast<int>(samples.size())));
+  } else {
+    set_meta("design_samples", std::to_string(design));
+  }
+  SQLite::Statement event(*m_db, "INSERT INTO events(time, kind, sample, message) VALUES (?, ?, -1, ?)");
+  event.bind(1, unix_now());
+  event.bind(2, kind);
+  event.bind(3, message);
+  event.exec();
+  tx.commit();
+}
+
+void Store::record_refine_step(const RefineStep& step) {
+  SQLite::Statement q(*m_db,
+                      "INSERT OR REPLACE INTO refine_history(samples, iteration, target, time, decision, "
+                      "max_half_width, indices) VALUES (?, ?, ?, ?, ?, ?, ?)");
+  nlohmann::json widths = nlohmann::json::object();
+  for (const auto& [name, w] : step.max_half_width)
+    widths[name] = std::isfinite(w) ? nlohmann::json(w) : nlohmann::json(nullptr);
+  q.bind(1, step.samples);
+  q.bind(2, step.iteration);
+  q.bind(3, step.target);
+  q.bind(4, step.time);
+  q.bind(5, step.decision);
+  q.bind(6, widths.dump());
+  q.bind(7, step.indices_json);
+  q.exec();
+}
+
+std::vector<RefineStep> Store::refine_history() const {
+  std::vector<RefineStep> steps;
+  if (!has_table(*m_db, "refine_history")) return steps;
+  SQLite::Statement q(*m_db,
+                      "SELECT samples, iteration, target, time, decision, max_half_width, indices FROM refine_history "
+                      "ORDER BY samples");
+  while (q.executeStep()) {
+    RefineStep s;
+    s.samples = q.getColumn(0).getInt();
+    s.iteration = q.getColumn(1).getInt();
+    s.target = q.getColumn(2).getDouble();
+    s.time = q.getColumn(3).getDouble();
+    s.decision = q.getColumn(4).getString();
+    const nlohmann::json widths = nlohmann::json::parse(q.getColumn(5).getString());
+    for (const auto& [name, w] : widths.items())
+      s.max_half_width[name] = w.is_null() ? std::numeric_limits<double>::quiet_NaN() : w.get<double>();
+    s.indices_json = q.getColumn(6).getString();
+    steps.push_back(std::move(s));
+  }
+  return steps;
 }
 
 long Store::add_run(int sample, int attempt) {

@@ -104,6 +104,19 @@ struct StoreCounts {
   double mean_done_wall = 0.0;  ///< mean wall time of done runs [s]
 };
 
+/// One step of `demsa refine` (cli/refine.cpp): the indices after `samples` done samples and whether the loop went
+/// on. Keyed by `samples` (a restarted refine that evaluates the same samples again replaces its row).
+struct RefineStep {
+  int iteration = 0;     ///< 1, 2, ... in the order of the steps
+  int samples = 0;       ///< done samples the metamodels were fitted to
+  double target = 0.0;   ///< the target half-width W of that refine
+  double time = 0.0;     ///< Unix time [s]
+  std::string decision;  ///< "reached", "budget", "added N", "stopped"
+  /// Largest S1 or ST interval half-width of each observable (its best metamodel by Q²); NaN without intervals.
+  std::map<std::string, double> max_half_width;
+  std::string indices_json;  ///< {observable: {"model", "S1": {p: [value, lower, upper]}, "ST": {...}}}
+};
+
 struct EventRow {
   double time = 0.0;  ///< Unix time [s]
   std::string kind;
@@ -133,6 +146,20 @@ class Store {
   std::string study_name() const;
 
   std::vector<SampleRow> samples() const;
+
+  /// Samples of the study's design (the first `[design] samples` rows, grown by extensions); the others were added
+  /// by `demsa refine`. Stores without the count (all samples were the design's then) give the number of samples.
+  int design_samples() const;
+  /// Appends samples (their indices continue the store's) in one transaction with an event of `kind`. With a
+  /// `design_hash`, they are design points: the hash and the design-sample count are updated in the same
+  /// transaction (an extension of the design); without one, they are refinement points.
+  void add_samples(const std::vector<SampleRow>& samples, const std::string& kind, const std::string& message,
+                   const std::optional<std::string>& design_hash = std::nullopt);
+
+  /// Records (or replaces, for the same `samples`) one step of `demsa refine`.
+  void record_refine_step(const RefineStep& step);
+  /// The steps of `demsa refine`, by samples; empty for a store that never refined.
+  std::vector<RefineStep> refine_history() const;
 
   /// A new run row in state submitted (job id filled later by set_job_id). Returns its id.
   long add_run(int sample, int attempt);

@@ -306,21 +306,34 @@ TEST(RunFake, ChangedDesignIsRefusedUnlessNew) {
   s.samples = 4;
   write_study(tmp, s);
   ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--dry-run"})).exit_code, 0);
-  s.samples = 6;
+  // A design-relevant change is refused, naming the key.
+  s.experiment = "oedometer";
   write_study(tmp, s);
   const test::CommandResult refused = test::run_demsa(test::run_args(tmp, {}));
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("design-relevant settings differ"), std::string::npos) << refused.err;
-  // [run] settings may change freely.
+  // More samples extend the design (docs/refine.md); fewer are refused.
+  s.experiment = "pile";
+  s.samples = 6;
+  write_study(tmp, s);
+  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--dry-run"})).exit_code, 0);
+  EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / "000005" / "run.sh"));
   s.samples = 4;
+  write_study(tmp, s);
+  const test::CommandResult shrunk = test::run_demsa(test::run_args(tmp, {"--dry-run"}));
+  EXPECT_EQ(shrunk.exit_code, 2);
+  EXPECT_NE(shrunk.err.find("can grow, not shrink"), std::string::npos) << shrunk.err;
+  // [run] settings may change freely.
+  s.samples = 6;
   s.retries = 3;
   write_study(tmp, s);
   EXPECT_EQ(test::run_demsa(test::run_args(tmp, {"--dry-run"})).exit_code, 0);
-  s.samples = 6;
+  s.samples = 3;
   write_study(tmp, s);
   const test::CommandResult renewed = test::run_demsa(test::run_args(tmp, {"--dry-run", "--new"}));
   EXPECT_EQ(renewed.exit_code, 0) << renewed.err;
-  EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / "000005" / "run.sh"));
+  EXPECT_TRUE(fs::exists(tmp / "study" / "cases" / "000002" / "run.sh"));
+  EXPECT_FALSE(fs::exists(tmp / "study" / "cases" / "000003"));
 }
 
 TEST(RunFake, StatusAndAnalyzeOnAFolderThatIsNoStudy) {

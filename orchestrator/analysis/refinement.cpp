@@ -1,0 +1,173 @@
+#include "orchestrator/analysis/refinement.hpp"
+
+#include "orchestrator/analysis/fit.hpp"
+#include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/study/observables.hpp"
+#include "sobol/augment.hpp"
+#include "sobol/gp.hpp"
+#include "sobol/scaling.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace demsa::analysis {
+
+using namespace demsa::study;
+
+namespace {
+
+double half_width(const sobol::IndexEstimate& e) { return 0.5 * (e.upper - e.lower); }
+
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json estimates_json(const std::vector<sobol::IndexEstimate>& estimates,
+                              const std::vector<std::string>& parameters) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < estimates.size() && i < parameters.size(); ++i)
+    j[parameters[i]] = {finite_or_null(estimates[i].value), finite_or_null(estimates[i].lower),
+                        finite_or_null(estimates[i].upper)};
+  return j;
+}
+
+}  // namespace
+
+bool RefinementCheck::reached(double target) const {
+  if (max_half_width.empty()) return false;
+  for (const auto& [name, w] : max_half_width)
+    if (!(std::isfinite(w) && w <= target)) return false;
+  return true;
+}
+
+double RefinementCheck::worst() const {
+  double worst = 0.0;
+  for (const auto& [name, w] : max_half_width) {
+    if (!std::isfinite(w)) return std::numeric_limits<double>::quiet_NaN();
+    worst = std::max(worst, w);
+  }
+  return worst;
+}
+
+RefinementCheck check_refinement(const AnalysisSummary& summary) {
+  RefinementCheck check;
+  nlohmann::ordered_json all = nlohmann::ordered_json::object();
+  for (const ObservableAnalysis& o : summary.observables) {
+    // The model with the largest Q² among those with intervals (a non-finite Q² ranks last, as in best_by_q2).
+    const ModelAnalysis* best = nullptr;
+    for (const ModelAnalysis& m : o.models) {
+      if (!m.ok || m.indices.bootstrap <= 0) continue;
+      const double q2 = std::isfinite(m.quality.q2) ? m.quality.q2 : -std::numeric_limits<double>::infinity();
+      const double best_q2 = best == nullptr                   ? -std::numeric_limits<double>::max()
+                             : std::isfinite(best->quality.q2) ? best->quality.q2
+                                                               : -std::numeric_limits<double>::infinity();
+      if (best == nullptr || q2 > best_q2) best = &m;
+    }
+    if (best == nullptr) {
+      check.max_half_width[o.name] = std::numeric_limits<double>::quiet_NaN();
+      check.model[o.name] = "";
+      all[o.name] = {{"model", nullptr}, {"max_half_width", nullptr}};
+      continue;
+    }
+    double worst = 0.0;
+    for (const sobol::IndexEstimate& e : best->indices.first) worst = std::max(worst, half_width(e));
+    for (const sobol::IndexEstimate& e : best->indices.total) worst = std::max(worst, half_width(e));
+    check.max_half_width[o.name] = worst;
+    check.model[o.name] = best->model;
+    all[o.name] = {{"model", best->model},
+                   {"q2", finite_or_null(best->quality.q2)},
+                   {"max_half_width", worst},
+                   {"S1", estimates_json(best->indices.first, summary.parameters)},
+                   {"ST", estimates_json(best->indices.total, summary.parameters)}};
+  }
+  check.indices_json = all.dump();
+  return check;
+}
+
+std::vector<SampleRow> choose_refinement_points(const StudyConfig& config, const Store& store, int batch,
+                                                std::uint64_t seed) {
+  const std::vector<SampleRow> samples = store.samples();
+  const auto observables = store.observables();
+  const auto d = static_cast<Eigen::Index>(config.parameters.size());
+  Eigen::MatrixXd existing(static_cast<Eigen::Index>(samples.size()), d);
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    for (Eigen::Index k = 0; k < d; ++k)
+      existing(static_cast<Eigen::Index>(i), k) = samples[i].unit.at(static_cast<std::size_t>(k));
+
+  std::vector<FittedMetamodel> fits;
+  for (const std::string& name : observable_names(config)) {
+    const TrainingData data = training_data(config, samples, observables, name);
+    if (data.size() < 3) continue;
+    FittedMetamodel fit =
+        fit_metamodel(sobol::MetamodelKind::gp, config.analysis.metamodel_options(), data.unit, data.y);
+    if (fit.ok()) fits.push_back(std::move(fit));
+  }
+  std::vector<const sobol::GaussianProcess*> gps;
+  for (const FittedMetamodel& f : fits) gps.push_back(dynamic_cast<const sobol::GaussianProcess*>(f.model.get()));
+  Eigen::MatrixXd unit;
+  if (gps.empty()) {
+    unit = sobol::extend_lhs(existing, batch, seed);
+  } else {
+    sobol::VarianceSelectionOptions options;
+    options.batch = batch;
+    options.candidates = std::max(1000, 50 * batch);
+    options.seed = seed;
+    unit = sobol::select_by_variance(gps, existing, options);
+  }
+  std::vector<sobol::Bounds> bounds;
+  for (const ParameterRange& p : config.parameters) bounds.push_back(p.bounds);
+  const Eigen::MatrixXd physical = sobol::to_physical(unit, bounds);
+  std::vector<SampleRow> rows;
+  const int next = samples.empty() ? 0 : samples.back().sample + 1;
+  for (Eigen::Index i = 0; i < unit.rows(); ++i) {
+    SampleRow row;
+    row.sample = next + static_cast<int>(i);
+    for (Eigen::Index k = 0; k < d; ++k) {
+      row.unit.push_back(unit(i, k));
+      row.physical.push_back(physical(i, k));
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+std::string refine_history_csv(const std::vector<RefineStep>& steps) {
+  std::set<std::string> names;
+  for (const RefineStep& s : steps)
+    for (const auto& [name, w] : s.max_half_width) names.insert(name);
+  std::string text = "iteration,samples,decision,target";
+  for (const std::string& n : names) text += ",max_half_width_" + n;
+  text += "\n";
+  for (const RefineStep& s : steps) {
+    text += fmt::format("{},{},{},{:.6g}", s.iteration, s.samples, s.decision, s.target);
+    for (const std::string& n : names) {
+      const auto it = s.max_half_width.find(n);
+      text += ",";
+      if (it != s.max_half_width.end() && std::isfinite(it->second)) text += fmt::format("{:.6g}", it->second);
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+std::string refine_history_json(const std::vector<RefineStep>& steps) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::array();
+  for (const RefineStep& s : steps) {
+    nlohmann::ordered_json widths = nlohmann::ordered_json::object();
+    for (const auto& [name, w] : s.max_half_width) widths[name] = finite_or_null(w);
+    j.push_back({{"iteration", s.iteration},
+                 {"samples", s.samples},
+                 {"decision", s.decision},
+                 {"target", s.target},
+                 {"time", s.time},
+                 {"max_half_width", widths},
+                 {"indices", s.indices_json.empty() ? nlohmann::ordered_json::object()
+                                                    : nlohmann::ordered_json::parse(s.indices_json)}});
+  }
+  return j.dump(2) + "\n";
+}
+
+}  // namespace demsa::analysis
