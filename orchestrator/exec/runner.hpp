@@ -64,6 +64,8 @@ struct RunOptions {
 struct RunSummary {
   std::filesystem::path dir;
   int samples = 0;
+  int replicates = 0;                            ///< replicate cases of the study ([design] replicates)
+  int replicates_done = 0;                       ///< of them, done
   int done = 0;                                  ///< done samples (all runs of the study)
   int done_now = 0;                              ///< committed by this invocation
   int recovered = 0;                             ///< committed from result.json left by an interrupted run
@@ -87,5 +89,11 @@ RunSummary run_study(const RunOptions& options);
 /// Deterministic: an optimised LHS runs a fixed number of iterations (no wall-clock limit), so `demsa run` and
 /// `demsa case --sample K` draw the same points on any machine and under any load.
 std::vector<study::SampleRow> draw_design(const study::StudyConfig& config);
+
+/// The replicate cases of `config` ([design] replicates) at the first P of `samples` (the design): repeats 1 .. R − 1
+/// of each, with cases::replicate_assembly_seed. Empty when the study has none. Throws util::UserError when P exceeds
+/// the design.
+std::vector<study::ReplicateRow> replicate_rows(const study::StudyConfig& config,
+                                                const std::vector<study::SampleRow>& samples);
 
 }  // namespace demsa::exec
