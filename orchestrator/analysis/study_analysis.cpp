@@ -84,6 +84,18 @@ std::optional<NoiseAnalysis> measured_noise(const std::vector<ReplicateRow>& rep
   return noise;
 }
 
+sobol::MetamodelOptions with_measured_noise(sobol::MetamodelOptions options, const std::optional<NoiseAnalysis>& noise,
+                                            const Eigen::VectorXd& y) {
+  if (!noise || y.size() < 2) return options;
+  // The noise variance in the GP's scaled units: divided by the training outputs' variance (population, as the GP
+  // scales them).
+  const double variance = (y.array() - y.mean()).square().mean();
+  if (!(variance > 0.0)) return options;
+  options.gp.nugget = true;
+  options.gp.noise_share = noise->estimate.variance / variance;
+  return options;
+}
+
 void AnalyzeOptions::validate() const {
   if (dir.empty()) throw std::invalid_argument("dir is empty: a study folder is required");
   if (bootstrap < -1) throw std::invalid_argument(fmt::format("bootstrap = {}: must be >= 0 (or -1)", bootstrap));
@@ -154,18 +166,9 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     analysis.mean = mean_of(data.y);
     analysis.sd = sd_of(data.y);
     analysis.noise = measured_noise(replicates, observables, name, summary.confidence, analysis.sd);
-    // A measured noise sets the GP's nugget (sobol::GpOptions::noise_share): the noise variance in the GP's scaled
-    // units, i.e. divided by the training outputs' variance (population, as the GP scales them).
-    sobol::MetamodelOptions observable_options = model_options;
-    if (analysis.noise && data.size() >= 2) {
-      const double sd_population =
-          analysis.sd * std::sqrt(static_cast<double>(data.size() - 1) / static_cast<double>(data.size()));
-      if (sd_population > 0.0) {
-        analysis.noise->nugget_share = analysis.noise->estimate.variance / (sd_population * sd_population);
-        observable_options.gp.nugget = true;
-        observable_options.gp.noise_share = analysis.noise->nugget_share;
-      }
-    }
+    // A measured noise sets the GP's nugget (sobol::GpOptions::noise_share).
+    const sobol::MetamodelOptions observable_options = with_measured_noise(model_options, analysis.noise, data.y);
+    if (analysis.noise) analysis.noise->nugget_share = observable_options.gp.noise_share;
     if (data.size() >= 2 && sobol::negligible_variance(analysis.mean, analysis.sd * analysis.sd)) {
       // A metamodel of a constant would fit it exactly and give indices of round-off (R² NaN, S1 of noise).
       analysis.error = fmt::format(

@@ -56,6 +56,11 @@ std::optional<NoiseAnalysis> measured_noise(const std::vector<study::ReplicateRo
                                             const std::map<int, std::map<std::string, double>>& observables,
                                             const std::string& observable, double confidence, double design_sd);
 
+/// `options` with the GP's nugget set from a measured noise (sobol::GpOptions::noise_share = the noise variance over
+/// the population variance of `y`, the training outputs); `options` as they are without a noise.
+sobol::MetamodelOptions with_measured_noise(sobol::MetamodelOptions options, const std::optional<NoiseAnalysis>& noise,
+                                            const Eigen::VectorXd& y);
+
 /// Runs the analysis and writes DIR/analysis/. Throws util::UserError when the folder is not a study or fewer than two
 /// samples are done.
 AnalysisSummary analyze_study(const AnalyzeOptions& options);

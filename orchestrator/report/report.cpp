@@ -497,8 +497,9 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
   for (const ModelAnalysis& m : models) {
     if (!m.ok) continue;
     try {
-      const FittedMetamodel fit = fit_metamodel(sobol::metamodel_kind_from_string(m.model),
-                                                s.config.analysis.metamodel_options(), data.unit, data.y);
+      const FittedMetamodel fit = fit_metamodel(
+          sobol::metamodel_kind_from_string(m.model),
+          with_measured_noise(s.config.analysis.metamodel_options(), observable.noise, data.y), data.unit, data.y);
       if (!fit.ok()) std::rethrow_exception(fit.exception);
       const Eigen::VectorXd residuals = fit.model->loo_residuals();
       PredictedVsObserved p;
