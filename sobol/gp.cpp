@@ -221,6 +221,15 @@ void GaussianProcess::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   Eigen::VectorXd lengths;
   double nugget = 0.0;
   unpack_point(best_p.data(), lengths, nugget);
+  // Measured noise, last step: the same fixed point with the length scales held, to round-off (evaluations only).
+  for (int step = 0; measured_noise && step < 100; ++step) {
+    const LikelihoodState s = evaluate(m_options.kernel, x, yn, f, lengths, nugget);
+    if (!s.ok) break;
+    const double next = m_options.noise_share / s.sigma2;
+    const bool converged = std::abs(next - nugget) <= 1e-12 * std::max(nugget, 1e-12);
+    nugget = next;
+    if (converged) break;
+  }
   finish_fit(lengths, nugget);
 }
 
