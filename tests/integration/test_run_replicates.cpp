@@ -167,16 +167,19 @@ TEST(RunReplicates, NoiseIsMeasuredSetsTheNuggetAndIsReported) {
 
 TEST(RunReplicates, NoiseThatDominatesIsFlagged) {
   test::TempDir tmp;
-  // Noise sd 20 degrees against a design spread of a few degrees.
-  test::write_file(tmp / "study.toml", study_text(8, 4, 3, "[\"rsm2\"]", 2));
+  // Noise sd 10 degrees against a design spread of about 4 degrees (sd); every one of the 6 samples replicated.
+  test::write_file(tmp / "study.toml", study_text(6, 6, 4, "[\"rsm1\"]", 2));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  FakeNoise noise(20.0);
+  FakeNoise noise(10.0);
   const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet"}));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_NE(run.out.find("NOISE DOMINATES"), std::string::npos) << run.out;
   EXPECT_NE(run.err.find("the noise dominates"), std::string::npos) << run.err;
   const nlohmann::json analysis = nlohmann::json::parse(test::read_file(tmp / "study" / "analysis" / "analysis.json"));
-  EXPECT_TRUE(observable(analysis, "angle").at("noise").at("dominates").get<bool>());
+  const nlohmann::json& n = observable(analysis, "angle").at("noise");
+  EXPECT_TRUE(n.at("dominates").get<bool>()) << n.dump();
+  EXPECT_GT(n.at("share").get<double>(), 0.5) << n.dump();
+  EXPECT_EQ(n.at("dof").get<int>(), 18);
 }
 
 TEST(RunReplicates, ResumeAfterSigkillAtRandomMomentsDoesEachCaseExactlyOnce) {

@@ -1,5 +1,7 @@
 // [design] replicates (DEM noise): the setting, its errors, the design hash, and the replicate case rows of the
 // store (apart from the design's samples, with ids that do not depend on the design's size).
+#include "orchestrator/analysis/analysis_json.hpp"
+#include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cases/case_writer.hpp"
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/study/config.hpp"
@@ -11,6 +13,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -52,10 +57,10 @@ TEST(Replicates, SettingIsReadAndOffByDefault) {
 TEST(Replicates, BadValuesNameLineAndRule) {
   const std::string base(k_study);
   EXPECT_EQ(error_of(base + "replicates = { points = 7, repeats = 3 }\n"),
-            "study.toml:14: [design] replicates: points = 7 exceeds [design] samples = 6: the replicates are taken at "
+            "study.toml:12: [design] replicates: points = 7 exceeds [design] samples = 6: the replicates are taken at "
             "the first P design points");
   EXPECT_NE(error_of(base + "replicates = { points = 2, repeats = 1 }\n")
-                .find("study.toml:14: [design.replicates] "
+                .find("study.toml:12: [design.replicates] "
                       "repeats: must be in [2, 1000], got 1"),
             std::string::npos);
   EXPECT_NE(error_of(base + "replicates = { points = 0, repeats = 3 }\n").find("points: must be in [1, "),
@@ -143,6 +148,42 @@ TEST(Replicates, StoreKeepsThemApartFromTheDesign) {
   EXPECT_EQ(c.replicates_done, 1);
   EXPECT_EQ(store.observables().at(r.sample).at("angle"), 31.0);
   EXPECT_EQ(Store::open_read_only((tmp / "study.db").string()).replicates().size(), 1u);
+}
+
+TEST(Replicates, NoiseDominatesAboveHalfOrAboveTheLargestS1) {
+  EXPECT_TRUE(analysis::noise_dominates(0.51, 0.9));
+  EXPECT_TRUE(analysis::noise_dominates(0.3, 0.25));
+  EXPECT_FALSE(analysis::noise_dominates(0.3, 0.6));
+  EXPECT_FALSE(analysis::noise_dominates(0.5, 0.5));
+  EXPECT_FALSE(analysis::noise_dominates(0.3, std::nan("")));  // no metamodel: only the 0.5 rule
+  EXPECT_TRUE(analysis::noise_dominates(0.6, std::nan("")));
+}
+
+TEST(Replicates, MeasuredNoisePoolsEachPointWithItsDesignCase) {
+  // Point 0: design case 10, replicates 12 and 14 (SS 8); point 1: design case 20, its replicate failed (no value):
+  // one value, no variance. Design variance 4: share = (8 / 2) / 4.
+  std::vector<ReplicateRow> replicates;
+  for (const auto& [point, repeat] : {std::pair{0, 1}, {0, 2}, {1, 1}}) {
+    ReplicateRow r;
+    r.sample = replicate_sample_id(point, repeat);
+    r.point = point;
+    r.repeat = repeat;
+    replicates.push_back(r);
+  }
+  const std::map<int, std::map<std::string, double>> observables{{0, {{"angle", 10.0}}},
+                                                                 {1, {{"angle", 20.0}}},
+                                                                 {replicate_sample_id(0, 1), {{"angle", 12.0}}},
+                                                                 {replicate_sample_id(0, 2), {{"angle", 14.0}}}};
+  const std::optional<analysis::NoiseAnalysis> noise =
+      analysis::measured_noise(replicates, observables, "angle", 0.95, 2.0);
+  ASSERT_TRUE(noise);
+  EXPECT_DOUBLE_EQ(noise->estimate.variance, 4.0);
+  EXPECT_EQ(noise->estimate.points, 1);
+  EXPECT_EQ(noise->estimate.values, 3);
+  EXPECT_EQ(noise->estimate.dof, 2);
+  EXPECT_DOUBLE_EQ(noise->share, 1.0);
+  EXPECT_FALSE(analysis::measured_noise(replicates, observables, "pile_height", 0.95, 2.0));
+  EXPECT_FALSE(analysis::measured_noise({}, observables, "angle", 0.95, 2.0));
 }
 
 }  // namespace
