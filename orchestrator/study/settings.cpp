@@ -451,7 +451,8 @@ std::vector<Setting> build_settings() {
           .default_text("none")
           .range("points in [1, samples], repeats in [2, 1000]")
           .doc("DEM noise: `{ points = P, repeats = R }` runs, at the first P design points, R cases each whose "
-               "particle packing (radii and positions) is drawn with another assembly seed, everything else equal; "
+               "particle packing (radii and positions) is drawn with another assembly seed, everything else equal (a "
+               "Rayleigh time step follows the packing's smallest radius, as in any case); "
                "the design point's own case is the first of the R, so the study runs P (R − 1) cases more. The "
                "analysis measures each observable's noise variance from them (pooled within-point variance), sets "
                "the GP nugget from it and reports the noise share; the replicates do not enter the metamodels' "
