@@ -23,6 +23,13 @@
 // indices from any metamodel, nothing was analysed: analysis_failure() says why, and the commands exit with an
 // error after writing the files that record it.
 //
+// DEM noise: with [design] replicates, each observable's noise variance is pooled from the replicated points (their
+// design case and replicate cases: measured_noise), the GP's nugget is set from it (with_measured_noise), and its
+// share of the observable's variance over the design is reported beside the indices (ObservableAnalysis::noise),
+// flagged when it dominates (noise_dominates). The metamodels are trained on the design's samples only: replicates
+// at a few points would weigh those points more and break the space-filling design that Q² and the design bootstrap
+// assume.
+//
 // Stopping: options.should_stop is polled between observables, metamodels, refits and QMC blocks; once it returns
 // true analyze_study throws sobol::Stopped before writing anything, so the folder keeps what it held before.
 #include "orchestrator/analysis/analysis_json.hpp"

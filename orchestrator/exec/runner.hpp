@@ -6,6 +6,10 @@
 //   -> observables measured from the dump (postprocess/) -> DIR/cases/NNNNNN/result.json written atomically
 //   (temporary file, fsync, rename, fsync of the folder) -> run `done` and observables in one store transaction.
 //
+// With [design] replicates the store also holds the replicate cases (study::ReplicateRow: the first P design points
+// again, each with another assembly seed); they are queued after the design's samples and run, fail, retry and
+// recover exactly as samples do (their own case folders and run rows).
+//
 // The loop has the shape of ninja's build loop (src/build.h): a Plan (plan.hpp) holds what is left, the executor
 // starts cases and reports those that ended (the CommandRunner), and each case that ended is finished (classified,
 // measured, result.json written, committed in one transaction) before the plan is told how it went.
