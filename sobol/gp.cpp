@@ -118,21 +118,25 @@ void GaussianProcess::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   const Eigen::VectorXd yn = (y.array() - mean) / sd;
   const Eigen::MatrixXd f = trend_basis(x);
 
-  // Maximise the concentrated log-likelihood over log θ (and log τ) with BOBYQA from several starts.
-  const unsigned dim = static_cast<unsigned>(d) + (m_options.nugget ? 1u : 0u);
+  // Maximise the concentrated log-likelihood over log θ (and log τ) with BOBYQA from several starts. A measured noise
+  // (options.noise_share) fixes τ instead: the search is over log θ alone, at the τ of `fixed_nugget`.
+  const bool measured_noise = !std::isnan(m_options.noise_share);
+  const bool search_nugget = m_options.nugget && !measured_noise;
+  double fixed_nugget = measured_noise ? m_options.noise_share : 0.0;
+  const unsigned dim = static_cast<unsigned>(d) + (search_nugget ? 1u : 0u);
   std::vector<double> lower(dim), upper(dim);
   for (Eigen::Index k = 0; k < d; ++k) {
     lower[static_cast<std::size_t>(k)] = std::log(m_options.min_length);
     upper[static_cast<std::size_t>(k)] = std::log(m_options.max_length);
   }
-  if (m_options.nugget) {
+  if (search_nugget) {
     lower.back() = std::log(m_options.min_nugget);
     upper.back() = std::log(m_options.max_nugget);
   }
   auto unpack_point = [&](const double* p, Eigen::VectorXd& lengths, double& nugget) {
     lengths.resize(d);
     for (Eigen::Index k = 0; k < d; ++k) lengths(k) = std::exp(p[k]);
-    nugget = m_options.nugget ? std::exp(p[d]) : 0.0;
+    nugget = search_nugget ? std::exp(p[d]) : fixed_nugget;
   };
   struct Context {
     const GaussianProcess* self;
@@ -155,36 +159,60 @@ void GaussianProcess::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   Random rng(m_options.seed);
   std::vector<double> best_p;
   double best_value = std::numeric_limits<double>::infinity();
-  for (int start = 0; start < m_options.starts; ++start) {
-    std::vector<double> p(dim);
-    for (unsigned k = 0; k < dim; ++k) {
-      const bool is_nugget = m_options.nugget && k + 1 == dim;
-      // First start: θ = 0.5 (half the cube), τ = 1e-4; then log-uniform over a plausible part of the box.
-      const double lo = is_nugget ? lower[k] : std::max(lower[k], std::log(0.05));
-      const double hi = is_nugget ? upper[k] : std::min(upper[k], std::log(5.0));
-      p[k] = start == 0 ? (is_nugget ? std::log(1e-4) : std::log(0.5)) : lo + (hi - lo) * rng.uniform();
-      p[k] = std::clamp(p[k], lower[k], upper[k]);
+  // `starts` starts; with `from` the first start is that point (a later pass of the measured-noise iteration).
+  const auto search = [&](int starts, const std::vector<double>* from) {
+    for (int start = 0; start < starts; ++start) {
+      std::vector<double> p(dim);
+      if (start == 0 && from)
+        p = *from;
+      else
+        for (unsigned k = 0; k < dim; ++k) {
+          const bool is_nugget = search_nugget && k + 1 == dim;
+          // First start: θ = 0.5 (half the cube), τ = 1e-4; then log-uniform over a plausible part of the box.
+          const double lo = is_nugget ? lower[k] : std::max(lower[k], std::log(0.05));
+          const double hi = is_nugget ? upper[k] : std::min(upper[k], std::log(5.0));
+          p[k] = start == 0 ? (is_nugget ? std::log(1e-4) : std::log(0.5)) : lo + (hi - lo) * rng.uniform();
+          p[k] = std::clamp(p[k], lower[k], upper[k]);
+        }
+      nlopt::opt opt(nlopt::LN_BOBYQA, dim);
+      opt.set_lower_bounds(lower);
+      opt.set_upper_bounds(upper);
+      opt.set_min_objective(objective, &context);
+      opt.set_maxeval(m_options.max_evaluations);
+      opt.set_xtol_abs(1e-4);
+      opt.set_ftol_abs(1e-7);
+      double value = std::numeric_limits<double>::infinity();
+      try {
+        opt.optimize(p, value);
+      } catch (const std::exception&) {
+        // roundoff-limited or similar: p holds the last point NLopt kept; judge it by its value below.
+        value = objective(dim, p.data(), nullptr, &context);
+      }
+      if (value < best_value) {
+        best_value = value;
+        best_p = p;
+      }
     }
-    nlopt::opt opt(nlopt::LN_BOBYQA, dim);
-    opt.set_lower_bounds(lower);
-    opt.set_upper_bounds(upper);
-    opt.set_min_objective(objective, &context);
-    opt.set_maxeval(m_options.max_evaluations);
-    opt.set_xtol_abs(1e-4);
-    opt.set_ftol_abs(1e-7);
-    double value = std::numeric_limits<double>::infinity();
-    try {
-      opt.optimize(p, value);
-    } catch (const std::exception&) {
-      // roundoff-limited or similar: p holds the last point NLopt kept; judge it by its value below.
-      value = objective(dim, p.data(), nullptr, &context);
-    }
-    if (value < best_value) {
-      best_value = value;
-      best_p = p;
-    }
-  }
+  };
+  search(m_options.starts, nullptr);
   m_starts_done = m_options.starts;
+  // Measured noise: the model's noise variance σ² τ (scaled units) must equal noise_share. τ = noise_share / σ²(θ, τ)
+  // by fixed-point iteration, the length scales searched again from the last optimum at each new τ (a few passes:
+  // σ² moves little with τ once θ is found).
+  for (int pass = 0; measured_noise && !best_p.empty() && best_value < 1e300 && pass < 6; ++pass) {
+    Eigen::VectorXd lengths;
+    double nugget = 0.0;
+    unpack_point(best_p.data(), lengths, nugget);
+    const LikelihoodState s = evaluate(m_options.kernel, x, yn, f, lengths, nugget);
+    if (!s.ok) break;
+    const double next = m_options.noise_share / s.sigma2;
+    if (std::abs(next - fixed_nugget) <= 1e-3 * std::max(fixed_nugget, 1e-12)) break;
+    fixed_nugget = next;
+    const std::vector<double> from = best_p;
+    best_value = std::numeric_limits<double>::infinity();
+    search(1, &from);
+    ++m_starts_done;
+  }
   m_evaluations = context.evaluations;
   if (best_p.empty() || !(best_value < 1e300))
     throw NumericalError(
@@ -193,6 +221,15 @@ void GaussianProcess::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   Eigen::VectorXd lengths;
   double nugget = 0.0;
   unpack_point(best_p.data(), lengths, nugget);
+  // Measured noise, last step: the same fixed point with the length scales held, to round-off (evaluations only).
+  for (int step = 0; measured_noise && step < 100; ++step) {
+    const LikelihoodState s = evaluate(m_options.kernel, x, yn, f, lengths, nugget);
+    if (!s.ok) break;
+    const double next = m_options.noise_share / s.sigma2;
+    const bool converged = std::abs(next - nugget) <= 1e-12 * std::max(nugget, 1e-12);
+    nugget = next;
+    if (converged) break;
+  }
   finish_fit(lengths, nugget);
 }
 

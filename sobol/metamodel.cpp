@@ -63,6 +63,10 @@ void GpOptions::validate() const {
   if (!(min_nugget > 0.0)) throw InputError(fmt::format("gp min_nugget = {}: must be > 0", min_nugget));
   if (!(max_nugget > min_nugget))
     throw InputError(fmt::format("gp max_nugget = {}: must be > min_nugget ({})", max_nugget, min_nugget));
+  if (!std::isnan(noise_share) && !(noise_share >= 0.0 && std::isfinite(noise_share)))
+    throw InputError(fmt::format("gp noise_share = {}: must be a number >= 0 (or NaN: not measured)", noise_share));
+  if (!std::isnan(noise_share) && !nugget)
+    throw InputError(fmt::format("gp noise_share = {}: a measured noise needs the nugget", noise_share));
   if (starts < 1) throw InputError(fmt::format("gp starts = {}: must be at least 1", starts));
   if (max_evaluations < 10)
     throw InputError(fmt::format("gp max_evaluations = {}: must be at least 10", max_evaluations));

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,11 +52,16 @@ std::string to_string(GpTrend trend);
 struct GpOptions {
   GpKernel kernel = GpKernel::squared_exponential;  ///< correlation function
   GpTrend trend = GpTrend::constant;                ///< regression part (universal Kriging for linear)
-  bool nugget = false;         ///< estimate a nugget (noise / signal variance ratio) for noisy simulators
-  double min_length = 1e-2;    ///< lower bound of every length scale θ_k (unit-cube units), > 0
-  double max_length = 1e2;     ///< upper bound of every θ_k, > min_length
-  double min_nugget = 1e-8;    ///< lower bound of the nugget ratio when estimated, > 0
-  double max_nugget = 1e-1;    ///< upper bound of the nugget ratio, > min_nugget
+  bool nugget = false;       ///< estimate a nugget (noise / signal variance ratio) for noisy simulators
+  double min_length = 1e-2;  ///< lower bound of every length scale θ_k (unit-cube units), > 0
+  double max_length = 1e2;   ///< upper bound of every θ_k, > min_length
+  double min_nugget = 1e-8;  ///< lower bound of the nugget ratio when estimated, > 0
+  double max_nugget = 1e-1;  ///< upper bound of the nugget ratio, > min_nugget
+  /// The simulator's noise variance divided by the output's variance, when measured (replicates: sobol/noise.hpp):
+  /// the noise variance in the GP's scaled units. When set (>= 0; needs `nugget`), the nugget is set from it instead
+  /// of estimated: τ = noise_share / σ², σ² the process variance of the scaled outputs, by a fixed-point iteration
+  /// over the likelihood fit (gp.hpp). NaN: not measured, the nugget is estimated.
+  double noise_share = std::numeric_limits<double>::quiet_NaN();
   int starts = 4;              ///< likelihood maximisation starts (first at θ_k = 0.5, others random), >= 1
   int max_evaluations = 400;   ///< likelihood evaluations per start, >= 10
   std::uint64_t seed = 12345;  ///< seed of the random starts

@@ -6,12 +6,18 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 
 namespace demsa::analysis {
 
 using nlohmann::json;
+
+namespace {
+/// A number as sobol_json writes it: null for NaN or infinity.
+json number_to_json(double value) { return std::isfinite(value) ? json(value) : json(); }
+}  // namespace
 
 std::string analysis_to_json(const AnalysisSummary& summary) {
   json all{{"study", summary.study},
@@ -38,10 +44,30 @@ std::string analysis_to_json(const AnalysisSummary& summary) {
     }
     json entry{{"name", o.name}, {"samples", o.samples}, {"mean", o.mean}, {"sd", o.sd}, {"models", models}};
     if (!o.error.empty()) entry["error"] = o.error;
+    if (o.noise) {
+      const NoiseAnalysis& n = *o.noise;
+      entry["noise"] = {{"variance", number_to_json(n.estimate.variance)},
+                        {"lower", number_to_json(n.estimate.lower)},
+                        {"upper", number_to_json(n.estimate.upper)},
+                        {"confidence", n.estimate.confidence},
+                        {"points", n.estimate.points},
+                        {"values", n.estimate.values},
+                        {"dof", n.estimate.dof},
+                        {"share", number_to_json(n.share)},
+                        {"share_lower", number_to_json(n.share_lower)},
+                        {"share_upper", number_to_json(n.share_upper)},
+                        {"largest_s1", number_to_json(n.largest_s1)},
+                        {"dominates", n.dominates},
+                        {"nugget_share", number_to_json(n.nugget_share)}};
+    }
     observables.push_back(entry);
   }
   all["observables"] = observables;
   return all.dump(2) + "\n";
+}
+
+bool noise_dominates(double share, double largest_s1) {
+  return share > 0.5 || (!std::isnan(largest_s1) && share > largest_s1);
 }
 
 AnalysisSummary read_analysis(const std::filesystem::path& file) {
@@ -67,6 +93,24 @@ AnalysisSummary read_analysis(const std::filesystem::path& file) {
       observable.mean = number_from_json(o.at("mean"));
       observable.sd = number_from_json(o.at("sd"));
       observable.error = o.value("error", std::string());
+      if (o.contains("noise")) {
+        const json& n = o.at("noise");
+        NoiseAnalysis noise;
+        noise.estimate.variance = number_from_json(n.at("variance"));
+        noise.estimate.lower = number_from_json(n.at("lower"));
+        noise.estimate.upper = number_from_json(n.at("upper"));
+        noise.estimate.confidence = number_from_json(n.at("confidence"));
+        noise.estimate.points = n.at("points").get<int>();
+        noise.estimate.values = n.at("values").get<int>();
+        noise.estimate.dof = n.at("dof").get<int>();
+        noise.share = number_from_json(n.at("share"));
+        noise.share_lower = number_from_json(n.at("share_lower"));
+        noise.share_upper = number_from_json(n.at("share_upper"));
+        noise.largest_s1 = number_from_json(n.at("largest_s1"));
+        noise.dominates = n.at("dominates").get<bool>();
+        noise.nugget_share = number_from_json(n.at("nugget_share"));
+        observable.noise = noise;
+      }
       for (const json& m : o.at("models")) {
         ModelAnalysis model;
         model.model = m.at("model").get<std::string>();

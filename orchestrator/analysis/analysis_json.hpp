@@ -9,15 +9,19 @@
 //                                or {"model", "ok": false, "error"}, ...]}, ...]}
 //
 // "error" is present when the observable itself could not be analysed (a constant observable); "models" is then
-// empty.
+// empty. "noise" is present when the study's replicate cases measured the observable ([design] replicates):
+//   {"variance", "lower", "upper", "confidence", "points", "values", "dof", "share", "share_lower", "share_upper",
+//    "largest_s1", "dominates", "nugget_share"} (NoiseAnalysis).
 //
 // with the metamodel and Sobol' result forms of sobol_json.hpp (S1, ST and S2 keyed by parameter name).
 // Non-finite numbers are written as null and read back as NaN.
 #include "sobol/metamodel.hpp"
+#include "sobol/noise.hpp"
 #include "sobol/saltelli.hpp"
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,12 +36,30 @@ struct ModelAnalysis {
   sobol::SobolResult indices;       ///< S1, ST, S2, residual with intervals
 };
 
+/// The DEM noise of one observable, measured from the study's replicate cases ([design] replicates): the pooled
+/// within-point variance (sobol/noise.hpp) and its share of the observable's variance over the design.
+struct NoiseAnalysis {
+  sobol::NoiseEstimate estimate;  ///< noise variance with its chi-square interval, points, values, dof
+  double share = 0.0;             ///< noise variance / variance of the observable over the design samples (sd²)
+  double share_lower = 0.0;       ///< estimate.lower / sd² (the design variance taken as known)
+  double share_upper = 0.0;       ///< estimate.upper / sd²
+  double largest_s1 = 0.0;        ///< the largest S1 of the metamodel of best Q² (NaN when none was fitted)
+  /// share > 0.5 or share > largest_s1: the noise explains more of the observable's variance than the parameters
+  /// together, or than any one of them (noise_dominates()).
+  bool dominates = false;
+  double nugget_share = 0.0;  ///< noise variance / the training outputs' variance: the GP's measured nugget
+};
+
+/// The flag of NoiseAnalysis::dominates: share > 0.5, or share > largest_s1 (a NaN largest_s1 never flags).
+bool noise_dominates(double share, double largest_s1);
+
 struct ObservableAnalysis {
   std::string name;             ///< observable name ("angle", "settlement_1", ...)
   int samples = 0;              ///< done samples with this observable
   double mean = 0.0, sd = 0.0;  ///< of the observable over those samples
   std::string error;            ///< why the observable has no analysis at all ("" when it has one), e.g. constant
   std::vector<ModelAnalysis> models;
+  std::optional<NoiseAnalysis> noise;  ///< when the study has replicates that measured this observable
 };
 
 struct AnalysisSummary {

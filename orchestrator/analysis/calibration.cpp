@@ -1,6 +1,7 @@
 #include "orchestrator/analysis/calibration.hpp"
 
 #include "orchestrator/analysis/fit.hpp"
+#include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/analysis/training_data.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
@@ -184,7 +185,13 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
     if (data.size() < 2)
       throw UserError(
           fmt::format("{}: {} done samples measure {}; calibration needs more", dir.string(), data.size(), spec.name));
-    std::vector<FittedMetamodel> fits = fit_metamodels(kinds, config.analysis.metamodel_options(), data.unit, data.y);
+    // With replicates, the GP's nugget from the measured noise, as in the analysis.
+    const double sd = std::sqrt((data.y.array() - data.y.mean()).square().sum() /
+                                std::max<double>(1.0, static_cast<double>(data.size()) - 1.0));
+    const std::optional<NoiseAnalysis> noise =
+        measured_noise(store.replicates(), observables, spec.name, config.analysis.confidence, sd);
+    std::vector<FittedMetamodel> fits = fit_metamodels(
+        kinds, with_measured_noise(config.analysis.metamodel_options(), noise, data.y), data.unit, data.y);
     const std::optional<std::size_t> best_index = best_by_q2(fits);
     if (!best_index) {
       std::string errors;

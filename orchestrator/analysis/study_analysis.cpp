@@ -12,6 +12,7 @@
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
 #include "sobol/metamodel_sobol.hpp"
+#include "sobol/noise.hpp"
 #include "sobol/stop.hpp"
 
 #include <fmt/core.h>
@@ -19,6 +20,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -46,6 +49,53 @@ double sd_of(const Eigen::VectorXd& y) {
 
 }  // namespace
 
+std::optional<NoiseAnalysis> measured_noise(const std::vector<ReplicateRow>& replicates,
+                                            const std::map<int, std::map<std::string, double>>& observables,
+                                            const std::string& name, double confidence, double design_sd) {
+  if (replicates.empty()) return std::nullopt;
+  const auto value = [&](int sample) -> std::optional<double> {
+    const auto it = observables.find(sample);
+    if (it == observables.end()) return std::nullopt;
+    const auto v = it->second.find(name);
+    if (v == it->second.end() || !std::isfinite(v->second)) return std::nullopt;
+    return v->second;
+  };
+  // One group per point: its design case (repeat 0) and its replicates, those that measured the observable.
+  std::map<int, std::vector<double>> groups;
+  for (const ReplicateRow& r : replicates) {
+    if (!groups.count(r.point))
+      if (const auto v = value(r.point)) groups[r.point].push_back(*v);
+    if (const auto v = value(r.sample)) groups[r.point].push_back(*v);
+  }
+  std::vector<std::vector<double>> values;
+  for (auto& [point, group] : groups) values.push_back(std::move(group));
+  NoiseAnalysis noise;
+  try {
+    noise.estimate = sobol::pooled_noise_variance(values, confidence);
+  } catch (const sobol::InputError&) {
+    return std::nullopt;  // no point has two done cases yet
+  }
+  const double total = design_sd * design_sd;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  noise.share = total > 0.0 ? noise.estimate.variance / total : nan;
+  noise.share_lower = total > 0.0 ? noise.estimate.lower / total : nan;
+  noise.share_upper = total > 0.0 ? noise.estimate.upper / total : nan;
+  noise.largest_s1 = nan;
+  return noise;
+}
+
+sobol::MetamodelOptions with_measured_noise(sobol::MetamodelOptions options, const std::optional<NoiseAnalysis>& noise,
+                                            const Eigen::VectorXd& y) {
+  if (!noise || y.size() < 2) return options;
+  // The noise variance in the GP's scaled units: divided by the training outputs' variance (population, as the GP
+  // scales them).
+  const double variance = (y.array() - y.mean()).square().mean();
+  if (!(variance > 0.0)) return options;
+  options.gp.nugget = true;
+  options.gp.noise_share = noise->estimate.variance / variance;
+  return options;
+}
+
 void AnalyzeOptions::validate() const {
   if (dir.empty()) throw std::invalid_argument("dir is empty: a study folder is required");
   if (bootstrap < -1) throw std::invalid_argument(fmt::format("bootstrap = {}: must be >= 0 (or -1)", bootstrap));
@@ -65,6 +115,7 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   const Store store = Store::open_read_only(db.string());
   const std::vector<SampleRow> samples = store.samples();
   const std::map<int, std::map<std::string, double>> observables = store.observables();
+  const std::vector<ReplicateRow> replicates = store.replicates();
 
   AnalysisSummary summary;
   summary.out_dir = dir / "analysis";
@@ -114,6 +165,10 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     analysis.samples = static_cast<int>(data.size());
     analysis.mean = mean_of(data.y);
     analysis.sd = sd_of(data.y);
+    analysis.noise = measured_noise(replicates, observables, name, summary.confidence, analysis.sd);
+    // A measured noise sets the GP's nugget (sobol::GpOptions::noise_share).
+    const sobol::MetamodelOptions observable_options = with_measured_noise(model_options, analysis.noise, data.y);
+    if (analysis.noise) analysis.noise->nugget_share = observable_options.gp.noise_share;
     if (data.size() >= 2 && sobol::negligible_variance(analysis.mean, analysis.sd * analysis.sd)) {
       // A metamodel of a constant would fit it exactly and give indices of round-off (R² NaN, S1 of noise).
       analysis.error = fmt::format(
@@ -126,7 +181,7 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     }
     for (const sobol::MetamodelKind kind : kinds) {
       sobol::throw_if_stopped(options.should_stop);
-      FittedMetamodel fit = fit_metamodel(kind, model_options, data.unit, data.y);
+      FittedMetamodel fit = fit_metamodel(kind, observable_options, data.unit, data.y);
       // A model that cannot be fitted to this data (too few samples for an RSM of degree 3, a singular system) is
       // reported, not fatal: the others still give indices.
       ModelAnalysis model;
@@ -148,6 +203,27 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
         }
       }
       analysis.models.push_back(std::move(model));
+    }
+    if (analysis.noise) {
+      // The largest S1 of the metamodel of best Q² (the model the report ranks first), beside which the noise share
+      // is judged.
+      double best_q2 = -std::numeric_limits<double>::infinity();
+      analysis.noise->largest_s1 = std::numeric_limits<double>::quiet_NaN();
+      for (const ModelAnalysis& m : analysis.models) {
+        if (!m.ok || m.indices.first.empty()) continue;
+        const double q2 = std::isfinite(m.quality.q2) ? m.quality.q2 : -1e300;
+        if (q2 <= best_q2) continue;
+        best_q2 = q2;
+        double largest = 0.0;
+        for (const sobol::IndexEstimate& e : m.indices.first) largest = std::max(largest, e.value);
+        analysis.noise->largest_s1 = largest;
+      }
+      analysis.noise->dominates = noise_dominates(analysis.noise->share, analysis.noise->largest_s1);
+      if (analysis.noise->dominates)
+        log::warn(
+            "{}: observable '{}': DEM noise is {:.0f} % of its variance over the design (largest S1 {:.2f}): "
+            "the noise dominates; more samples or a larger assembly reduce it",
+            dir.string(), name, 100.0 * analysis.noise->share, analysis.noise->largest_s1);
     }
     summary.observables.push_back(std::move(analysis));
   }
@@ -182,6 +258,33 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
       text += "\n";
     }
     write_text(summary.out_dir / "observables.csv", text);
+  }
+  // replicates.csv: the replicate cases beside the design case of their point (repeat 0).
+  if (!replicates.empty()) {
+    std::string text = "point,repeat,sample,assembly_seed";
+    for (const std::string& c : columns) text += "," + c;
+    text += "\n";
+    const auto row = [&](int point, int repeat, int sample, const std::string& seed) {
+      const auto it = observables.find(sample);
+      if (it == observables.end()) return;
+      text += fmt::format("{},{},{},{}", point, repeat, sample, seed);
+      for (const std::string& c : columns) {
+        const auto v = it->second.find(c);
+        text += ',';
+        if (v != it->second.end()) text += csv_number(v->second);
+      }
+      text += "\n";
+    };
+    int previous = -1;
+    for (const ReplicateRow& r : replicates) {
+      if (r.point != previous) row(r.point, 0, r.point, std::to_string(config.seed));
+      previous = r.point;
+      row(r.point, r.repeat, r.sample, std::to_string(r.seed));
+    }
+    write_text(summary.out_dir / "replicates.csv", text);
+  } else {
+    std::error_code ec;
+    fs::remove(summary.out_dir / "replicates.csv", ec);
   }
 
   // metamodels.json, table_<observable>.csv, analysis.json, sobol_<model>.{csv,json}
@@ -255,6 +358,20 @@ std::string analysis_failure(const AnalysisSummary& summary) {
                      why.empty() ? std::string(" the study has none") : why);
 }
 
+std::string noise_text(const NoiseAnalysis& noise) {
+  const sobol::NoiseEstimate& e = noise.estimate;
+  std::string text = fmt::format(
+      "noise     {:>8.3f} share of the variance over the design ({:.0f} % interval {:.3f} to {:.3f}); noise variance "
+      "{:.4g} ({:.4g} to {:.4g}) from {} points, {} cases, {} degrees of freedom",
+      noise.share, 100.0 * e.confidence, noise.share_lower, noise.share_upper, e.variance, e.lower, e.upper, e.points,
+      e.values, e.dof);
+  if (noise.dominates)
+    text +=
+        fmt::format("\n          NOISE DOMINATES: share {:.3f} > {}", noise.share,
+                    noise.share > 0.5 ? std::string("0.5") : fmt::format("the largest S1 {:.3f}", noise.largest_s1));
+  return text;
+}
+
 std::string s1_table_text(const AnalysisSummary& summary, const ObservableAnalysis& observable) {
   std::string text = fmt::format("Sobol' S1 of {} ({} samples", observable.name, observable.samples);
   if (!summary.samples_left_out.empty()) text += fmt::format(", {} left out", summary.samples_left_out.size());
@@ -274,6 +391,7 @@ std::string s1_table_text(const AnalysisSummary& summary, const ObservableAnalys
   }
   for (const ModelAnalysis& m : observable.models)
     if (m.ok && !m.indices.note.empty()) text += fmt::format("{}: {}\n", m.model, m.indices.note);
+  if (observable.noise) text += noise_text(*observable.noise) + "\n";
   return text;
 }
 

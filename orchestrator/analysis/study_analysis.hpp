@@ -10,6 +10,8 @@
 //   sobol_<model>.csv / .json       per observable: S1, ST with intervals per parameter (+ S2 in the JSON)
 //   models/<observable>.<model>.json every fitted metamodel as a self-contained file (model_file.hpp), for
 //                                   `demsa predict`
+//   replicates.csv                  with [design] replicates: point, repeat (0: the design case), sample, assembly
+//                                   seed, one column per observable
 //   table_<observable>.csv          the paper's Tables 4–7 layout: one row per metamodel, S1 per parameter and
 //                                   the residual 1 − ΣS1
 //   analysis.json                   everything above in one document (samples used, failed samples, settings;
@@ -21,12 +23,22 @@
 // indices from any metamodel, nothing was analysed: analysis_failure() says why, and the commands exit with an
 // error after writing the files that record it.
 //
+// DEM noise: with [design] replicates, each observable's noise variance is pooled from the replicated points (their
+// design case and replicate cases: measured_noise), the GP's nugget is set from it (with_measured_noise), and its
+// share of the observable's variance over the design is reported beside the indices (ObservableAnalysis::noise),
+// flagged when it dominates (noise_dominates). The metamodels are trained on the design's samples only: replicates
+// at a few points would weigh those points more and break the space-filling design that Q² and the design bootstrap
+// assume.
+//
 // Stopping: options.should_stop is polled between observables, metamodels, refits and QMC blocks; once it returns
 // true analyze_study throws sobol::Stopped before writing anything, so the folder keeps what it held before.
 #include "orchestrator/analysis/analysis_json.hpp"
+#include "orchestrator/study/store.hpp"
 
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +54,20 @@ struct AnalyzeOptions {
   void validate() const;                ///< throws std::invalid_argument naming the field
 };
 
+/// The noise of `observable` measured from the study's replicate cases: at each replicated point its design case
+/// (the study seed's packing) and its replicates, pooled (sobol::pooled_noise_variance at `confidence`); the share
+/// divides by design_sd², the observable's variance over the design samples. Nothing when there are no replicates
+/// or no point has two done cases with the observable. largest_s1 is NaN and dominates false (the analysis fills
+/// them once the metamodels are fitted).
+std::optional<NoiseAnalysis> measured_noise(const std::vector<study::ReplicateRow>& replicates,
+                                            const std::map<int, std::map<std::string, double>>& observables,
+                                            const std::string& observable, double confidence, double design_sd);
+
+/// `options` with the GP's nugget set from a measured noise (sobol::GpOptions::noise_share = the noise variance over
+/// the population variance of `y`, the training outputs); `options` as they are without a noise.
+sobol::MetamodelOptions with_measured_noise(sobol::MetamodelOptions options, const std::optional<NoiseAnalysis>& noise,
+                                            const Eigen::VectorXd& y);
+
 /// Runs the analysis and writes DIR/analysis/. Throws util::UserError when the folder is not a study or fewer than two
 /// samples are done.
 AnalysisSummary analyze_study(const AnalyzeOptions& options);
@@ -49,6 +75,10 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options);
 /// Why nothing was analysed ("" when at least one metamodel of one observable gave indices): one line per observable
 /// with its error, or with the errors of its metamodels.
 std::string analysis_failure(const AnalysisSummary& summary);
+
+/// One line on the noise of an observable (share with its interval, noise variance, points, cases, degrees of
+/// freedom), and a second line "NOISE DOMINATES ..." when it does.
+std::string noise_text(const NoiseAnalysis& noise);
 
 /// The paper's table (Tables 4–7) for one observable as aligned text: a header with the parameter names and
 /// "Res", one row per metamodel that worked with its S1 values and residual 1 − ΣS1, and R² and Q² columns.

@@ -505,6 +505,22 @@ CaseRequest request_from_values(const StudyConfig& config, const std::vector<std
   return r;
 }
 
+std::uint64_t replicate_assembly_seed(std::uint64_t study_seed, int point, int repeat) {
+  // SplitMix64's output function (Steele, Lea, Flood 2014), applied to the study seed advanced by the golden gamma
+  // once per (point, repeat) pair.
+  const auto mix = [](std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  };
+  constexpr std::uint64_t gamma = 0x9e3779b97f4a7c15ULL;
+  std::uint64_t seed = mix(mix(study_seed + gamma) + static_cast<std::uint64_t>(point) * gamma +
+                           static_cast<std::uint64_t>(repeat) * 0xd1b54a32d192ed03ULL);
+  // GSL's MT19937 takes an unsigned long; keep the seed in 63 bits for TOML and SQLite readers.
+  seed &= 0x7fffffffffffffffULL;
+  return seed == study_seed ? seed ^ 1ULL : seed;
+}
+
 CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, const fs::path& dir,
                        ExistingCaseFiles existing) {
   assert(request.physical.size() == config.parameters.size());
@@ -515,11 +531,12 @@ CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, co
   std::optional<PileAssembly> pile;
   std::optional<OedometerAssembly> oedometer;
   double r_min = 0;
+  const std::uint64_t assembly_seed = request.replicate_point >= 0 ? request.assembly_seed : config.seed;
   if (config.experiment == Experiment::pile) {
-    pile = build_pile_assembly(config.pile, config.seed);
+    pile = build_pile_assembly(config.pile, assembly_seed);
     r_min = smallest_radius(pile->radii);
   } else {
-    oedometer = build_oedometer_assembly(config.oedometer, config.seed);
+    oedometer = build_oedometer_assembly(config.oedometer, assembly_seed);
     for (const Particle& p : oedometer->particles) r_min = r_min == 0 ? p.radius : std::min(r_min, p.radius);
   }
   const TimestepChoice ts = choose_timestep(config.timestep, material, r_min);
@@ -577,6 +594,10 @@ CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, co
                              {"final_dump", final_dump_name(config.experiment)},
                              {"assembly", w.assembly},
                              {config.experiment == Experiment::pile ? "pile" : "oedometer", w.experiment}};
+  if (request.replicate_point >= 0)
+    doc["replicate"] = {{"point", request.replicate_point},
+                        {"repeat", request.replicate_repeat},
+                        {"assembly_seed", request.assembly_seed}};
   write_text(dir / k_case_json, doc.dump(2) + "\n");
 
   CaseSummary summary;

@@ -27,7 +27,18 @@ struct CaseRequest {
   std::vector<double> physical;            ///< physical values, ordered as config.parameters
   std::filesystem::path demsa_executable;  ///< absolute path of demsa (run.sh of a trial-step oedometer calls it)
   std::string liggghts_version;            ///< recorded in case.json; empty: unknown
+  /// A replicate case ([design] replicates): the design point it repeats (-1: not a replicate), its repeat number and
+  /// the seed of its particle packing (radii and positions), used instead of the study seed. case.json records them
+  /// as "replicate": {"point", "repeat", "assembly_seed"}.
+  int replicate_point = -1;
+  int replicate_repeat = 0;
+  std::uint64_t assembly_seed = 0;
 };
+
+/// The assembly seed of repeat `repeat` (>= 1) of design point `point`: SplitMix64 (Steele, Lea, Flood, "Fast
+/// splittable pseudorandom number generators", OOPSLA 2014) of the study seed, the point and the repeat, so that
+/// every replicate of a study has its own packing and the same one on every machine. Never the study seed itself.
+std::uint64_t replicate_assembly_seed(std::uint64_t study_seed, int point, int repeat);
 
 /// What was written (also recorded in case.json).
 struct CaseSummary {

@@ -65,7 +65,7 @@ int do_run(const RunArgs& args) {
   const RunSummary summary = run_study(options);
   if (summary.dry_run) {
     fmt::print("{}: study valid; {} samples, design and {} cases written to {}\n", args.study, summary.samples,
-               summary.samples, (summary.dir / "cases").string());
+               summary.samples + summary.replicates, (summary.dir / "cases").string());
     return k_exit_ok;
   }
   if (args.submit_only) {
@@ -79,6 +79,8 @@ int do_run(const RunArgs& args) {
   }
   fmt::print("{}: {} of {} samples done ({} now, {} recovered), {} failed, {}\n", summary.dir.string(), summary.done,
              summary.samples, summary.done_now, summary.recovered, summary.failed, format_duration(summary.seconds));
+  if (summary.replicates > 0)
+    fmt::print("  replicate cases (DEM noise): {} of {} done\n", summary.replicates_done, summary.replicates);
   for (const auto& [cls, n] : summary.failures_by_class) fmt::print("  failed attempts: {} x {}\n", n, cls);
   if (!summary.failed_samples.empty()) {
     fmt::print("  failed samples (left out of the analysis; `demsa status {}` shows why): {}\n", summary.dir.string(),

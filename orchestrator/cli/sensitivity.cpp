@@ -12,6 +12,7 @@
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/model_file.hpp"
 #include "orchestrator/analysis/sobol_json.hpp"
+#include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/util/atomic_file.hpp"
@@ -22,6 +23,7 @@
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
 #include "sobol/metamodel_sobol.hpp"
+#include "sobol/noise.hpp"
 #include "sobol/saltelli.hpp"
 #include "sobol/scaling.hpp"
 #include "sobol/stop.hpp"
@@ -38,6 +40,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,6 +72,7 @@ struct SensitivityArgs {
   std::string gp_kernel = "squared-exponential";
   std::string gp_trend = "constant";
   bool gp_nugget = false;
+  std::string replicates;  ///< --data: CSV of repeated runs (column `point` + the responses) for the noise
 };
 
 /// The numeric options, checked here so that a message names the option as the user typed it.
@@ -429,9 +434,48 @@ void run_data(const SensitivityArgs& args) {
     throw UserError(fmt::format("--gp-trend: {}", e.what()));
   }
 
+  // --replicates: the runs of each input point grouped by the column `point`; each response's noise is their pooled
+  // within-point variance (sobol/noise.hpp), as the study analysis measures it from [design] replicates.
+  std::optional<CsvTable> replicates;
+  if (!args.replicates.empty()) {
+    CsvReadOptions replicate_options;
+    replicate_options.numeric_columns = {"point"};
+    replicate_options.numeric_columns.insert(replicate_options.numeric_columns.end(), outputs.begin(), outputs.end());
+    replicates = read_csv(args.replicates, replicate_options);
+  }
+
   nlohmann::json results = nlohmann::json::array();
   for (const std::string& output : outputs) {
     const Eigen::VectorXd y = data.column(output);
+    std::optional<NoiseAnalysis> noise;
+    sobol::MetamodelOptions output_options = model_options;
+    if (replicates) {
+      std::map<double, std::vector<double>> by_point;
+      const Eigen::VectorXd points = replicates->column("point");
+      const Eigen::VectorXd values = replicates->column(output);
+      for (Eigen::Index r = 0; r < points.size(); ++r) by_point[points(r)].push_back(values(r));
+      std::vector<std::vector<double>> groups;
+      for (auto& [point, group] : by_point) groups.push_back(std::move(group));
+      NoiseAnalysis n;
+      try {
+        n.estimate = sobol::pooled_noise_variance(groups, args.confidence);
+      } catch (const sobol::InputError& e) {
+        throw UserError(replicates->file, 0, fmt::format("response '{}': {}", output, e.what()));
+      }
+      const double mean = y.mean();
+      const double ss = (y.array() - mean).square().sum();
+      const double n_rows = static_cast<double>(y.size());
+      const double variance = y.size() > 1 ? ss / (n_rows - 1.0) : 0.0;
+      n.share = n.estimate.variance / variance;
+      n.share_lower = n.estimate.lower / variance;
+      n.share_upper = n.estimate.upper / variance;
+      n.nugget_share = n.estimate.variance / (ss / n_rows);
+      n.largest_s1 = std::numeric_limits<double>::quiet_NaN();
+      output_options.gp.nugget = true;
+      output_options.gp.noise_share = n.nugget_share;
+      noise = n;
+    }
+    double best_q2 = -std::numeric_limits<double>::infinity();
     {
       // A metamodel of a constant fits it exactly (R² NaN) and its indices are round-off: refuse.
       const double mean = y.mean();
@@ -446,7 +490,7 @@ void run_data(const SensitivityArgs& args) {
     for (const sobol::MetamodelKind kind : kinds) {
       const std::string model_name = sobol::to_string(kind);
       sobol::throw_if_stopped(options.stop);
-      FittedMetamodel fit = fit_metamodel(kind, model_options, x, y);
+      FittedMetamodel fit = fit_metamodel(kind, output_options, x, y);
       const sobol::MetamodelSummary& summary = fit.quality;
       sobol::SobolResult indices;
       try {
@@ -484,8 +528,33 @@ void run_data(const SensitivityArgs& args) {
       models.push_back({{"metamodel", model_name},
                         {"quality", metamodel_summary_json(summary)},
                         {"sobol", sobol_result_json(indices, inputs)}});
+      const double q2 = std::isfinite(summary.q2) ? summary.q2 : -1e300;
+      if (noise && q2 > best_q2 && !indices.first.empty()) {
+        best_q2 = q2;
+        noise->largest_s1 = 0.0;
+        for (const sobol::IndexEstimate& e : indices.first) noise->largest_s1 = std::max(noise->largest_s1, e.value);
+      }
     }
-    results.push_back({{"output", output}, {"metamodels", models}});
+    nlohmann::json result{{"output", output}, {"metamodels", models}};
+    if (noise) {
+      noise->dominates = noise_dominates(noise->share, noise->largest_s1);
+      if (args.json != "-") fmt::print("{}\n", noise_text(*noise));
+      const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+      result["noise"] = {{"variance", number(noise->estimate.variance)},
+                         {"lower", number(noise->estimate.lower)},
+                         {"upper", number(noise->estimate.upper)},
+                         {"confidence", noise->estimate.confidence},
+                         {"points", noise->estimate.points},
+                         {"values", noise->estimate.values},
+                         {"dof", noise->estimate.dof},
+                         {"share", number(noise->share)},
+                         {"share_lower", number(noise->share_lower)},
+                         {"share_upper", number(noise->share_upper)},
+                         {"largest_s1", number(noise->largest_s1)},
+                         {"dominates", noise->dominates},
+                         {"nugget_share", number(noise->nugget_share)}};
+    }
+    results.push_back(result);
   }
   nlohmann::json bounds_json = nlohmann::json::array();
   for (std::size_t k = 0; k < inputs.size(); ++k)
@@ -534,12 +603,18 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
   sub->add_option("--gp-kernel", args->gp_kernel, "Correlation of the gp metamodel: squared-exponential, matern52")
       ->capture_default_str();
   sub->add_option("--gp-trend", args->gp_trend, "Trend of the gp metamodel: constant, linear")->capture_default_str();
+  sub->add_option("--replicates", args->replicates,
+                  "With --data: CSV of repeated runs, a column 'point' labelling the runs of one input point and the "
+                  "response columns (e.g. DIR/analysis/replicates.csv): measures each response's noise variance, "
+                  "sets the gp nugget from it and prints its share of the response's variance");
   sub->add_flag("--gp-nugget", args->gp_nugget,
                 "Estimate a nugget in the gp metamodel (noisy simulators such as DEM: it then smooths, not "
                 "interpolates)");
   sub->callback([args, &state] {
     if (!args->saltelli.empty() == !args->data.empty())
       throw UserError("give exactly one of --saltelli DESIGN.csv (with --responses) or --data DATA.csv");
+    if (!args->replicates.empty() && args->data.empty())
+      throw UserError("--replicates goes with --data: the noise sets the nugget of the metamodels fitted to the data");
     check_numeric_options(*args);
     StopFlag::install();
     try {

@@ -93,7 +93,9 @@ int do_status(const StatusArgs& args) {
   }
   // Piles that reached settle_time still moving: counted, but flagged.
   const std::vector<int> unsettled = unsettled_samples(store.observables());
-  const double eta = estimate_remaining(c.samples - c.done - (holder ? 0 : c.failed), parallel, c.mean_done_wall);
+  const double eta = estimate_remaining(
+      c.samples + c.replicates - c.done - c.replicates_done - (holder ? 0 : c.failed + c.replicates_failed), parallel,
+      c.mean_done_wall);
   if (args.json) {
     nlohmann::json j{{"dir", dir.string()},  {"study", store.study_name()}, {"samples", c.samples},
                      {"done", c.done},       {"running", c.running},        {"failed", c.failed},
@@ -110,6 +112,11 @@ int do_status(const StatusArgs& args) {
                       {"log_tail", r.log_tail}});
     }
     j["failures"] = list;
+    if (c.replicates > 0)
+      j["replicates"] = {{"cases", c.replicates},
+                         {"done", c.replicates_done},
+                         {"running", c.replicates_running},
+                         {"failed", c.replicates_failed}};
     j["unsettled"] = unsettled;
     fmt::print("{}\n", j.dump(2));
     return k_exit_ok;
@@ -117,6 +124,10 @@ int do_status(const StatusArgs& args) {
   fmt::print("study {} in {}\n", store.study_name(), dir.string());
   fmt::print("samples {}: done {}, running {}, failed {}, pending {} ({} attempts)\n", c.samples, c.done, c.running,
              c.failed, c.pending, c.attempts);
+  if (c.replicates > 0)
+    fmt::print("replicate cases {} (DEM noise): done {}, running {}, failed {}, pending {}\n", c.replicates,
+               c.replicates_done, c.replicates_running, c.replicates_failed,
+               c.replicates - c.replicates_done - c.replicates_running - c.replicates_failed);
   fmt::print("demsa run: {}\n", holder ? fmt::format("active (pid {})", holder) : std::string("not running"));
   if (c.mean_done_wall > 0)
     fmt::print("mean case time {}; ETA {}\n", format_duration(c.mean_done_wall),

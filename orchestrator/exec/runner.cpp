@@ -90,13 +90,25 @@ RunOutcome outcome_from(const CaseExit& exit) {
   return o;
 }
 
+/// One case of the study: a design sample, or a replicate of one (another assembly seed).
+struct StudyCase {
+  SampleRow sample;                       ///< its id and point
+  std::optional<ReplicateRow> replicate;  ///< set for a replicate case
+};
+
 /// Removes what an earlier attempt left and writes the case anew. Returns the particle count of the case.
-long prepare_case(const StudyConfig& config, const SampleRow& sample, const fs::path& folder) {
+long prepare_case(const StudyConfig& config, const StudyCase& study_case, const fs::path& folder) {
+  const SampleRow& sample = study_case.sample;
   std::error_code ec;
   fs::remove_all(folder, ec);
   if (ec) throw util::IoError(fmt::format("{}: cannot remove: {}", folder.string(), ec.message()));
   CaseRequest request = request_from_unit_point(config, sample.sample, sample.unit);
   request.demsa_executable = util::self_executable();
+  if (study_case.replicate) {
+    request.replicate_point = study_case.replicate->point;
+    request.replicate_repeat = study_case.replicate->repeat;
+    request.assembly_seed = study_case.replicate->seed;
+  }
   const CaseSummary summary = write_case(config, request, folder);
   return summary.particles > 0 ? summary.particles : configured_particles(config);
 }
@@ -189,6 +201,28 @@ std::vector<SampleRow> design_extension(const StudyConfig& config, const std::ve
   return rows;
 }
 
+std::vector<ReplicateRow> replicate_rows(const StudyConfig& config, const std::vector<SampleRow>& samples) {
+  std::vector<ReplicateRow> rows;
+  if (!config.replicates.enabled()) return rows;
+  if (config.replicates.points > static_cast<int>(samples.size()))
+    throw UserError(fmt::format("{}: [design] replicates points = {} exceeds the design's {} samples",
+                                config.file.string(), config.replicates.points, samples.size()));
+  for (int point = 0; point < config.replicates.points; ++point) {
+    const SampleRow& s = samples.at(static_cast<std::size_t>(point));
+    for (int repeat = 1; repeat < config.replicates.repeats; ++repeat) {
+      ReplicateRow r;
+      r.sample = replicate_sample_id(s.sample, repeat);
+      r.point = s.sample;
+      r.repeat = repeat;
+      r.seed = replicate_assembly_seed(config.seed, s.sample, repeat);
+      r.unit = s.unit;
+      r.physical = s.physical;
+      rows.push_back(std::move(r));
+    }
+  }
+  return rows;
+}
+
 // ----------------------------------------------------------------------------------------------- run_study
 
 namespace {
@@ -246,6 +280,18 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
     store.initialize(hash, config.name, samples);
     store.add_event("created",
                     fmt::format("{} samples, design {}, seed {}", samples.size(), config.design, config.seed));
+  }
+  // The replicate cases: added on every open (a store that exists already keeps its rows), so a demsa killed between
+  // initialize() and here adds them on the next run.
+  if (config.replicates.enabled()) {
+    const std::vector<ReplicateRow> replicates = replicate_rows(config, store.samples());
+    if (store.replicates().size() != replicates.size()) {
+      store.add_replicates(replicates);
+      store.add_event("replicates",
+                      fmt::format("{} replicate cases: {} points x {} repeats (the point's own case "
+                                  "included), another assembly seed each",
+                                  replicates.size(), config.replicates.points, config.replicates.repeats));
+    }
   }
   // The frozen copy: the design part is identical by the hash check; [run]/[analysis] follow the latest file.
   const fs::path frozen = dir / k_frozen_study;
@@ -412,7 +458,7 @@ std::vector<long> start_batch(Executor& executor, Store& store, const std::vecto
 
 /// Takes from the front of the plan as many cases as the executor has room for, writes each case folder anew and
 /// starts them in one batch.
-void start_what_fits(Loop& loop, const std::vector<SampleRow>& samples) {
+void start_what_fits(Loop& loop, const std::map<int, StudyCase>& cases) {
   std::vector<CaseTask> batch;
   std::vector<InFlight> flights;
   const int slots = loop.executor.free_slots();
@@ -420,7 +466,7 @@ void start_what_fits(Loop& loop, const std::vector<SampleRow>& samples) {
     const std::optional<PlannedCase> next = loop.plan.next();
     if (!next) break;
     const fs::path folder = case_dir(loop.dir, next->sample);
-    const long particles = prepare_case(loop.config, samples.at(static_cast<std::size_t>(next->sample)), folder);
+    const long particles = prepare_case(loop.config, cases.at(next->sample), folder);
     batch.push_back(CaseTask{next->sample, next->attempt, folder});
     flights.push_back(InFlight{0, next->sample, next->attempt, particles});
   }
@@ -526,7 +572,7 @@ ProgressCounts counts(const Loop& loop) {
   c.done = loop.plan.done_count();
   c.running = static_cast<int>(loop.in_flight.size());
   c.failed = loop.plan.failed_count();
-  c.total = loop.summary.samples;
+  c.total = loop.summary.samples + loop.summary.replicates;
   return c;
 }
 
@@ -534,7 +580,8 @@ double eta(const Loop& loop, int parallel) {
   double mean = 0;
   for (double w : loop.walls) mean += w;
   mean = loop.walls.empty() ? 0.0 : mean / static_cast<double>(loop.walls.size());
-  const int remaining = loop.summary.samples - loop.plan.done_count() - loop.plan.failed_count();
+  const int remaining =
+      loop.summary.samples + loop.summary.replicates - loop.plan.done_count() - loop.plan.failed_count();
   return estimate_remaining(remaining, parallel, mean);
 }
 
@@ -575,14 +622,28 @@ RunSummary run_study(const RunOptions& options) {
   Store store = open_study(config, options.study_file, dir, options.new_study);
   const std::vector<SampleRow> samples = store.samples();
   summary.samples = static_cast<int>(samples.size());
+  // Every case by its id: the design's samples, then the replicate cases (ReplicateRow), in the order they run.
+  std::map<int, StudyCase> cases;
+  std::vector<int> order;
+  for (const SampleRow& s : samples) {
+    cases[s.sample] = StudyCase{s, std::nullopt};
+    order.push_back(s.sample);
+  }
+  for (const ReplicateRow& r : store.replicates()) {
+    cases[r.sample] = StudyCase{SampleRow{r.sample, r.unit, r.physical}, r};
+    order.push_back(r.sample);
+  }
+  summary.replicates = static_cast<int>(order.size() - samples.size());
 
   if (options.dry_run) {
     // Validate every case by writing it (a case that breaks a LIGGGHTS limit throws UserError here).
-    for (const SampleRow& s : samples) {
-      const fs::path folder = case_dir(dir, s.sample);
-      if (!fs::exists(folder / k_result_file)) prepare_case(config, s, folder);
+    for (const int sample : order) {
+      const fs::path folder = case_dir(dir, sample);
+      if (!fs::exists(folder / k_result_file)) prepare_case(config, cases.at(sample), folder);
     }
-    summary.done = store.counts().done;
+    const StoreCounts counts = store.counts();
+    summary.done = counts.done;
+    summary.replicates_done = counts.replicates_done;
     summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return summary;
   }
@@ -609,8 +670,6 @@ RunSummary run_study(const RunOptions& options) {
     if (r.state == RunState::done && r.wall_seconds > 0) loop.walls.push_back(r.wall_seconds);
   }
   recover_submitted(loop);
-  std::vector<int> order;
-  for (const SampleRow& s : samples) order.push_back(s.sample);
   loop.plan.queue_remaining(order);
 
   Progress progress(options.quiet || options.collect_only ? nullptr : stderr, Progress::is_terminal(stderr),
@@ -620,7 +679,7 @@ RunSummary run_study(const RunOptions& options) {
     collect(loop, std::chrono::milliseconds(0));
   }
   while (!options.collect_only && work_left(loop) && !loop.should_stop()) {
-    start_what_fits(loop, samples);
+    start_what_fits(loop, cases);
     if (options.submit_only) continue;  // no polling: the cluster runs them, a later run or status collects
     collect(loop, std::chrono::milliseconds(200));
     progress.update(counts(loop), eta(loop, parallel));
@@ -629,7 +688,8 @@ RunSummary run_study(const RunOptions& options) {
   progress.finish(counts(loop));
 
   summary.left_running = static_cast<int>(loop.in_flight.size()) + loop.plan.left_submitted_count();
-  summary.done = loop.plan.done_count();
+  for (const auto& [sample, c] : cases)
+    (c.replicate ? summary.replicates_done : summary.done) += loop.plan.is_done(sample);
   summary.failed_samples = loop.plan.failed_samples();
   summary.failed = static_cast<int>(summary.failed_samples.size());
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

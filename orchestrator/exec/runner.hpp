@@ -6,6 +6,10 @@
 //   -> observables measured from the dump (postprocess/) -> DIR/cases/NNNNNN/result.json written atomically
 //   (temporary file, fsync, rename, fsync of the folder) -> run `done` and observables in one store transaction.
 //
+// With [design] replicates the store also holds the replicate cases (study::ReplicateRow: the first P design points
+// again, each with another assembly seed); they are queued after the design's samples and run, fail, retry and
+// recover exactly as samples do (their own case folders and run rows).
+//
 // The loop has the shape of ninja's build loop (src/build.h): a Plan (plan.hpp) holds what is left, the executor
 // starts cases and reports those that ended (the CommandRunner), and each case that ended is finished (classified,
 // measured, result.json written, committed in one transaction) before the plan is told how it went.
@@ -64,6 +68,8 @@ struct RunOptions {
 struct RunSummary {
   std::filesystem::path dir;
   int samples = 0;
+  int replicates = 0;                            ///< replicate cases of the study ([design] replicates)
+  int replicates_done = 0;                       ///< of them, done
   int done = 0;                                  ///< done samples (all runs of the study)
   int done_now = 0;                              ///< committed by this invocation
   int recovered = 0;                             ///< committed from result.json left by an interrupted run
@@ -105,5 +111,10 @@ std::string design_csv(const study::StudyConfig& config, const std::vector<study
 /// when the design has that many already). Throws util::UserError for a count below the design's (shrinking), a
 /// count the study file refuses, or a study another demsa holds.
 int extend_study(const std::filesystem::path& dir, int samples);
+/// The replicate cases of `config` ([design] replicates) at the first P of `samples` (the design): repeats 1 .. R − 1
+/// of each, with cases::replicate_assembly_seed. Empty when the study has none. Throws util::UserError when P exceeds
+/// the design.
+std::vector<study::ReplicateRow> replicate_rows(const study::StudyConfig& config,
+                                                const std::vector<study::SampleRow>& samples);
 
 }  // namespace demsa::exec

@@ -418,6 +418,30 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
     total.header.push_back(sym);
   }
   first.header.push_back("Res");
+  // DEM noise ([design] replicates): its share of the observable's variance over the design, beside the indices.
+  const std::optional<NoiseAnalysis>& noise = observable.noise;
+  if (noise) {
+    first.header.push_back("noise");
+    first.caption += "; noise: the DEM noise's share of the variance over the design (from the replicate cases)";
+    const sobol::NoiseEstimate& e = noise->estimate;
+    section.paragraphs.push_back(fmt::format(
+        "DEM noise, measured from {} replicated points ({} cases, {} degrees of freedom; another particle packing "
+        "at the same parameters): noise variance {} {}² ({:.0f} % chi-square interval {} to {}), standard deviation "
+        "{} {}; {:.1f} % of the variance over the design (interval {:.1f} % to {:.1f} %). The GP's nugget is set "
+        "from it.{}",
+        e.points, e.values, e.dof, short_number(e.variance * label.factor * label.factor), label.unit,
+        100.0 * e.confidence, short_number(e.lower * label.factor * label.factor),
+        short_number(e.upper * label.factor * label.factor), short_number(std::sqrt(e.variance) * label.factor),
+        label.unit, 100.0 * noise->share, 100.0 * noise->share_lower, 100.0 * noise->share_upper,
+        noise->dominates
+            ? fmt::format(
+                  " **The noise dominates**: its share {:.2f} exceeds {}. The indices describe less of this "
+                  "observable than the noise does; more particles, a longer settling or the mean of "
+                  "repeats reduce it.",
+                  noise->share,
+                  noise->share > 0.5 ? std::string("0.5") : fmt::format("the largest S1 ({:.2f})", noise->largest_s1))
+            : std::string()));
+  }
   std::vector<ReportTable> second_tables;
   for (const ModelAnalysis& m : models) {
     if (!m.ok) continue;
@@ -435,6 +459,9 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
       chart.total_effect.push_back(st);
     }
     row1.push_back(interval_text(interval(m.indices.residual)));
+    if (noise)
+      row1.push_back(fmt::format("{:.3f} [{:.3f}, {:.3f}]{}", noise->share, noise->share_lower, noise->share_upper,
+                                 noise->dominates ? " (dominates)" : ""));
     first.rows.push_back(row1);
     if (!m.indices.note.empty())
       section.paragraphs.push_back(fmt::format("{}: {}.", model_title(m.model), m.indices.note));
@@ -472,8 +499,9 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
   for (const ModelAnalysis& m : models) {
     if (!m.ok) continue;
     try {
-      const FittedMetamodel fit = fit_metamodel(sobol::metamodel_kind_from_string(m.model),
-                                                s.config.analysis.metamodel_options(), data.unit, data.y);
+      const FittedMetamodel fit = fit_metamodel(
+          sobol::metamodel_kind_from_string(m.model),
+          with_measured_noise(s.config.analysis.metamodel_options(), observable.noise, data.y), data.unit, data.y);
       if (!fit.ok()) std::rethrow_exception(fit.exception);
       const Eigen::VectorXd residuals = fit.model->loo_residuals();
       PredictedVsObserved p;

@@ -245,6 +245,37 @@ ParameterRange read_parameter(const TableReader& r, const Setting& s, const toml
   return p;
 }
 
+/// `[design] replicates = { points = P, repeats = R }` (P <= samples is checked with the section: check_section).
+ReplicateSettings read_replicates(const TableReader& r, const Setting& s, const toml::node& node) {
+  const toml::table& t = r.table(s.key, node);
+  const TableReader tr(t, r.file(), "design." + s.key);
+  ReplicateSettings rep;
+  bool points = false, repeats = false;
+  tr.each([&](const std::string& key, const toml::node& n) {
+    if (key == "points") {
+      const long v = tr.integer(key, n);
+      if (v < 1 || v > 100000)
+        tr.fail(n, key, fmt::format("must be in [1, [design] samples], got {}: the design points with replicates", v));
+      rep.points = static_cast<int>(v);
+      points = true;
+    } else if (key == "repeats") {
+      const long v = tr.integer(key, n);
+      if (v < 2 || v > 1000)
+        tr.fail(n, key,
+                fmt::format("must be in [2, 1000], got {}: the cases per point, the design point's own included; "
+                            "one case gives no variance",
+                            v));
+      rep.repeats = static_cast<int>(v);
+      repeats = true;
+    } else {
+      return false;
+    }
+    return true;
+  });
+  if (!points || !repeats) r.fail(node, s.key, "needs both 'points' and 'repeats' ({ points = P, repeats = R })");
+  return rep;
+}
+
 /// What one pass over the file collects besides the config: the keys given and their lines.
 struct Seen {
   std::map<std::string, int> lines;  ///< "section.key" -> line
@@ -269,7 +300,9 @@ void read_section(const TableReader& r, const toml::table& table, StudyConfig& c
     }
     seen.lines[s->section + "." + key] = r.line_of(node);
     if (s->first) return true;
-    if (s->type == SettingType::table)
+    if (s->type == SettingType::table && r.section() == "design")
+      c.replicates = read_replicates(r, *s, node);
+    else if (s->type == SettingType::table)
       c.parameters.push_back(read_parameter(r, *s, node));
     else
       read_value(r, *s, node, c);
@@ -301,6 +334,12 @@ void check_section(const TableReader& r, const toml::table& table, StudyConfig& 
     if (2 * o.radii.r_max >= o.box_side)
       r.fail(table, "box_side",
              fmt::format("{} m is too small for particles of radius {} m", o.box_side, o.radii.r_max));
+  } else if (section == "design") {
+    if (c.replicates.points > c.samples)
+      r.fail(*table.get("replicates"), "replicates",
+             fmt::format("points = {} exceeds [design] samples = {}: the replicates are taken at the first P design "
+                         "points",
+                         c.replicates.points, c.samples));
   } else if (section == "timestep") {
     if (c.timestep.mode == TimestepMode::fixed && !(c.timestep.value > 0))
       r.fail(table, "value", "mode = \"fixed\" needs value = the time step in seconds");

@@ -181,6 +181,16 @@ struct AnalysisSettings {
   sobol::MetamodelOptions metamodel_options() const;
 };
 
+/// `[design] replicates = { points = P, repeats = R }`: at the first P design points, R cases each whose particle
+/// packing is drawn with another assembly seed (the design point's own case is the first of the R, so R − 1 more
+/// cases per point). Off (points = 0) by default.
+struct ReplicateSettings {
+  int points = 0;   ///< P: design points with replicates (the first P of the design), 0 = none
+  int repeats = 0;  ///< R: cases per such point, the design point's own case included (>= 2 when points > 0)
+  bool enabled() const { return points > 0; }
+  int extra_cases() const { return enabled() ? points * (repeats - 1) : 0; }  ///< P (R − 1)
+};
+
 struct StudyConfig {
   std::filesystem::path file;  ///< the study file it was read from
   std::string name;            ///< study name
@@ -188,6 +198,7 @@ struct StudyConfig {
   std::uint64_t seed = 12345;          ///< one seed for the design, the radii and the initial positions
   std::string design = "lhs-maximin";  ///< a canonical name of sobol::design_kind_names()
   int samples = 16;
+  ReplicateSettings replicates;            ///< [design] replicates (DEM noise)
   std::vector<ParameterRange> parameters;  ///< the varied parameters, in the paper's order
   Material material;
   ContactSettings contact;

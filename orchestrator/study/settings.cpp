@@ -431,6 +431,34 @@ std::vector<Setting> build_settings() {
                "N × N matrix of the sample pairs. Raising it in an existing study extends the design (the finished "
                "cases are kept, docs/refine.md); lowering it is refused"));
 
+  // DEM noise: replicate cases at the first P design points (cases/case_writer.hpp: CaseRequest::assembly_seed). The
+  // replicates are case rows of their own (study/store.hpp), so a design that grows keeps them.
+  add(Row("design", "replicates")
+          .table(
+              {"points", "repeats"},
+              [](const StudyConfig& c) {
+                if (!c.replicates.enabled()) return std::string("none");
+                return fmt::format("{{ points = {}, repeats = {} }}", c.replicates.points, c.replicates.repeats);
+              },
+              [](const StudyConfig& c) {
+                Lines lines;  // none when off: a study without replicates keeps its design hash
+                if (c.replicates.enabled()) {
+                  lines.emplace_back("replicates.points", std::to_string(c.replicates.points));
+                  lines.emplace_back("replicates.repeats", std::to_string(c.replicates.repeats));
+                }
+                return lines;
+              })
+          .effect(E::cases)
+          .default_text("none")
+          .range("points in [1, samples], repeats in [2, 1000]")
+          .doc("DEM noise: `{ points = P, repeats = R }` runs, at the first P design points, R cases each whose "
+               "particle packing (radii and positions) is drawn with another assembly seed, everything else equal (a "
+               "Rayleigh time step follows the packing's smallest radius, as in any case); "
+               "the design point's own case is the first of the R, so the study runs P (R − 1) cases more. The "
+               "analysis measures each observable's noise variance from them (pooled within-point variance), sets "
+               "the GP nugget from it and reports the noise share; the replicates do not enter the metamodels' "
+               "training"));
+
   // [parameters]: one table row per contact parameter; the admissible values are those of its [material] row.
   for (const ContactParameter& p : contact_parameters()) {
     const std::string key(p.key);

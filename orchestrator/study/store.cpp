@@ -89,6 +89,12 @@ CREATE TABLE IF NOT EXISTS refine_history (
   decision TEXT NOT NULL,
   max_half_width TEXT NOT NULL,
   indices TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS replicates (
+  sample INTEGER PRIMARY KEY REFERENCES samples(sample),
+  point INTEGER NOT NULL REFERENCES samples(sample),
+  repeat INTEGER NOT NULL,
+  seed TEXT NOT NULL,
+  UNIQUE (point, repeat));
 CREATE TABLE IF NOT EXISTS events (
   id INTEGER PRIMARY KEY AUTOINCREMENT,
   time REAL NOT NULL,
@@ -340,9 +346,59 @@ void Store::initialize(const std::string& hash, const std::string& study_name, c
   tx.commit();
 }
 
+int replicate_sample_id(int point, int repeat) {
+  if (point < 0 || point >= 100000 || repeat < 1 || repeat >= k_max_replicate_repeats)
+    throw std::logic_error(fmt::format("replicate_sample_id: point {} repeat {} out of range", point, repeat));
+  return k_replicate_sample_base + point * k_max_replicate_repeats + repeat;
+}
+
+void Store::add_replicates(const std::vector<ReplicateRow>& replicates) {
+  if (replicates.empty()) return;
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  SQLite::Statement sample(*m_db, "INSERT OR IGNORE INTO samples(sample, unit, physical) VALUES (?, ?, ?)");
+  SQLite::Statement replicate(*m_db,
+                              "INSERT OR IGNORE INTO replicates(sample, point, repeat, seed) VALUES (?, ?, ?, ?)");
+  for (const ReplicateRow& r : replicates) {
+    sample.bind(1, r.sample);
+    sample.bind(2, to_json(r.unit));
+    sample.bind(3, to_json(r.physical));
+    sample.exec();
+    sample.reset();
+    replicate.bind(1, r.sample);
+    replicate.bind(2, r.point);
+    replicate.bind(3, r.repeat);
+    replicate.bind(4, std::to_string(r.seed));  // text: SQLite integers are signed
+    replicate.exec();
+    replicate.reset();
+  }
+  tx.commit();
+}
+
+std::vector<ReplicateRow> Store::replicates() const {
+  std::vector<ReplicateRow> rows;
+  if (!has_table(*m_db, "replicates")) return rows;  // a store of a demsa before replicates, opened read-only
+  SQLite::Statement q(*m_db,
+                      "SELECT r.sample, r.point, r.repeat, r.seed, s.unit, s.physical FROM replicates r "
+                      "JOIN samples s ON s.sample = r.sample ORDER BY r.point, r.repeat");
+  while (q.executeStep()) {
+    ReplicateRow row;
+    row.sample = q.getColumn(0).getInt();
+    row.point = q.getColumn(1).getInt();
+    row.repeat = q.getColumn(2).getInt();
+    row.seed = std::stoull(q.getColumn(3).getString());
+    row.unit = from_json(q.getColumn(4).getString());
+    row.physical = from_json(q.getColumn(5).getString());
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 std::vector<SampleRow> Store::samples() const {
   std::vector<SampleRow> rows;
-  SQLite::Statement q(*m_db, "SELECT sample, unit, physical FROM samples ORDER BY sample");
+  SQLite::Statement q(*m_db, has_table(*m_db, "replicates")
+                                 ? "SELECT sample, unit, physical FROM samples WHERE sample NOT IN "
+                                   "(SELECT sample FROM replicates) ORDER BY sample"
+                                 : "SELECT sample, unit, physical FROM samples ORDER BY sample");
   while (q.executeStep())
     rows.push_back(
         {q.getColumn(0).getInt(), from_json(q.getColumn(1).getString()), from_json(q.getColumn(2).getString())});
@@ -352,21 +408,16 @@ std::vector<SampleRow> Store::samples() const {
 int Store::design_samples() const {
   SQLite::Statement q(*m_db, "SELECT value FROM meta WHERE key = 'design_samples'");
   if (q.executeStep()) return std::stoi(q.getColumn(0).getString());
-  SQLite::Statement count(*m_db, "SELECT count(*) FROM samples");
-  count.executeStep();
-  return count.getColumn(0).getInt();
+  return static_cast<int>(samples().size());  // replicate cases are not design samples
 }
 
 void Store::add_samples(const std::vector<SampleRow>& samples, const std::string& kind, const std::string& message,
                         const std::optional<std::string>& design_hash) {
   const int design = design_samples();
   SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
-  int next = 0;
-  {
-    SQLite::Statement q(*m_db, "SELECT coalesce(max(sample) + 1, 0) FROM samples");
-    q.executeStep();
-    next = q.getColumn(0).getInt();
-  }
+  // Indices continue the design's and refinement's samples; replicate cases have ids of their own, far above.
+  const std::vector<SampleRow> existing = this->samples();
+  int next = existing.empty() ? 0 : existing.back().sample + 1;
   SQLite::Statement insert(*m_db, "INSERT INTO samples(sample, unit, physical) VALUES (?, ?, ?)");
   for (const SampleRow& s : samples) {
     if (s.sample != next)
@@ -579,12 +630,20 @@ std::map<int, std::map<std::string, double>> Store::observables() const {
 StoreCounts Store::counts() const {
   StoreCounts c;
   // The state of a sample is the state of its latest run (a done run is always the latest: nothing runs after it).
-  SQLite::Statement q(*m_db,
-                      "SELECT s.sample, (SELECT state FROM runs r WHERE r.sample = s.sample ORDER BY id DESC LIMIT 1) "
-                      "FROM samples s");
+  const bool replicates = has_table(*m_db, "replicates");
+  SQLite::Statement q(*m_db, fmt::format("SELECT s.sample, (SELECT state FROM runs r WHERE r.sample = s.sample ORDER "
+                                         "BY id DESC LIMIT 1), {} FROM samples s",
+                                         replicates ? "s.sample IN (SELECT sample FROM replicates)" : "0"));
   while (q.executeStep()) {
-    ++c.samples;
     const std::string state = q.getColumn(1).isNull() ? std::string{} : q.getColumn(1).getString();
+    if (q.getColumn(2).getInt() != 0) {
+      ++c.replicates;
+      c.replicates_done += state == "done";
+      c.replicates_running += state == "submitted";
+      c.replicates_failed += state == "failed";
+      continue;
+    }
+    ++c.samples;
     if (state == "done")
       ++c.done;
     else if (state == "submitted")

@@ -22,6 +22,7 @@
 // The CHECK constraints also stop a version-1 demsa from writing to a version-2 store (it would store "").
 #include "orchestrator/study/failure_class.hpp"
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -44,6 +45,27 @@ struct SampleRow {
   std::vector<double> unit;      ///< in [0,1]^d
   std::vector<double> physical;  ///< scaled to the study's bounds
 };
+
+/// A replicate case (DEM noise, [design] replicates): the design point `point` again, with the particle packing
+/// drawn from another assembly seed. It is a case row of its own in the samples table (so runs, observables, the
+/// one-done-run index and recovery treat it as any case), with the id replicate_sample_id(point, repeat), which does
+/// not depend on the design's size: a design that grows keeps its replicates. The replicates table says which rows
+/// are replicates; Store::samples() leaves them out, so everything that reads the design sees the design only.
+struct ReplicateRow {
+  int sample = 0;                ///< its case id, replicate_sample_id(point, repeat)
+  int point = 0;                 ///< the design sample it repeats
+  int repeat = 1;                ///< 1 .. R − 1 (0 would be the design point's own case)
+  std::uint64_t seed = 0;        ///< its assembly seed
+  std::vector<double> unit;      ///< the point's, in [0,1]^d
+  std::vector<double> physical;  ///< the point's physical values
+};
+
+/// First case id of the replicates: above every design sample ([design] samples <= 100000).
+inline constexpr int k_replicate_sample_base = 1000000;
+/// Largest repeat count ([design] replicates repeats <= 1000).
+inline constexpr int k_max_replicate_repeats = 1000;
+/// The case id of repeat `repeat` (1 .. R − 1) of design point `point`.
+int replicate_sample_id(int point, int repeat);
 
 /// States of a run attempt.
 enum class RunState {
@@ -102,6 +124,11 @@ struct StoreCounts {
   int pending = 0;              ///< never run, or requeued
   int attempts = 0;             ///< run rows, all states
   double mean_done_wall = 0.0;  ///< mean wall time of done runs [s]
+  // Replicate cases (ReplicateRow), counted apart from the design's samples above.
+  int replicates = 0;          ///< replicate cases
+  int replicates_done = 0;     ///< with a done run
+  int replicates_running = 0;  ///< with a submitted run
+  int replicates_failed = 0;   ///< last run failed
 };
 
 /// One step of `demsa refine` (cli/refine.cpp): the indices after `samples` done samples and whether the loop went
@@ -145,6 +172,7 @@ class Store {
   void initialize(const std::string& design_hash, const std::string& study_name, const std::vector<SampleRow>& samples);
   std::string study_name() const;
 
+  /// The design's samples (replicate cases left out), by sample.
   std::vector<SampleRow> samples() const;
 
   /// Samples of the study's design (the first `[design] samples` rows, grown by extensions); the others were added
@@ -160,6 +188,11 @@ class Store {
   void record_refine_step(const RefineStep& step);
   /// The steps of `demsa refine`, by samples; empty for a store that never refined.
   std::vector<RefineStep> refine_history() const;
+  /// Adds the replicate cases (their case rows and their replicates rows) in one transaction; a replicate already in
+  /// the store is left as it is (so this may run on every `demsa run`). Its point must be a sample of the design.
+  void add_replicates(const std::vector<ReplicateRow>& replicates);
+  /// Every replicate case, by point then repeat.
+  std::vector<ReplicateRow> replicates() const;
 
   /// A new run row in state submitted (job id filled later by set_job_id). Returns its id.
   long add_run(int sample, int attempt);

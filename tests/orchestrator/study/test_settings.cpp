@@ -79,6 +79,7 @@ std::string other_value(const Setting& s, const StudyConfig& c) {
       // measured_settlements: one per load after the first; loads: one more, larger load.
       return current == "[]" ? "[1e-3, 2e-3, 3e-3]" : "[100, 400, 1100, 2700, 5000]";
     case SettingType::table:
+      if (s.key == "replicates") return "{ points = 2, repeats = 3 }";
       return s.key == "E" ? "{ low = 2e8, high = 3e8 }" : "{ low = 0.1, high = 0.2 }";
   }
   return "";
@@ -137,7 +138,8 @@ TEST(StudySettings, AFileOfEveryDefaultReadsAsTheDefaults) {
     StudyMap study;
     for (const Setting& s : study_settings()) {
       const std::string value = s.show(expected);
-      if (value != "not varied" && s.section != other) study[s.section][s.key] = value;
+      // "none": [design] replicates off, which the file says by leaving it out.
+      if (value != "not varied" && value != "none" && s.section != other) study[s.section][s.key] = value;
     }
     const std::string text = study_text(study);
     StudyConfig c;
@@ -156,7 +158,7 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
   // the settling rows that replaced it: test_pile_settling.cpp).
   const std::map<std::string, std::string> keys{
       {"study", "name, experiment, seed"},
-      {"design", "method, samples"},
+      {"design", "method, samples, replicates"},
       {"parameters", "E, nu, mu_pp, mu_pw, e_r, mu_r_pp, mu_r_pw"},
       {"material", "E, nu, mu_pp, mu_pw, e_r, mu_r_pp, mu_r_pw, density, gravity, soft_particles, hard_particles"},
       {"pile",
