@@ -38,6 +38,26 @@ TEST(StoreGrowth, DesignAndRefinementSamplesAreCountedApart) {
   EXPECT_EQ(extended, 1);
 }
 
+TEST(StoreGrowth, ReplicateCasesNeitherCountAsDesignNorShiftTheNextIndex) {
+  test::TempDir tmp;
+  Store store((tmp / "study.db").string());
+  store.initialize("hash-3", "growth", rows(0, 3));
+  ReplicateRow r;
+  r.sample = replicate_sample_id(1, 1);  // far above the design's indices
+  r.point = 1;
+  r.repeat = 1;
+  r.seed = 99;
+  r.unit = rows(1, 1).front().unit;
+  r.physical = rows(1, 1).front().physical;
+  store.add_replicates({r});
+  EXPECT_EQ(store.design_samples(), 3);  // no count stored yet: the design's samples, not the replicate
+  store.add_samples(rows(3, 2), "extended", "two design points", std::string("hash-5"));
+  EXPECT_EQ(store.design_samples(), 5);
+  ASSERT_EQ(store.samples().size(), 5u);
+  EXPECT_EQ(store.samples().back().sample, 4);
+  EXPECT_EQ(store.replicates().size(), 1u);
+}
+
 TEST(StoreGrowth, SamplesThatDoNotContinueTheStoreAreRefusedWhole) {
   test::TempDir tmp;
   Store store((tmp / "study.db").string());
