@@ -17,9 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <random>
 #include <sstream>
-#include <thread>
 
 namespace demsa {
 
@@ -27,8 +25,6 @@ using namespace demsa::study;
 namespace {
 
 namespace fs = std::filesystem;
-using test::spawn_demsa;
-using test::wait_exit;
 
 std::string study_text(int samples, const std::string& method = "lhs-maximin") {
   return test::StudyToml{.name = "fake-refine",
@@ -155,14 +151,7 @@ TEST(ExtendFake, GrowthSurvivesSigkillAtRandomMoments) {
   const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
   ASSERT_EQ(test::run_demsa(args).exit_code, 0);
   test::write_file(tmp / "study.toml", study_text(14));
-  std::mt19937 rng(31);
-  std::uniform_int_distribution<int> delay_ms(50, 1500);
-  for (int round = 0; round < 6; ++round) {
-    const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
-    ::kill(pid, SIGKILL);
-    wait_exit(pid);
-  }
+  test::kill_at_random_moments(args, tmp / "demsa.log", 31, 6, 50, 1500);
   const test::CommandResult final_run = test::run_demsa(args);
   ASSERT_EQ(final_run.exit_code, 0) << final_run.out << final_run.err << test::read_file(tmp / "demsa.log");
   const Store store = Store::open_read_only((tmp / "study" / "study.db").string());
@@ -226,14 +215,7 @@ TEST(RefineFake, ResumeAfterSigkillAtRandomMomentsRunsEachSampleOnce) {
   ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"})).exit_code, 0);
   const std::vector<std::string> args{"refine",        dir,  "--target-ci", "0.00001", "--batch", "2",
                                       "--max-samples", "14", "--quiet"};
-  std::mt19937 rng(77);
-  std::uniform_int_distribution<int> delay_ms(200, 2500);
-  for (int round = 0; round < 6; ++round) {
-    const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
-    ::kill(pid, SIGKILL);
-    wait_exit(pid);
-  }
+  test::kill_at_random_moments(args, tmp / "demsa.log", 77, 6, 200, 2500);
   const test::CommandResult final_run = test::run_demsa(args);
   EXPECT_EQ(final_run.exit_code, 1) << final_run.out << final_run.err << test::read_file(tmp / "demsa.log");
   const Store store = Store::open_read_only((tmp / "study" / "study.db").string());

@@ -186,14 +186,7 @@ TEST(RunFake, ResumeAfterSigkillAtRandomMomentsDoesEachSampleExactlyOnce) {
   write_study(tmp, s);
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.4);
   const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
-  std::mt19937 rng(2024);
-  std::uniform_int_distribution<int> delay_ms(150, 1200);
-  for (int round = 0; round < 6; ++round) {
-    const pid_t pid = spawn_demsa(args, tmp / "demsa.log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
-    ::kill(pid, SIGKILL);
-    wait_exit(pid);
-  }
+  test::kill_at_random_moments(args, tmp / "demsa.log", 2024, 6, 150, 1200);
   const test::CommandResult final_run = test::run_demsa(args);
   ASSERT_EQ(final_run.exit_code, 0) << final_run.out << final_run.err << test::read_file(tmp / "demsa.log");
   expect_each_sample_done_exactly_once(tmp / "study", tmp.path(), s.samples);

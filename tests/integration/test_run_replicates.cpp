@@ -17,9 +17,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
-#include <random>
 #include <sstream>
-#include <thread>
 
 namespace demsa {
 
@@ -189,14 +187,7 @@ TEST(RunReplicates, ResumeAfterSigkillAtRandomMomentsDoesEachCaseExactlyOnce) {
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.4);
   FakeNoise noise(1.0);
   const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
-  std::mt19937 rng(1811);
-  std::uniform_int_distribution<int> delay_ms(100, 1100);
-  for (int round = 0; round < 7; ++round) {
-    const pid_t pid = test::spawn_demsa(args, tmp / "demsa.log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
-    ::kill(pid, SIGKILL);
-    test::wait_exit(pid);
-  }
+  test::kill_at_random_moments(args, tmp / "demsa.log", 1811, 7, 100, 1100);
   const test::CommandResult final_run = test::run_demsa(args);
   ASSERT_EQ(final_run.exit_code, 0) << final_run.out << final_run.err << test::read_file(tmp / "demsa.log");
   std::vector<int> cases{0, 1, 2, 3, 4, 5};

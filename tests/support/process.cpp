@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
+#include <random>
 #include <thread>
 
 namespace demsa::test {
@@ -31,6 +33,18 @@ int wait_exit(pid_t pid) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+void kill_at_random_moments(const std::vector<std::string>& args, const std::filesystem::path& log, unsigned seed,
+                            int rounds, int min_delay_ms, int max_delay_ms) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> delay_ms(min_delay_ms, max_delay_ms);
+  for (int round = 0; round < rounds; ++round) {
+    const pid_t pid = spawn_demsa(args, log);
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    ::kill(pid, SIGKILL);
+    wait_exit(pid);
+  }
 }
 
 bool wait_until(const std::function<bool()>& condition, std::chrono::milliseconds limit) {

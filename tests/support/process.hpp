@@ -17,6 +17,11 @@ pid_t spawn_demsa(const std::vector<std::string>& args, const std::filesystem::p
 /// Waits for `pid` to end; its exit status, or 128 + signal when a signal killed it.
 int wait_exit(pid_t pid);
 
+/// Starts demsa with `args` `rounds` times and kills it with SIGKILL after a delay drawn uniformly from
+/// [min_delay, max_delay] ms by an MT19937 seeded with `seed` (so a failure reproduces); output appended to `log`.
+void kill_at_random_moments(const std::vector<std::string>& args, const std::filesystem::path& log, unsigned seed,
+                            int rounds, int min_delay_ms, int max_delay_ms);
+
 /// Polls `condition` every 20 ms until it holds (true) or `limit` has passed (false).
 bool wait_until(const std::function<bool()>& condition, std::chrono::milliseconds limit = std::chrono::seconds(20));
 
