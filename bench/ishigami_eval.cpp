@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 int main() {
@@ -64,7 +65,8 @@ int main() {
     const double x1 = cell[static_cast<std::size_t>(col[0])], x2 = cell[static_cast<std::size_t>(col[1])],
                  x3 = cell[static_cast<std::size_t>(col[2])];
     const double s = std::sin(x2), x3sq = x3 * x3;
-    fmt::format_to(std::back_inserter(out), "{}\n", std::sin(x1) + 7 * s * s + 0.1 * x3sq * x3sq * std::sin(x1));
+    fmt::format_to(std::back_inserter(out), FMT_COMPILE("{}\n"),
+                   std::sin(x1) + 7 * s * s + 0.1 * x3sq * x3sq * std::sin(x1));
   }
   std::fwrite(out.data(), 1, out.size(), stdout);
   return 0;

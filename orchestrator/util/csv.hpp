@@ -77,6 +77,13 @@ CsvTable read_csv(std::istream& in, const std::string& file, const CsvReadOption
 /// Parses CSV text; `file` is the name used in messages.
 CsvTable parse_csv(const std::string& text, const std::string& file, const CsvReadOptions& options = {});
 
+/// Writes the shortest decimal text that reads back to exactly `value` (Dragonbox: Jeon 2020, "Dragonbox: A New
+/// Floating-Point Binary-to-Decimal Conversion Algorithm"), character for character what fmt::format("{}", value)
+/// writes, at `out` (room for k_shortest_chars); returns the end. The digits are laid out here rather than by
+/// fmt's general writer, which cost more than the conversion itself.
+inline constexpr std::size_t k_shortest_chars = 32;
+char* format_shortest(char* out, double value);
+
 /// CSV text: header row, then the rows of `values` (each the shortest text that reads back to the same double).
 /// values.cols() == header.size() (asserted).
 std::string format_csv(const std::vector<std::string>& header, const Eigen::MatrixXd& values);

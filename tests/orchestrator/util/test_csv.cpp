@@ -8,9 +8,17 @@
 #include "support/test_support.hpp"
 
 #include <fmt/core.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <array>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -20,6 +28,61 @@ namespace {
 
 std::string parse_error(const std::string& text, const CsvReadOptions& options = {}) {
   return test::message_of<UserError>([&] { parse_csv(text, "d.csv", options); });
+}
+
+// format_shortest writes what fmt's "{}" writes, and the text reads back to the same double: every boundary of the
+// fixed/scientific choice, zeros, infinities, NaN, subnormals, the extremes, and a million random bit patterns.
+TEST(Csv, ShortestTextIsFmtsAndRoundTrips) {
+  const auto check = [](double v) {
+    std::array<char, k_shortest_chars> buffer{};
+    const std::string ours(buffer.data(), format_shortest(buffer.data(), v));
+    ASSERT_EQ(ours, fmt::format("{}", v)) << "bits " << std::bit_cast<std::uint64_t>(v);
+    if (!std::isfinite(v)) return;
+    double back = 0.0;
+    const auto [end, ec] = std::from_chars(ours.data(), ours.data() + ours.size(), back);
+    ASSERT_TRUE(ec == std::errc() && end == ours.data() + ours.size()) << ours;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(back), std::bit_cast<std::uint64_t>(v)) << ours;
+  };
+  using limits = std::numeric_limits<double>;
+  for (const double v : {0.0,
+                         -0.0,
+                         1.0,
+                         -1.0,
+                         0.1,
+                         0.5,
+                         3.141592653589793,
+                         -2.0,
+                         10.0,
+                         100.0,
+                         1e-4,
+                         1e-5,
+                         1.5e-5,
+                         9.999999999999999e-5,
+                         1e15,
+                         1e16,
+                         1.2345e16,
+                         9999999999999998.0,
+                         123456789012345680.0,
+                         limits::min(),
+                         limits::denorm_min(),
+                         limits::max(),
+                         limits::lowest(),
+                         limits::epsilon(),
+                         limits::infinity(),
+                         -limits::infinity(),
+                         limits::quiet_NaN(),
+                         2.475e-6,
+                         1e100,
+                         1e-100})
+    check(v);
+  for (int e = -30; e <= 30; ++e) {
+    check(std::pow(10.0, e));
+    check(-1.234567 * std::pow(10.0, e));
+  }
+  std::mt19937_64 rng(20241201);
+  for (int i = 0; i < 1'000'000; ++i) check(std::bit_cast<double>(rng()));
+  std::uniform_real_distribution<double> uniform(-3.2, 3.2);
+  for (int i = 0; i < 100'000; ++i) check(uniform(rng));
 }
 
 TEST(Csv, ByteOrderMarkBeforeTheHeaderIsSkipped) {
