@@ -158,7 +158,7 @@ void PosteriorOptions::validate() const {
     throw UserError("calibrate --method bayes: give the measured values with --target NAME=V±E or --target-file");
   if (walkers != 0 && (walkers < 4 || walkers % 2 != 0))
     throw UserError(fmt::format("--walkers {}: must be even and >= 2 × parameters + 2", walkers));
-  if (steps < 10) throw UserError(fmt::format("--steps {}: must be >= 10", steps));
+  if (steps != 0 && steps < 10) throw UserError(fmt::format("--steps {}: must be >= 10 (or 0: automatic)", steps));
   if (burn_in < 0) throw UserError(fmt::format("--burn-in {}: must be >= 0", burn_in));
   if (verify < -1 || verify > 1000) throw UserError(fmt::format("--verify {}: must be in 0..1000", verify));
   try {
@@ -299,7 +299,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
 
   sobol::EnsembleOptions sampler;
   sampler.walkers = options.walkers;
-  sampler.steps = options.steps;
+  sampler.steps = options.steps == 0 ? k_auto_first_steps : options.steps;
   sampler.burn_in = options.burn_in;
   sampler.seed = options.seed ? *options.seed : studies.front().config.seed;
   try {
@@ -309,14 +309,35 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   }
   const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
   const auto start = std::chrono::steady_clock::now();
-  const sobol::EnsembleResult r = sobol::sample_ensemble(sobol::posterior_function(*posterior), lower, upper, sampler);
+  sobol::EnsembleResult r = sobol::sample_ensemble(sobol::posterior_function(*posterior), lower, upper, sampler);
+  sobol::ChainDiagnostics diag = sobol::diagnose(r, "steps", "walkers");
+  if (options.steps == 0) {
+    // Automatic length, emcee's practice (Foreman-Mackey et al. 2013, §3; the emcee documentation's
+    // "Autocorrelation analysis" tutorial): a chain of at least 50 integrated autocorrelation times, the burn-in a
+    // few τ. τ is estimated from the run before, so the next run asks for 60 τ; the sampler is seeded, so the
+    // result is the same for the same inputs. The runs stop at the memory cap, where the advice says so.
+    outcome.auto_steps.push_back(r.steps);
+    const int walkers = sampler.walkers_for(d);
+    const auto cap = static_cast<int>(k_max_auto_draws / (static_cast<double>(walkers) * (d + 1)));
+    for (int run = 1; run < k_auto_max_runs && 50.0 * diag.max_tau > r.steps && r.steps < cap; ++run) {
+      sampler.steps = std::min(cap, std::max(2 * r.steps, static_cast<int>(std::ceil(60.0 * diag.max_tau))));
+      sampler.burn_in = std::max(options.burn_in, static_cast<int>(std::ceil(5.0 * diag.max_tau)));
+      r = sobol::sample_ensemble(sobol::posterior_function(*posterior), lower, upper, sampler);
+      diag = sobol::diagnose(r, "steps", "walkers");
+      outcome.auto_steps.push_back(r.steps);
+    }
+    if (!diag.converged && r.steps >= cap)
+      diag.advice += fmt::format(
+          " (automatic steps stopped at {}, the most {} walkers × {} parameters keep in "
+          "memory: give --steps to go further)",
+          cap, walkers, d);
+  }
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const sobol::ChainDiagnostics diag = sobol::diagnose(r, "steps", "walkers");
   const std::vector<sobol::MarginalSummary> marginals = sobol::summarise_marginals(r, lower, upper);
   const Eigen::MatrixXd corr = sobol::posterior_correlation(r.draws);
   outcome.walkers = r.walkers;
   outcome.steps = r.steps;
-  outcome.burn_in = options.burn_in;
+  outcome.burn_in = sampler.burn_in;
   outcome.draws = static_cast<int>(r.draws.rows());
   outcome.evaluations = r.evaluations;
   outcome.seed = r.seed;
@@ -488,6 +509,7 @@ std::string posterior_to_json(const PosteriorOutcome& o) {
                       {"burn_in", o.burn_in}, {"draws", o.draws},
                       {"seed", o.seed},       {"evaluations", o.evaluations},
                       {"seconds", o.seconds}, {"acceptance", o.acceptance}};
+  j["sampler"]["auto_steps"] = o.auto_steps;
   j["diagnostics"] = json{{"converged", o.converged}, {"advice", o.advice}};
   json verification = json::array();
   for (const VerifyPoint& v : o.verification) {
@@ -557,6 +579,7 @@ PosteriorOutcome read_posterior(const fs::path& file) {
     o.evaluations = s.at("evaluations");
     o.seconds = s.at("seconds");
     o.acceptance = s.at("acceptance");
+    if (s.contains("auto_steps")) o.auto_steps = s.at("auto_steps").get<std::vector<int>>();
     o.converged = j.at("diagnostics").at("converged");
     o.advice = j.at("diagnostics").at("advice");
     for (const json& e : j.at("verification")) {
@@ -586,6 +609,11 @@ PosteriorOutcome read_posterior(const fs::path& file) {
 std::string posterior_text(const PosteriorOutcome& o) {
   std::string text = fmt::format("posterior of {} ({} walkers × {} steps after {} burn-in, seed {}, {:.1f} s)\n",
                                  join(o.studies), o.walkers, o.steps, o.burn_in, o.seed, o.seconds);
+  if (o.auto_steps.size() > 1) {
+    std::string runs;
+    for (size_t i = 0; i < o.auto_steps.size(); ++i) runs += fmt::format("{}{}", i ? " → " : "", o.auto_steps[i]);
+    text += fmt::format("  automatic steps: {} (each run 60 τ of the one before, until steps >= 50 τ)\n", runs);
+  }
   text += fmt::format("  {:<10} {:>11} {:>11} {:>11} {:>11} {:>11} {:>7} {:>10} {:>7} {:>6} {:>8}\n", "parameter",
                       "mean", "MAP", "5 %", "50 %", "95 %", "width", "identified", "tau", "R-hat", "ESS");
   for (const PosteriorParameter& p : o.parameters)

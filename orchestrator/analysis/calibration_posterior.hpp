@@ -34,11 +34,13 @@ struct PosteriorOptions {
   /// "NAME=FILE": a CSV of one measured curve, one row per point (NAME_1, NAME_2, ...), columns `mean` and either
   /// `sd`, or `low`, `high` and `tests` (min/max over that many tests: σ = (high - low) / d₂(tests)).
   std::vector<std::string> target_files;
-  std::vector<std::string> weights;   ///< "NAME=W", W >= 0 (tempers that target's likelihood term)
-  std::string model;                  ///< one metamodel for every target; empty: the best Q² per observable
-  int walkers = 0;                    ///< 0: the sampler's default (max(32, 4d))
-  int steps = 3000;                   ///< kept steps per walker
-  int burn_in = 1000;                 ///< discarded steps per walker
+  std::vector<std::string> weights;  ///< "NAME=W", W >= 0 (tempers that target's likelihood term)
+  std::string model;                 ///< one metamodel for every target; empty: the best Q² per observable
+  int walkers = 0;                   ///< 0: the sampler's default (max(32, 4d))
+  /// Kept steps per walker; 0 (the default): automatic, 3000 and then, while the chain is shorter than 50 τ,
+  /// run again with 60 τ steps (and a burn-in of at least 5 τ), within k_max_auto_draws values in memory.
+  int steps = 0;
+  int burn_in = 1000;                 ///< discarded steps per walker (automatic steps may raise it)
   std::optional<std::uint64_t> seed;  ///< empty: the first study's seed
   int verify = -1;                    ///< -1: no verification; K >= 0: the MAP and K posterior draws
   std::function<study::PointRun(const study::StudyConfig& config, const std::filesystem::path& folder,
@@ -47,6 +49,12 @@ struct PosteriorOptions {
   /// Throws util::UserError naming the option and the value.
   void validate() const;
 };
+
+/// Automatic steps: the first run's length, the most runs, and the most draw values (steps × walkers × (d + 1))
+/// held in memory (200 MB).
+inline constexpr int k_auto_first_steps = 3000;
+inline constexpr int k_auto_max_runs = 3;
+inline constexpr double k_max_auto_draws = 2.5e7;
 
 struct PosteriorParameter {
   std::string name;
@@ -95,7 +103,10 @@ struct PosteriorOutcome {
   double acceptance = 0.0;
   bool converged = false;
   std::string advice;
-  double seconds = 0.0;  ///< sampling wall time
+  /// Automatic steps: the steps of each run, the last kept (one entry when the first run converged); empty when
+  /// --steps was given.
+  std::vector<int> auto_steps;
+  double seconds = 0.0;  ///< sampling wall time, every run
   std::vector<VerifyPoint> verification;
   std::filesystem::path out;
 };

@@ -132,7 +132,9 @@ void register_calibrate_command(CLI::App& app, CliState& state) {
       ->expected(0, 1)
       ->default_str("0");
   sub->add_option("--walkers", args->posterior.walkers, "bayes: ensemble walkers (default max(32, 4 d))");
-  sub->add_option("--steps", args->posterior.steps, "bayes: kept steps per walker (default 3000)");
+  sub->add_option(
+      "--steps", args->posterior.steps,
+      "bayes: kept steps per walker (default 0: automatic, 3000 lengthened until >= 50 autocorrelation times)");
   sub->add_option("--burn-in", args->posterior.burn_in, "bayes: discarded steps per walker (default 1000)");
   sub->add_option("--seed", args->seed, "bayes: sampler seed (default: the first study's seed)");
   sub->add_option("--out", args->out, "bayes: output folder (default: DIR/calibration of the first study)");

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
+#include <vector>
 
 using namespace demsa::study;
 
@@ -20,7 +22,8 @@ namespace fs = std::filesystem;
 /// angle depends on mu_pw strongly and on mu_r_pw weakly (u coordinates of the study's own ranges).
 double angle_of(double u1, double u2) { return 21.0 + 12.0 * u1 + 0.3 * u2; }
 
-void write_pile(const fs::path& dir, const std::string& ranges, const std::string& name = "pile-synthetic") {
+void write_pile(const fs::path& dir, const std::string& ranges, const std::string& name = "pile-synthetic",
+                double (*angle)(double, double) = angle_of) {
   SyntheticStudy study = start_synthetic_study(
       dir,
       StudyToml{.name = name,
@@ -33,7 +36,7 @@ void write_pile(const fs::path& dir, const std::string& ranges, const std::strin
   for (const SampleRow& row : study.samples) {
     RunOutcome done;
     done.exit_code = 0;
-    study.store.record_done(study.store.add_run(row.sample, 1), done, {{"angle", angle_of(row.unit[0], row.unit[1])}});
+    study.store.record_done(study.store.add_run(row.sample, 1), done, {{"angle", angle(row.unit[0], row.unit[1])}});
   }
 }
 
@@ -94,6 +97,34 @@ TEST(CalibratePosteriorCli, TextOutputPrintsTheTableAndAShortChainIsReportedUnco
   EXPECT_NE(r.out.find("identified"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("NOT CONVERGED"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("raise --steps"), std::string::npos) << r.out;
+}
+
+/// The angle on a circle's arc: a target of it leaves a thin curved ridge, which the stretch move crosses slowly.
+double angle_on_arc(double u1, double u2) { return 21.0 + 12.0 * (u1 * u1 + u2 * u2); }
+
+TEST(CalibratePosteriorCli, TheDefaultLengthGrowsUntilTheChainHoldsFiftyAutocorrelationTimes) {
+  TempDir dir;
+  write_pile(dir / "study", k_ranges, "pile-arc", angle_on_arc);
+  const CommandResult r = run_demsa(
+      {"calibrate", (dir / "study").string(), "--target", "angle=27±0.2", "--model", "rsm2", "--json", "--no-plots"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const auto runs = j.at("sampler").at("auto_steps").get<std::vector<int>>();
+  ASSERT_GE(runs.size(), 2u) << j.at("sampler").dump();  // 3000 steps were not enough here
+  EXPECT_EQ(runs.front(), 3000);
+  EXPECT_EQ(runs.back(), j.at("sampler").at("steps").get<int>());
+  double max_tau = 0.0;
+  for (const auto& p : j.at("parameters")) max_tau = std::max(max_tau, p.at("tau").get<double>());
+  EXPECT_GE(runs.back(), 50.0 * max_tau);
+  EXPECT_TRUE(j.at("diagnostics").at("converged").get<bool>()) << j.at("diagnostics").dump();
+  // A fixed length is kept as given, and the same target then reports the short chain.
+  const CommandResult fixed = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=27±0.2", "--model",
+                                         "rsm2", "--steps", "3000", "--json", "--no-plots"});
+  ASSERT_EQ(fixed.exit_code, 0) << fixed.err;
+  const nlohmann::json k = nlohmann::json::parse(fixed.out);
+  EXPECT_EQ(k.at("sampler").at("steps").get<int>(), 3000);
+  EXPECT_TRUE(k.at("sampler").at("auto_steps").empty());
+  EXPECT_FALSE(k.at("diagnostics").at("converged").get<bool>()) << k.at("diagnostics").dump();
 }
 
 TEST(CalibratePosteriorCli, TwoStudiesShareTheIntersectionOfTheirRanges) {
