@@ -373,6 +373,80 @@ Eigen::VectorXd GaussianProcess::predict_sd(const Eigen::MatrixXd& x) const {
   return out;
 }
 
+Eigen::MatrixXd GaussianProcess::posterior_draws(const Eigen::MatrixXd& x, int count, std::uint64_t seed,
+                                                 int features) const {
+  assert(m_fitted && x.cols() == m_x.cols() && count >= 1 && features >= 1);
+  const Eigen::Index d = m_x.cols();
+  const Eigen::Index n = m_x.rows();
+  Random rng(seed);
+  // Random Fourier features (Rahimi & Recht 2007): k(h) = E[cos(ωᵀh)] for ω drawn from the kernel's spectral
+  // density. Squared exponential: ω_k ~ N(0, 1/θ_k²). Matérn 5/2: a multivariate Student t with 2ν = 5 degrees of
+  // freedom and scale 1/θ_k (Rasmussen & Williams 2006, eq. 4.15), ω_k = z_k / θ_k · √(5/χ²_5).
+  Eigen::MatrixXd omega(d, features);
+  for (int j = 0; j < features; ++j) {
+    double scale = 1.0;
+    if (m_options.kernel == GpKernel::matern52) {
+      double chi2 = 0.0;
+      for (int k = 0; k < 5; ++k) chi2 += std::pow(rng.normal(), 2);
+      scale = std::sqrt(5.0 / chi2);
+    }
+    for (Eigen::Index k = 0; k < d; ++k) omega(k, j) = rng.normal() * scale / m_lengths(k);
+  }
+  // Weight space: Z(x) = Σ_j a_j cos(ω_jᵀx) + b_j sin(ω_jᵀx), a_j, b_j ~ N(0, σ²/features).
+  Eigen::MatrixXd weights(2 * features, count);
+  const double weight_sd = std::sqrt(m_sigma2 / features);
+  for (Eigen::Index c = 0; c < count; ++c)
+    for (Eigen::Index j = 0; j < 2 * features; ++j) weights(j, c) = weight_sd * rng.normal();
+  const auto prior = [&](const Eigen::MatrixXd& p) {
+    const Eigen::ArrayXXd phase = (p * omega).array();
+    Eigen::MatrixXd phi(p.rows(), 2 * features);
+    phi.leftCols(features) = phase.cos().matrix();
+    phi.rightCols(features) = phase.sin().matrix();
+    return Eigen::MatrixXd(phi * weights);
+  };
+  // The prior draws at the training points plus the noise the nugget models (variance σ² τ).
+  Eigen::MatrixXd v = prior(m_x);
+  const double noise_sd = std::sqrt(m_sigma2 * m_nugget);
+  for (Eigen::Index c = 0; c < count; ++c)
+    for (Eigen::Index i = 0; i < n; ++i) v(i, c) += noise_sd * rng.normal();
+  // Universal Kriging of v (the same linear map of the data as predict()): β_v by GLS, α_v = R⁻¹(v - F β_v).
+  const Eigen::MatrixXd f = trend_basis(m_x);
+  const Eigen::MatrixXd rinv_f = m_llt.solve(f);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(f.transpose() * rinv_f);
+  const Eigen::MatrixXd beta_v = qr.solve(rinv_f.transpose() * v);
+  const Eigen::MatrixXd alpha_v = m_llt.solve(v - f * beta_v);
+
+  Eigen::MatrixXd out(x.rows(), count);
+  const Eigen::MatrixXd centres = scaled(m_x, m_lengths);
+  const Eigen::Index block = 1024;
+  for (Eigen::Index start = 0; start < x.rows(); start += block) {
+    const Eigen::Index rows = std::min(block, x.rows() - start);
+    const Eigen::MatrixXd xb = x.middleRows(start, rows);
+    const Eigen::MatrixXd fb = trend_basis(xb);
+    const Eigen::MatrixXd kb = cross_correlation(m_options.kernel, scaled(xb, m_lengths), centres);
+    const Eigen::VectorXd mean = fb * m_beta + kb * m_alpha;
+    out.middleRows(start, rows) = prior(xb) - fb * beta_v - kb * alpha_v;
+    out.middleRows(start, rows).colwise() += mean;
+  }
+  return out;
+}
+
+Eigen::VectorXd GaussianProcess::latent_variance(const Eigen::MatrixXd& x) const {
+  assert(m_fitted && x.cols() == m_x.cols());
+  const Eigen::MatrixXd r = cross_correlation(m_options.kernel, scaled(x, m_lengths), scaled(m_x, m_lengths));
+  const Eigen::MatrixXd rinv_r = m_llt.solve(r.transpose());
+  const Eigen::MatrixXd f = trend_basis(m_x);
+  const Eigen::MatrixXd rinv_f = m_llt.solve(f);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(f.transpose() * rinv_f);
+  // u = f(x) - Fᵀ R⁻¹ r(x): what the trend estimate adds (Santner, Williams & Notz 2003, eq. 3.4.4).
+  const Eigen::MatrixXd u = trend_basis(x).transpose() - f.transpose() * rinv_r;
+  const Eigen::MatrixXd a_inv_u = qr.solve(u);
+  Eigen::VectorXd out(x.rows());
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    out(i) = std::max(m_sigma2 * (1.0 - r.row(i).dot(rinv_r.col(i)) + u.col(i).dot(a_inv_u.col(i))), 0.0);
+  return out;
+}
+
 MetamodelSummary GaussianProcess::summary() const {
   assert(m_fitted);
   // Fitted values at the training points (with a nugget they differ from y).

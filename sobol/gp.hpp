@@ -11,6 +11,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <vector>
 
 namespace demsa::sobol {
@@ -37,6 +38,21 @@ class GaussianProcess final : public Metamodel {
   Eigen::VectorXd predict_precise(const Eigen::MatrixXd& x) const;
   /// Predictive standard deviation (without the trend-estimation term) at the rows of x.
   Eigen::VectorXd predict_sd(const Eigen::MatrixXd& x) const;
+  /// `count` joint draws (columns) of the latent function (without the noise of the nugget) at the rows of x from
+  /// the model's posterior at its fitted hyperparameters, β with a flat prior (universal Kriging), by Matheron's
+  /// rule: draw = predict(x) + Z(x) - K(Z(X) + ε), Z a prior draw, ε the noise at the training points, K the
+  /// Kriging predictor (Chilès & Delfiner 2012, "Geostatistics", §7.3.1, conditioning by Kriging; Wilson et al.
+  /// 2020, "Efficiently sampling functions from Gaussian process posteriors", ICML, eq. 8). Z is drawn in weight
+  /// space from `features` random Fourier features of the kernel, shared by the draws (Rahimi & Recht 2007,
+  /// "Random features for large-scale kernel machines", NeurIPS): the draws are functions, evaluated at any number
+  /// of points in O(points × features) without a Cholesky factor of the points' covariance. Their mean is predict(x)
+  /// exactly; their covariance is the posterior one up to the features' approximation of the kernel (relative
+  /// error about 1/√features in the prior, less near the data). Deterministic in `seed`; the same seed gives the
+  /// same functions, so calls on different x are consistent.
+  Eigen::MatrixXd posterior_draws(const Eigen::MatrixXd& x, int count, std::uint64_t seed, int features = 1000) const;
+  /// Posterior variance of the latent function at the rows of x, with the trend-estimation term (universal Kriging,
+  /// Santner, Williams & Notz 2003 eq. 3.4.4), the variance posterior_draws() samples.
+  Eigen::VectorXd latent_variance(const Eigen::MatrixXd& x) const;
   Eigen::VectorXd loo_residuals() const override { return m_loo; }
   MetamodelSummary summary() const override;
   std::unique_ptr<Metamodel> refit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const override;

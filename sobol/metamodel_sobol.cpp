@@ -1,5 +1,7 @@
 #include "sobol/metamodel_sobol.hpp"
 
+#include "sobol/enum_names.hpp"
+#include "sobol/gp.hpp"
 #include "sobol/random.hpp"
 
 #include <fmt/core.h>
@@ -7,6 +9,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <numbers>
 #include <set>
 
 namespace demsa::sobol {
@@ -34,13 +37,135 @@ SobolResult point_indices(const Metamodel& model, const SaltelliDesign& design, 
   return sobol_indices([&model](const Eigen::MatrixXd& x) { return model.predict(x); }, design, qmc);
 }
 
+const EnumNames<MetamodelInterval>& interval_names() {
+  static const EnumNames<MetamodelInterval> names{
+      "interval method",
+      {{MetamodelInterval::gp_posterior, "gp-posterior"}, {MetamodelInterval::design_bootstrap, "design-bootstrap"}}};
+  return names;
+}
+
+/// Quantile p in (0.5, 1) of the standard normal, by bisection on Φ(z) = erfc(-z/√2)/2 (to 1e-12).
+double normal_quantile(double p) {
+  double lo = 0.0, hi = 40.0;
+  while (hi - lo > 1e-12) {
+    const double mid = 0.5 * (lo + hi);
+    (0.5 * std::erfc(-mid / std::numbers::sqrt2) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+/// Sample standard deviation (n - 1 in the denominator); 0 for fewer than 2 values.
+double sample_sd(const std::vector<double>& v) {
+  if (v.size() < 2) return 0.0;
+  double mean = 0.0;
+  for (const double x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  double ss = 0.0;
+  for (const double x : v) ss += (x - mean) * (x - mean);
+  return std::sqrt(ss / static_cast<double>(v.size() - 1));
+}
+
+/// The replicates of every index of one result, in a fixed order: S1 (d), ST (d), residual, S2 (pairs).
+std::vector<double> flatten(const SobolResult& r) {
+  std::vector<double> out;
+  for (const IndexEstimate& e : r.first) out.push_back(e.value);
+  for (const IndexEstimate& e : r.total) out.push_back(e.value);
+  out.push_back(r.residual.value);
+  for (const SecondOrderIndex& e : r.second) out.push_back(e.s.value);
+  return out;
+}
+
+/// Every estimate of a result in the order of flatten().
+std::vector<IndexEstimate*> estimates(SobolResult& r) {
+  std::vector<IndexEstimate*> out;
+  for (IndexEstimate& e : r.first) out.push_back(&e);
+  for (IndexEstimate& e : r.total) out.push_back(&e);
+  out.push_back(&r.residual);
+  for (SecondOrderIndex& e : r.second) out.push_back(&e.s);
+  return out;
+}
+
+/// The GP-posterior interval (metamodel_sobol.hpp, after Le Gratiet, Cannamela & Iooss 2014, §3): `result` holds
+/// the indices of the posterior mean on `design`; `design_for(seed)` draws an independently scrambled design.
+template <typename DesignFor>
+void add_posterior_interval(const GaussianProcess& gp, const SaltelliDesign& design, const DesignFor& design_for,
+                            const MetamodelSobolOptions& options, SobolResult& result) {
+  const int d = design.dimension;
+  SobolOptions qmc;
+  qmc.second_order = options.second_order;
+  qmc.bootstrap = 0;
+  qmc.stop = options.stop;
+  const std::vector<IndexEstimate*> targets = estimates(result);
+  std::vector<std::vector<double>> draws(targets.size());
+  // The draws on the stacked design, in chunks of columns that keep the matrix near 4 M values (32 MB), each chunk
+  // with random features of its own.
+  const Eigen::MatrixXd stacked = design.stacked();
+  const int chunk =
+      std::clamp(static_cast<int>(4'000'000 / std::max<Eigen::Index>(stacked.rows(), 1)), 1, options.bootstrap);
+  Random chunk_seeds(options.seed ^ 0x9E3779B97F4A7C15ULL);
+  int succeeded = 0;
+  for (int done = 0; done < options.bootstrap; done += chunk) {
+    throw_if_stopped(options.stop);
+    const int count = std::min(chunk, options.bootstrap - done);
+    const Eigen::MatrixXd values = gp.posterior_draws(stacked, count, chunk_seeds.bits(), options.features);
+    for (int c = 0; c < count; ++c) {
+      SobolResult rep;
+      try {
+        rep = sobol_indices(split_responses(values.col(c), d, options.second_order), qmc);
+      } catch (const NumericalError&) {
+        continue;  // a draw of negligible variance has no indices
+      }
+      ++succeeded;
+      const std::vector<double> v = flatten(rep);
+      for (std::size_t k = 0; k < v.size(); ++k) draws[k].push_back(v[k]);
+    }
+  }
+  // The QMC error of the estimate: the posterior mean's indices on independently scrambled designs of the same N.
+  Random design_seeds(options.seed ^ 0x2545F4914F6CDD1DULL);
+  std::vector<std::vector<double>> scrambles(targets.size());
+  for (int q = 0; q < options.qmc_replicates; ++q) {
+    throw_if_stopped(options.stop);
+    const SaltelliDesign scrambled = design_for(design_seeds.bits());
+    const SobolResult rep = point_indices(gp, scrambled, options);
+    const std::vector<double> v = flatten(rep);
+    for (std::size_t k = 0; k < v.size(); ++k) scrambles[k].push_back(v[k]);
+  }
+  if (2 * succeeded < options.bootstrap) {
+    result.bootstrap = 0;
+    result.note = fmt::format("no interval: only {} of {} GP-posterior draws of {} had a variance", succeeded,
+                              options.bootstrap, gp.name());
+    return;
+  }
+  const double lo = 0.5 * (1.0 - options.confidence), hi = 0.5 * (1.0 + options.confidence);
+  const double z = normal_quantile(hi);
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    IndexEstimate& e = *targets[k];
+    const double median = percentile(draws[k], 0.5);
+    const double qmc_half = z * sample_sd(scrambles[k]);
+    e.lower = e.value - std::hypot(median - percentile(draws[k], lo), qmc_half);
+    e.upper = e.value + std::hypot(percentile(draws[k], hi) - median, qmc_half);
+  }
+  result.bootstrap = succeeded;
+  result.note = fmt::format(
+      "GP-posterior interval: {} draws of the posterior of {} at its fitted hyperparameters, QMC error from {} "
+      "scrambled designs added",
+      succeeded, gp.name(), options.qmc_replicates);
+}
+
 }  // namespace
+
+MetamodelInterval metamodel_interval_from_string(const std::string& name) { return interval_names().from_string(name); }
+std::string to_string(MetamodelInterval interval) { return interval_names().to_string(interval); }
+std::vector<std::string> metamodel_interval_names() { return interval_names().names(); }
 
 void MetamodelSobolOptions::validate() const {
   if (base < 2) throw InputError(fmt::format("sobol base = {}: must be at least 2", base));
   if (bootstrap < 0) throw InputError(fmt::format("sobol bootstrap = {}: must be >= 0", bootstrap));
   if (!(confidence > 0.0 && confidence < 1.0))
     throw InputError(fmt::format("sobol confidence = {}: must be in (0, 1)", confidence));
+  if (features < 1) throw InputError(fmt::format("sobol features = {}: must be at least 1", features));
+  if (qmc_replicates < 2)
+    throw InputError(fmt::format("sobol qmc_replicates = {}: must be at least 2", qmc_replicates));
 }
 
 SobolResult rsm_exact_indices(const PolynomialRsm& rsm) {
@@ -113,6 +238,15 @@ SobolResult metamodel_sobol(const Metamodel& fitted, const MetamodelSobolOptions
   const SaltelliDesign design = design_for(options.seed);
   SobolResult result = point_indices(fitted, design, options);
   if (!options.second_order) result.second.clear();
+
+  const auto* gp = dynamic_cast<const GaussianProcess*>(&fitted);
+  if (!exact && gp != nullptr && options.interval == MetamodelInterval::gp_posterior && options.bootstrap > 0) {
+    result.confidence = options.confidence;
+    result.seed = options.seed;
+    result.method = "metamodel-qmc";
+    add_posterior_interval(*gp, design, design_for, options, result);
+    return result;
+  }
 
   // Design bootstrap: refit on resampled training points, recompute on an independently scrambled design.
   Random rng(options.seed ^ 0xD1B54A32D192ED03ULL);

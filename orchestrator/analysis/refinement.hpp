@@ -3,15 +3,17 @@
 // cases go.
 //
 //   - check_refinement: for every observable, the metamodel with the largest Q² that gave indices with intervals
-//     (fit.hpp's ranking), and the largest half-width (upper − lower)/2 of its S1 and ST intervals (the design
-//     bootstrap of sobol/metamodel_sobol.hpp). The loop stops once every observable's is at most the target W.
+//     (fit.hpp's ranking), and the largest half-width (upper − lower)/2 of its S1 and ST intervals (those of
+//     `[analysis] interval`: the design bootstrap or the GP posterior, sobol/metamodel_sobol.hpp). The loop stops
+//     once every observable's is at most the target W.
 //   - choose_refinement_points: a Gaussian process (the study's [analysis] GP settings) fitted to each analysable
 //     observable, and a batch chosen by the largest summed integrated-variance reduction (ALC: Cohn 1996; Gramacy &
 //     Lee 2009) among space-filling candidates kept apart from every sample of the store (sobol::select_by_variance,
-//     sobol/augment.hpp). The Sobol' indices are variance ratios of the response integrated over the cube, and the
-//     design bootstrap that gives their intervals refits the metamodel on resampled points: both are surer where
-//     the metamodel's integrated variance is small. When no observable admits a GP (too few samples), the batch is
-//     a maximin Latin-hypercube extension of the samples instead (sobol::extend_lhs).
+//     sobol/augment.hpp). The Sobol' indices are variance ratios of the response integrated over the cube: they
+//     are surer where the metamodel's integrated variance is small (directly so for the GP-posterior interval,
+//     which draws from that variance). The candidates' correlations use each GP's fitted length scales (ARD), so
+//     the points spread along the inputs the response varies fastest in. When no observable admits a GP (too few
+//     samples), the batch is a maximin Latin-hypercube extension of the samples instead (sobol::extend_lhs).
 #include "orchestrator/analysis/analysis_json.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/store.hpp"

@@ -146,6 +146,7 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   sobol_options.base = summary.base_samples;
   sobol_options.second_order = summary.second_order;
   sobol_options.bootstrap = summary.bootstrap;
+  sobol_options.interval = config.analysis.interval;
   sobol_options.confidence = config.analysis.confidence;
   sobol_options.seed = config.seed;
   sobol_options.stop = options.should_stop;

@@ -7,12 +7,15 @@
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/study/config.hpp"
+#include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/store.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/process.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -32,7 +35,8 @@ namespace {
 
 struct CaseOptions {
   std::string study;              ///< the study file
-  int sample = -1;                ///< --sample K (0-based design row)
+  int sample = -1;                ///< --sample ID: a case id of the study (design, extension, refinement, replicate)
+  std::string dir;                ///< --dir: the study folder (default: the study file's name without .toml)
   std::vector<std::string> sets;  ///< --set name=value,...
   std::string output;             ///< -o DIR
   bool overwrite = false;         ///< --overwrite: empty a non-empty DIR first
@@ -67,6 +71,58 @@ std::vector<std::pair<std::string, double>> parse_sets(const std::vector<std::st
   return out;
 }
 
+/// "0-11, 1000001-1000002, 1001001": sorted ids, consecutive runs joined.
+std::string id_ranges(std::vector<int> ids) {
+  std::sort(ids.begin(), ids.end());
+  std::string out;
+  for (std::size_t i = 0; i < ids.size();) {
+    std::size_t j = i;
+    while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
+    out += (out.empty() ? "" : ", ") + (j == i ? std::to_string(ids[i]) : fmt::format("{}-{}", ids[i], ids[j]));
+    i = j + 1;
+  }
+  return out.empty() ? "none" : out;
+}
+
+/// The case of id `id` as `demsa run` writes it: a sample of the study folder's store (the design with what
+/// `demsa extend` and `demsa refine` added, and the replicate cases, ids as `demsa status` prints them), or, before
+/// the study has a folder, of the design and replicates drawn from the study file.
+CaseRequest request_for_sample(const StudyConfig& config, int id, const std::filesystem::path& dir) {
+  std::vector<SampleRow> samples;
+  std::vector<ReplicateRow> replicates;
+  std::string source;
+  if (std::filesystem::exists(dir / k_store_file)) {
+    const Store store = Store::open_read_only((dir / k_store_file).string());
+    samples = store.samples();
+    replicates = store.replicates();
+    source = fmt::format("study folder {}", dir.string());
+  } else {
+    // The study's design, drawn again from its seed exactly as `demsa run` draws it.
+    samples = draw_design(config);
+    replicates = replicate_rows(config, samples);
+    source = fmt::format("{} (no study folder {} yet)", config.file.string(), dir.string());
+  }
+  for (const SampleRow& s : samples)
+    if (s.sample == id) return request_from_unit_point(config, id, s.unit);
+  for (const ReplicateRow& r : replicates)
+    if (r.sample == id) {
+      CaseRequest request = request_from_unit_point(config, id, r.unit);
+      request.replicate_point = r.point;
+      request.replicate_repeat = r.repeat;
+      request.assembly_seed = r.seed;
+      return request;
+    }
+  std::vector<int> ids;
+  for (const SampleRow& s : samples) ids.push_back(s.sample);
+  std::string message = fmt::format("--sample {}: no such case in {}: design samples {}", id, source, id_ranges(ids));
+  if (!replicates.empty()) {
+    ids.clear();
+    for (const ReplicateRow& r : replicates) ids.push_back(r.sample);
+    message += fmt::format("; replicate cases {}", id_ranges(ids));
+  }
+  throw UserError(message);
+}
+
 void run_case(const CaseOptions& o, CliState& state) {
   StudyConfig config = load_study(o.study);
   // run.sh names the LIGGGHTS found for the study's rolling model; one without it is a warning here (the case may
@@ -74,12 +130,8 @@ void run_case(const CaseOptions& o, CliState& state) {
   resolve_liggghts(config, false);
   CaseRequest request;
   if (o.sample >= 0) {
-    if (o.sample >= config.samples)
-      throw UserError(
-          fmt::format("--sample {}: the study has {} samples (0 to {})", o.sample, config.samples, config.samples - 1));
-    // The study's design, drawn again from its seed exactly as `demsa run` draws it.
-    const std::vector<SampleRow> design = draw_design(config);
-    request = request_from_unit_point(config, o.sample, design.at(static_cast<std::size_t>(o.sample)).unit);
+    request =
+        request_for_sample(config, o.sample, o.dir.empty() ? default_study_dir(o.study) : std::filesystem::path(o.dir));
   } else {
     request = request_from_values(config, parse_sets(o.sets));
   }
@@ -116,7 +168,14 @@ void register_case_commands(CLI::App& app, CliState& state) {
       "case", "Write one LIGGGHTS case folder of a study, runnable by hand with `cd DIR && ./run.sh`");
   sub->add_option("study", options->study, "Study file (TOML)")->required()->check(CLI::ExistingFile);
   CLI::Option* sample =
-      sub->add_option("--sample", options->sample, "Design sample K (0-based)")->check(non_negative_number());
+      sub->add_option("--sample", options->sample,
+                      "Case ID of the study: a design sample (0-based), one added by `demsa extend` or `demsa "
+                      "refine`, or a replicate case (ids as `demsa status` prints them)")
+          ->check(non_negative_number());
+  CLI::Option* dir = sub->add_option("--dir", options->dir,
+                                     "Study folder whose samples --sample reads (default: the study file's name "
+                                     "without .toml; without a folder, the design drawn from the study file)");
+  dir->needs(sample);
   CLI::Option* set = sub->add_option("--set", options->sets,
                                      "Parameter values name=value[,name=value...]; varied parameters not named take "
                                      "the middle of their range");

@@ -6,6 +6,7 @@
 // Units are SI throughout (m, s, kg, Pa, N). The paper's mg-mm-ms values are converted in docs/study-file.md.
 #include "orchestrator/study/parameters.hpp"
 #include "sobol/metamodel.hpp"
+#include "sobol/metamodel_sobol.hpp"
 #include "sobol/scaling.hpp"
 
 #include <cstdint>
@@ -169,7 +170,10 @@ struct RunSettings {
 struct AnalysisSettings {
   std::vector<std::string> metamodels{"rsm2", "rsm3", "rbf-cubic", "rbf-tps", "gp"};
   bool second_order = true;
-  int bootstrap = 200;  ///< bootstrap resamples for confidence intervals
+  int bootstrap = 200;  ///< bootstrap resamples, or GP-posterior draws, for confidence intervals
+  /// How the intervals of metamodel indices are obtained (sobol/metamodel_sobol.hpp): the design bootstrap for every
+  /// metamodel (the default), or a GP's posterior draws for the gp metamodel.
+  sobol::MetamodelInterval interval = sobol::MetamodelInterval::design_bootstrap;
   double confidence = 0.95;
   int base_samples = 16384;  ///< QMC base N for metamodel-based indices
   /// The gp metamodel: kernel, trend and an estimated nugget (DEM responses are noisy: a nugget lets the GP smooth

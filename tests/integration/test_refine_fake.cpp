@@ -136,6 +136,22 @@ TEST(ExtendFake, ExtendCommandGrowsASobolDesignWithItsNextPoints) {
             0);
   const std::map<int, int> starts = starts_per_sample(tmp.path());
   for (int k = 0; k < 16; ++k) EXPECT_EQ(starts.count(k) ? starts.at(k) : 0, 1) << "sample " << k;
+  // `demsa case --sample` takes an added sample's id (the study file still says 8; the folder's store has 16) and
+  // writes the case `demsa run` ran; an id the study does not have is refused, naming the valid ones.
+  const test::CommandResult added = test::run_demsa(
+      {"case", (tmp / "study.toml").string(), "--sample", "13", "--dir", dir, "-o", (tmp / "case13").string()});
+  ASSERT_EQ(added.exit_code, 0) << added.out << added.err;
+  const auto case_json = [](const fs::path& folder) {
+    return nlohmann::json::parse(test::read_file(folder / "case.json"));
+  };
+  EXPECT_EQ(case_json(tmp / "case13").at("sample"), 13);
+  EXPECT_EQ(case_json(tmp / "case13").at("unit_point"), case_json(tmp / "study" / "cases" / "000013").at("unit_point"));
+  const test::CommandResult missing = test::run_demsa(
+      {"case", (tmp / "study.toml").string(), "--sample", "16", "--dir", dir, "-o", (tmp / "case16").string()});
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("--sample 16: no such case in study folder " + dir + ": design samples 0-15"),
+            std::string::npos)
+      << missing.err;
   // Same count: nothing to add; fewer: refused; not a number: refused by the option check.
   EXPECT_EQ(test::run_demsa({"extend", dir, "--samples", "16"}).exit_code, 0);
   const test::CommandResult shrink = test::run_demsa({"extend", dir, "--samples", "12"});

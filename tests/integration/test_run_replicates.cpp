@@ -98,6 +98,27 @@ TEST(RunReplicates, NoiseIsMeasuredSetsTheNuggetAndIsReported) {
   EXPECT_FALSE(a.contains("replicate"));
   EXPECT_EQ(b.at("replicate").at("point").get<int>(), 2);
   EXPECT_EQ(b.at("replicate").at("repeat").get<int>(), 1);
+  // `demsa case --sample` takes a replicate's id (as `demsa status` prints it) and writes that case again, with its
+  // assembly seed; before the study has a folder, the ids come from the study file's design and replicates.
+  const int id = replicate_sample_id(2, 1);
+  const test::CommandResult written = test::run_demsa(
+      {"case", (tmp / "study.toml").string(), "--sample", std::to_string(id), "-o", (tmp / "again").string()});
+  ASSERT_EQ(written.exit_code, 0) << written.out << written.err;
+  const nlohmann::json c = nlohmann::json::parse(test::read_file(tmp / "again" / "case.json"));
+  EXPECT_EQ(c.at("sample"), id);
+  EXPECT_EQ(c.at("replicate"), b.at("replicate"));
+  EXPECT_EQ(c.at("parameters"), b.at("parameters"));
+  EXPECT_EQ(c.at("assembly"), b.at("assembly"));
+  const test::CommandResult fresh =
+      test::run_demsa({"case", (tmp / "study.toml").string(), "--sample", std::to_string(id), "--dir",
+                       (tmp / "none").string(), "-o", (tmp / "fresh").string()});
+  ASSERT_EQ(fresh.exit_code, 0) << fresh.out << fresh.err;
+  EXPECT_EQ(nlohmann::json::parse(test::read_file(tmp / "fresh" / "case.json")).at("replicate"), b.at("replicate"));
+  const test::CommandResult unknown =
+      test::run_demsa({"case", (tmp / "study.toml").string(), "--sample", "1000005", "-o", (tmp / "unknown").string()});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("design samples 0-9; replicate cases 1000001-1000003, 1001001-1001003"), std::string::npos)
+      << unknown.err;
   EXPECT_NE(b.at("replicate").at("assembly_seed").get<std::uint64_t>(), a.at("seed").get<std::uint64_t>());
   EXPECT_NE(a.at("assembly"), b.at("assembly"));  // other radii: other extremes and volume
 

@@ -2,6 +2,7 @@
 // design bootstrap.
 #include "sobol/design.hpp"
 #include "sobol/error.hpp"
+#include "sobol/gp.hpp"
 #include "sobol/metamodel_sobol.hpp"
 #include "sobol/rsm.hpp"
 #include "sobol/stop.hpp"
@@ -9,8 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace demsa::sobol {
 namespace {
@@ -154,6 +157,110 @@ TEST(MetamodelSobol, IntervalsCarryTheQmcErrorOfTheEstimate) {
     }
   }
   EXPECT_GE(covered, 0.85 * total) << covered << " of " << total;
+}
+
+namespace posterior {
+
+// f = 4 u1 + sin(3 u2) + 0.2 u3 (the function of DesignBootstrapGivesIntervalsAroundTheEstimate): additive, so
+// S1 = ST = V_k / V with V1 = 16/12, V2 = var(sin 3u), V3 = 0.04/12.
+Eigen::VectorXd f(const Eigen::MatrixXd& x) {
+  Eigen::VectorXd y(x.rows());
+  for (Eigen::Index i = 0; i < x.rows(); ++i) y(i) = 4.0 * x(i, 0) + std::sin(3.0 * x(i, 1)) + 0.2 * x(i, 2);
+  return y;
+}
+std::vector<double> truth() {
+  const double v1 = 16.0 / 12, v2 = 0.5 - std::sin(6.0) / 12.0 - std::pow((1 - std::cos(3.0)) / 3.0, 2), v3 = 0.04 / 12;
+  return {v1 / (v1 + v2 + v3), v2 / (v1 + v2 + v3), v3 / (v1 + v2 + v3)};
+}
+double max_half_width(const SobolResult& r) {
+  double w = 0.0;
+  for (const auto* v : {&r.first, &r.total})
+    for (const IndexEstimate& e : *v) w = std::max(w, 0.5 * (e.upper - e.lower));
+  return w;
+}
+// A response that turns over along u1 (sin 2πu1), which a GP cannot extrapolate from a part of u1's range.
+Eigen::VectorXd wavy(const Eigen::MatrixXd& x) {
+  Eigen::VectorXd y(x.rows());
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    y(i) = std::sin(2.0 * 3.14159265358979323846 * x(i, 0)) + 0.5 * std::sin(3.0 * x(i, 1)) + 0.2 * x(i, 2);
+  return y;
+}
+SobolResult indices(const Eigen::MatrixXd& x, std::uint64_t seed, MetamodelInterval interval, bool turning = false) {
+  GpOptions g;
+  g.starts = 2;
+  GaussianProcess gp(g);
+  gp.fit(x, turning ? wavy(x) : f(x));
+  MetamodelSobolOptions o;
+  o.base = 1024;
+  o.bootstrap = 100;
+  o.seed = seed;
+  o.interval = interval;
+  return metamodel_sobol(gp, o);
+}
+
+}  // namespace posterior
+
+TEST(MetamodelSobol, GpPosteriorIntervalCoversTheTruthAndShrinksWithPoints) {
+  // A GP of a smooth 3-D function: the posterior interval must hold the true indices on most of 5 designs of 20
+  // points, and narrow by more than half from 12 to 40 points (the posterior variance falls faster than 1/√n for a
+  // smooth function).
+  const std::vector<double> t = posterior::truth();
+  int covered = 0, total = 0;
+  double width_12 = 0.0, width_40 = 0.0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const SobolResult r = posterior::indices(latin_hypercube(20, 3, seed), seed, MetamodelInterval::gp_posterior);
+    EXPECT_EQ(r.bootstrap, 100);
+    EXPECT_NE(r.note.find("GP-posterior interval"), std::string::npos) << r.note;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_LE(r.first[k].lower, r.first[k].value);
+      EXPECT_GE(r.first[k].upper, r.first[k].value);
+      covered += r.first[k].lower <= t[k] && t[k] <= r.first[k].upper;
+      covered += r.total[k].lower <= t[k] && t[k] <= r.total[k].upper;
+      total += 2;
+    }
+    width_12 += posterior::max_half_width(
+        posterior::indices(latin_hypercube(12, 3, seed), seed, MetamodelInterval::gp_posterior));
+    width_40 += posterior::max_half_width(
+        posterior::indices(latin_hypercube(40, 3, seed), seed, MetamodelInterval::gp_posterior));
+  }
+  EXPECT_GE(covered, 0.8 * total) << covered << " of " << total;
+  EXPECT_LT(width_40, 0.5 * width_12) << width_40 / 5 << " against " << width_12 / 5;
+}
+
+TEST(MetamodelSobol, GpPosteriorIntervalSeesWhereThePointsAre) {
+  // 20 points: spread over the cube, or with u1 crowded into [0, 0.4], of a response that turns over along u1. The
+  // GP cannot know the response over the rest of u1's range: its posterior interval must be wider than for the
+  // spread design, by more than a design bootstrap of the same two designs tells them apart.
+  const Eigen::MatrixXd spread = latin_hypercube(20, 3, 4);
+  Eigen::MatrixXd crowded = spread;
+  crowded.col(0) *= 0.4;
+  const auto width = [](const Eigen::MatrixXd& x, MetamodelInterval interval) {
+    return posterior::max_half_width(posterior::indices(x, 4, interval, true));
+  };
+  const double posterior_spread = width(spread, MetamodelInterval::gp_posterior);
+  const double posterior_crowded = width(crowded, MetamodelInterval::gp_posterior);
+  const double bootstrap_spread = width(spread, MetamodelInterval::design_bootstrap);
+  const double bootstrap_crowded = width(crowded, MetamodelInterval::design_bootstrap);
+  EXPECT_GT(posterior_crowded, 3.0 * posterior_spread) << posterior_crowded << " against " << posterior_spread;
+  EXPECT_GT(posterior_crowded / posterior_spread, bootstrap_crowded / bootstrap_spread)
+      << bootstrap_crowded << " against " << bootstrap_spread;
+}
+
+TEST(MetamodelSobol, IntervalMethodNames) {
+  EXPECT_EQ(metamodel_interval_from_string("gp-posterior"), MetamodelInterval::gp_posterior);
+  EXPECT_EQ(to_string(MetamodelInterval::design_bootstrap), "design-bootstrap");
+  try {
+    metamodel_interval_from_string("posterior");
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("valid: gp-posterior, design-bootstrap"), std::string::npos) << e.what();
+  }
+  MetamodelSobolOptions o;
+  o.qmc_replicates = 1;
+  EXPECT_THROW(o.validate(), InputError);
+  o.qmc_replicates = 2;
+  o.features = 0;
+  EXPECT_THROW(o.validate(), InputError);
 }
 
 TEST(MetamodelSobol, StopRequestEndsTheRefits) {

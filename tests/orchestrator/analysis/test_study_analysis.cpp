@@ -10,7 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
+#include <string>
 
 using namespace demsa::study;
 using namespace demsa::analysis;
@@ -21,8 +23,9 @@ namespace fs = std::filesystem;
 
 /// DIR/study.toml and DIR/study.db with 20 done samples whose angle and pile height are the given functions.
 void write_study(const fs::path& dir, const std::function<double(double, double)>& angle,
-                 const std::function<double(double, double)>& height) {
-  const StudyToml toml{.name = "synthetic", .seed = 7, .samples = 20};
+                 const std::function<double(double, double)>& height, const std::string& analysis = "") {
+  StudyToml toml{.name = "synthetic", .seed = 7, .samples = 20};
+  if (!analysis.empty()) toml.analysis = analysis;
   SyntheticStudy study = start_synthetic_study(dir, toml.text(), 5);
   for (const SampleRow& row : study.samples) {
     const long run = study.store.add_run(row.sample, 1);
@@ -62,6 +65,33 @@ TEST(StudyAnalysis, ConstantObservableIsItsOwnErrorAndTheOthersAreAnalysed) {
   const AnalysisSummary back = read_analysis(dir / "analysis" / "analysis.json");
   EXPECT_EQ(observable(back, "pile_height").error, height.error);
   EXPECT_NE(s1_table_text(summary, height).find("not analysed: constant observable"), std::string::npos);
+}
+
+TEST(StudyAnalysis, IntervalSettingChoosesTheGpPosteriorInterval) {
+  // [analysis] interval: the gp metamodel's indices get the GP-posterior interval (its note says so, in
+  // analysis.json too); the default keeps the design bootstrap.
+  const auto angle = [](double u1, double u2) { return 22.0 + 14.0 * u2 + 5.0 * std::sin(3.0 * u1); };
+  const auto height = [](double u1, double u2) { return 0.01 + 0.002 * u1 + 0.001 * u2 * u2; };
+  for (const bool posterior : {false, true}) {
+    SCOPED_TRACE(posterior);
+    TempDir dir;
+    write_study(dir.path(), angle, height,
+                std::string("metamodels = [\"gp\"]\n") + (posterior ? "interval = \"gp-posterior\"\n" : ""));
+    AnalyzeOptions options;
+    options.dir = dir.path();
+    options.bootstrap = 20;
+    options.base_samples = 256;
+    const AnalysisSummary summary = analyze_study(options);
+    const ObservableAnalysis& a = observable(summary, "angle");
+    ASSERT_EQ(a.models.size(), 1u);
+    ASSERT_TRUE(a.models[0].ok) << a.models[0].error;
+    EXPECT_EQ(a.models[0].indices.note.find("GP-posterior interval") != std::string::npos, posterior)
+        << a.models[0].indices.note;
+    EXPECT_EQ(a.models[0].indices.bootstrap, 20);
+    EXPECT_LT(a.models[0].indices.first[0].lower, a.models[0].indices.first[0].upper);
+    const AnalysisSummary back = read_analysis(dir / "analysis" / "analysis.json");
+    EXPECT_EQ(observable(back, "angle").models[0].indices.note, a.models[0].indices.note);
+  }
 }
 
 TEST(StudyAnalysis, NothingAnalysedNamesEveryObservable) {

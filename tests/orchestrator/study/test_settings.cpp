@@ -175,7 +175,8 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
       {"contact", "rolling_model, rolling_damping, rolling_stiffness, viscous_unit"},
       {"run", "executor, ranks, parallel, oversubscribe, timeout, retries, lost_fraction, liggghts, mpirun, slurm"},
       {"run.slurm", "mode, partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval"},
-      {"analysis", "metamodels, second_order, bootstrap, confidence, base_samples, gp_kernel, gp_trend, gp_nugget"},
+      {"analysis",
+       "metamodels, second_order, bootstrap, interval, confidence, base_samples, gp_kernel, gp_trend, gp_nugget"},
   };
   std::size_t rows = 0;
   for (const auto& [section, list] : keys) {
