@@ -142,17 +142,25 @@ int drive_oedometer(const std::filesystem::path& case_dir) {
 
   long steps = 0;
   bool all_converged = true;
+  // The backup is written only when the state has moved on since it was written. Right after a restore the state is
+  // the backup's, and LIGGGHTS 3.8.0 must not write a restart then: FixContactHistoryMesh::write_restart sorts the
+  // mesh contact histories up to each particle's current mesh-neighbour count before any run has rebuilt them for
+  // it (pre_exchange skips that sort while `recent_restart` is set; write_restart does not), a read past the end
+  // that crashed the trial-step plate at random.
+  bool backup_is_current = false;
   for (const double load : options.loads) {
     double step = options.step0;
     double force = NAN;
     bool converged = false;
     for (int trial = 1; trial <= options.max_trials && !converged; ++trial) {
-      lmp.command("write_restart backup.restart");
+      if (!backup_is_current) lmp.command("write_restart backup.restart");
+      backup_is_current = true;
       const double z_backup = z;
       // Trial move: the plate travels δ down at constant speed during the n_s steps.
       lmp.command(fmt::format("fix trial_move all move/mesh mesh plate linear 0. 0. {:.17g}",
                               -step / (static_cast<double>(options.trial_steps) * options.dt)));
       lmp.command(fmt::format("run {}", options.trial_steps));
+      backup_is_current = false;
       lmp.command("unfix trial_move");
       z -= step;
       steps += options.trial_steps;
@@ -176,6 +184,7 @@ int drive_oedometer(const std::filesystem::path& case_dir) {
           lmp.command("variable restart_file string backup.restart");
           lmp.file("params.liggghts");
           lmp.file("oedometer_restore.liggghts");
+          backup_is_current = true;  // the state is the backup's again
           step = reduced_trial_step(options, step, load, residual);
         }
       }
@@ -187,6 +196,7 @@ int drive_oedometer(const std::filesystem::path& case_dir) {
       // The last restore left the backup state: its force is read after one step (never right after a
       // restore, where the mesh force is not yet computed).
       lmp.command("run 1");
+      backup_is_current = false;
       steps += 1;
       force = lmp.fix_vector("plate", 2);
     }
