@@ -1,34 +1,63 @@
 #!/bin/bash
-# Atom-steps per pile observable: the paper's schedule (§3.2: settle a fixed 600 ms, nothing removed) against the
-# settling criterion with removal of the particles that fall off the pedestal ([pile] settle_speed, remove_fallen),
-# at the paper's pedestal (r_cy = 50 mm), particle set 1, one-at-a-time baseline of issue 15 (E = 1e8 Pa, nu = 0.3,
-# mu_PP = 1.3, mu_PW = 1.15, e_r = 0.4, mu_R,PP = mu_R,PW = 0.275, cdt). One LIGGGHTS rank per run, runs one after
-# another.
+# Atom-steps per pile observable: the paper's schedule (§3.2: discs of 20 mm appended at 100 mm one every
+# sqrt(4 r_U/|g|), settle a fixed 600 ms, nothing removed) against demsa's settling criterion with removal of the
+# particles that fall off the pedestal ([pile] settle_speed, remove_fallen), with the paper's pour ("criterion") and
+# with the quickstart's central stream (discs of 32 mm appended at 60 mm, "stream"). The paper's pedestal
+# (r_cy = 50 mm), particle set 1, the one-at-a-time baseline of issue 15 (E = 1e8 Pa, nu = 0.3, mu_PP = 1.3,
+# mu_PW = 1.15, e_r = 0.4, mu_R,PP = mu_R,PW = 0.275, cdt), one LIGGGHTS rank per run. Each schedule runs once per
+# packing seed (the study seed draws the radii and the positions), so that the angles' run-to-run noise is measured
+# beside the difference between schedules.
 #
-# Usage: bench/pile-atom-steps.sh [DEMSA] [PARTICLE COUNTS...]     (default: build/orchestrator/demsa, 1200 2400)
-# Prints one row per run: particles, schedule, steps, atom-steps (sum over runs of steps x atoms at the end of each
-# `run`, from the LIGGGHTS log), loop CPU seconds, angle, pile height, settled, removed, and the ratio of the
-# criterion's atom-steps to the paper's.
+# Usage: bench/pile-atom-steps.sh [DEMSA] [--seeds "S1 S2 ..."] [--jobs J] [--schedules "paper criterion stream"]
+#                                 [PARTICLE COUNTS...]
+#   defaults: build/orchestrator/demsa, seeds "20240501 7 11", 1 job, all three schedules, counts 1200 2400.
+#   Atom-steps do not depend on the load, so --jobs 2 may run two cases at once; CPU seconds then do.
+# Prints one row per run: particles, schedule, seed, steps, atom-steps (sum over the LIGGGHTS `run`s of steps x
+# atoms at the end of each, from the log), loop CPU seconds, angle (§3.3), pile height, settled, removed; then per
+# particle count and schedule the mean atom-steps and their ratio to the paper's, the mean angle, the sample
+# standard deviation of single runs, and the difference to the paper's mean angle with its standard error.
 set -euo pipefail
-demsa=${1:-build/orchestrator/demsa}
-shift || true
-counts=("$@")
+demsa=build/orchestrator/demsa
+seeds=(20240501 7 11)
+jobs=1
+schedules=(paper criterion stream)
+counts=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --seeds) read -r -a seeds <<< "$2"; shift 2 ;;
+    --jobs) jobs=$2; shift 2 ;;
+    --schedules) read -r -a schedules <<< "$2"; shift 2 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -*) echo "pile-atom-steps: unknown option '$1'" >&2; exit 2 ;;
+    *) if [[ $1 =~ ^[0-9]+$ ]]; then counts+=("$1"); else demsa=$1; fi; shift ;;
+  esac
+done
 [ ${#counts[@]} -eq 0 ] && counts=(1200 2400)
+[[ $jobs =~ ^[1-9][0-9]*$ ]] || { echo "pile-atom-steps: --jobs: expected a positive integer, got '$jobs'" >&2; exit 2; }
+for s in "${schedules[@]}"; do
+  case $s in paper|criterion|stream) ;; *) echo "pile-atom-steps: unknown schedule '$s' (paper, criterion, stream)" >&2; exit 2 ;; esac
+done
 demsa=$(realpath "$demsa")
 work=$(mktemp -d -t pile-atom-steps.XXXXXX)
-echo "# work dir $work; load average $(cat /proc/loadavg)"
-printf "%-9s %-10s %9s %12s %8s %7s %7s %8s %8s\n" particles schedule steps atom_steps cpu_s angle h_P_mm settled removed
-for n in "${counts[@]}"; do
-  declare -A atomsteps=()
-  for schedule in paper criterion; do
-    if [ "$schedule" = paper ]; then extra="settle_speed = 0
-remove_fallen = false"; else extra="settle_speed = 0.02
-remove_fallen = true"; fi
-    cat > "$work/$schedule-$n.toml" <<TOML
+echo "# work dir $work; load average $(cat /proc/loadavg); $(date -u '+%Y-%m-%d %H:%M UTC')"
+
+schedule_keys() {
+  case $1 in
+    paper) printf 'settle_speed = 0\nremove_fallen = false\n' ;;
+    criterion) printf 'settle_speed = 0.02\nsettle_check_time = 0.01\nremove_fallen = true\n' ;;
+    stream) printf 'disc_radius = 0.032\nfill_height = 0.06\nsettle_speed = 0.02\nsettle_check_time = 0.01\nremove_fallen = true\n' ;;
+  esac
+}
+
+# One run: writes its row to $work/rows/<n>-<schedule>-<seed>.
+run_one() {
+  local n=$1 schedule=$2 seed=$3
+  local name=$schedule-$n-$seed
+  cat > "$work/$name.toml" <<TOML
 [study]
 name = "pile-atom-steps"
 experiment = "pile"
-seed = 20240501
+seed = $seed
 [design]
 method = "lhs"
 samples = 2
@@ -45,20 +74,65 @@ mu_r_pw = 0.275
 preset = "set1"
 particles = $n
 settle_time = 0.6
-$extra
+$(schedule_keys "$schedule")
 [run]
 ranks = 1
 TOML
-    dir="$work/$schedule-$n"
-    "$demsa" case "$work/$schedule-$n.toml" --set E=1e8 -o "$dir" > /dev/null
-    "$dir/run.sh"
-    read -r steps asteps cpu < <(awk '/^Loop time of/ {c += $4; s += $9; a += $9 * $12} END {printf "%d %.0f %.1f\n", s, a, c}' "$dir/log.liggghts")
-    angle=$("$demsa" postprocess pile "$dir" --pedestal-radius 0.05 --json | python3 -c 'import json,sys; j=json.load(sys.stdin); print("%.2f %.1f" % (j["angle_deg"], 1e3*j["pile_height_m"]))')
-    settled=$(awk '$1 == "settled" {print $2}' "$dir/pile_settling.txt")
-    removed=$(awk '$1 == "removed" {print $2}' "$dir/pile_settling.txt")
-    atomsteps[$schedule]=$asteps
-    printf "%-9s %-10s %9s %12s %8s %7s %7s %8s %8s\n" "$n" "$schedule" "$steps" "$asteps" "$cpu" $angle "$settled" "$removed"
+  local dir=$work/$name
+  "$demsa" case "$work/$name.toml" --set E=1e8 -o "$dir" > /dev/null
+  "$dir/run.sh" > "$dir/run.out" 2>&1 || { echo "pile-atom-steps: $name failed (see $dir)" >&2; return 1; }
+  local steps asteps cpu angle settled removed
+  read -r steps asteps cpu < <(awk '/^Loop time of/ {c += $4; s += $9; a += $9 * $12} END {printf "%d %.0f %.1f\n", s, a, c}' "$dir/log.liggghts")
+  angle=$("$demsa" postprocess pile "$dir" --json | python3 -c 'import json,sys; j=json.load(sys.stdin); print("%.2f %.1f" % (j["angle_deg"], 1e3*j["pile_height_m"]))')
+  settled=$(awk '$1 == "settled" {print $2}' "$dir/pile_settling.txt")
+  removed=$(awk '$1 == "removed" {print $2}' "$dir/pile_settling.txt")
+  printf "%-9s %-10s %9s %9s %12s %8s %7s %7s %8s %8s\n" "$n" "$schedule" "$seed" "$steps" "$asteps" "$cpu" $angle \
+    "$settled" "$removed" | tee "$work/rows/$n-$schedule-$seed"
+}
+
+mkdir -p "$work/rows"
+printf "%-9s %-10s %9s %9s %12s %8s %7s %7s %8s %8s\n" particles schedule seed steps atom_steps cpu_s angle h_P_mm \
+  settled removed
+running=0
+for n in "${counts[@]}"; do
+  for schedule in "${schedules[@]}"; do
+    for seed in "${seeds[@]}"; do
+      run_one "$n" "$schedule" "$seed" &
+      running=$((running + 1))
+      if [ $running -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
+    done
   done
-  echo "# $n particles: criterion / paper atom-steps = $(python3 -c "print('%.3f' % (${atomsteps[criterion]} / ${atomsteps[paper]}))")"
 done
+wait
+
+echo "# summary: mean over seeds; ratio = mean atom-steps / the paper's; sd = sample standard deviation of one run's"
+echo "# angle; diff = mean angle - the paper's mean angle, se = its standard error (sqrt(sd^2/k + sd_paper^2/k_paper))"
+cat "$work"/rows/* | python3 -c '
+import collections, math, sys
+rows = collections.defaultdict(list)
+for line in sys.stdin:
+    f = line.split()
+    rows[(int(f[0]), f[1])].append((float(f[4]), float(f[6])))
+def stats(v):
+    m = sum(v) / len(v)
+    sd = math.sqrt(sum((x - m) ** 2 for x in v) / (len(v) - 1)) if len(v) > 1 else float("nan")
+    return m, sd
+print("%-9s %-10s %5s %12s %7s %8s %6s %7s %6s" % ("particles", "schedule", "runs", "atom_steps", "ratio", "angle", "sd", "diff", "se"))
+for n in sorted({k[0] for k in rows}):
+    paper = rows.get((n, "paper"))
+    pa = stats([r[0] for r in paper]) if paper else None
+    pang = stats([r[1] for r in paper]) if paper else None
+    for s in ("paper", "criterion", "stream"):
+        if (n, s) not in rows: continue
+        v = rows[(n, s)]
+        a, _ = stats([r[0] for r in v])
+        m, sd = stats([r[1] for r in v])
+        ratio = "%.3f" % (a / pa[0]) if pa else "-"
+        if pang and s != "paper":
+            se = math.sqrt(sd ** 2 / len(v) + pang[1] ** 2 / len(paper))
+            diff, ses = "%+.2f" % (m - pang[0]), "%.2f" % se
+        else:
+            diff, ses = "-", "-"
+        print("%-9d %-10s %5d %12.3g %7s %8.2f %6.2f %7s %6s" % (n, s, len(v), a, ratio, m, sd, diff, ses))
+'
 echo "# load average at the end $(cat /proc/loadavg)"
