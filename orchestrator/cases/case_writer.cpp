@@ -387,8 +387,9 @@ std::string run_script(const StudyConfig& c, const CaseRequest& request) {
       "# Open MPI refuses to run as root unless told to.\n"
       "root_flag=()\n"
       "if [ \"$(id -u)\" -eq 0 ]; then root_flag=(--allow-run-as-root); fi\n"
-      "# Line-buffered output: the last lines before an MPI abort are not lost.\n"
-      "stdbuf -oL -eL {mpirun} ${{root_flag[@]+\"${{root_flag[@]}}\"}} -np {ranks} {program}\n"
+      "# Line-buffered output: the last lines before an MPI abort are not lost. No binding: Open MPI binds the ranks\n"
+      "# of each mpirun to cores counted from core 0, so cases run side by side would all share the first cores.\n"
+      "stdbuf -oL -eL {mpirun} ${{root_flag[@]+\"${{root_flag[@]}}\"}} --bind-to none -np {ranks} {program}\n"
       "status=$?\n"
       "exit $status\n",
       fmt::arg("log", k_case_log), fmt::arg("screen", k_case_screen), fmt::arg("mpirun", shell_quote(c.run.mpirun)),

@@ -86,7 +86,8 @@ TEST(CaseWriter, PileCaseHasEveryFile) {
   EXPECT_NE(run.find("set -u"), std::string::npos);
   EXPECT_NE(run.find("cd \"$(dirname \"$0\")\""), std::string::npos);
   EXPECT_NE(run.find("stdbuf -oL -eL 'mpirun'"), std::string::npos);
-  EXPECT_NE(run.find("-np 1 'liggghts' -in in.liggghts -log log.liggghts -screen screen.txt"), std::string::npos);
+  EXPECT_NE(run.find("--bind-to none -np 1 'liggghts' -in in.liggghts -log log.liggghts -screen screen.txt"),
+            std::string::npos);
   EXPECT_EQ(run.find("-screen none"), std::string::npos);
 }
 
