@@ -9,8 +9,9 @@
 # beside the difference between schedules.
 #
 # Usage: bench/pile-atom-steps.sh [DEMSA] [--seeds "S1 S2 ..."] [--jobs J] [--schedules "paper criterion stream"]
-#                                 [PARTICLE COUNTS...]
-#   defaults: build/orchestrator/demsa, seeds "20240501 7 11", 1 job, all three schedules, counts 1200 2400.
+#                                 [--settle-speed S] [--stream-fill-height H] [PARTICLE COUNTS...]
+#   defaults: build/orchestrator/demsa, seeds "20240501 7 11", 1 job, all three schedules, settle_speed 0.02 (the
+#   quickstart's) for the criterion and the stream, the stream's fill_height 0.06 m, counts 1200 2400.
 #   Atom-steps do not depend on the load, so --jobs 2 may run two cases at once; CPU seconds then do.
 # Prints one row per run: particles, schedule, seed, steps, atom-steps (sum over the LIGGGHTS `run`s of steps x
 # atoms at the end of each, from the log), loop CPU seconds, angle (§3.3), pile height, settled, removed; then per
@@ -21,13 +22,17 @@ demsa=build/orchestrator/demsa
 seeds=(20240501 7 11)
 jobs=1
 schedules=(paper criterion stream)
+settle_speed=0.02
+stream_fill_height=0.06
 counts=()
 while [ $# -gt 0 ]; do
   case $1 in
     --seeds) read -r -a seeds <<< "$2"; shift 2 ;;
     --jobs) jobs=$2; shift 2 ;;
     --schedules) read -r -a schedules <<< "$2"; shift 2 ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    --settle-speed) settle_speed=$2; shift 2 ;;
+    --stream-fill-height) stream_fill_height=$2; shift 2 ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
     -*) echo "pile-atom-steps: unknown option '$1'" >&2; exit 2 ;;
     *) if [[ $1 =~ ^[0-9]+$ ]]; then counts+=("$1"); else demsa=$1; fi; shift ;;
   esac
@@ -39,13 +44,14 @@ for s in "${schedules[@]}"; do
 done
 demsa=$(realpath "$demsa")
 work=$(mktemp -d -t pile-atom-steps.XXXXXX)
-echo "# work dir $work; load average $(cat /proc/loadavg); $(date -u '+%Y-%m-%d %H:%M UTC')"
+echo "# settle_speed $settle_speed (criterion, stream), stream fill_height $stream_fill_height; work dir $work; load average $(cat /proc/loadavg); $(date -u '+%Y-%m-%d %H:%M UTC')"
 
 schedule_keys() {
   case $1 in
     paper) printf 'settle_speed = 0\nremove_fallen = false\n' ;;
-    criterion) printf 'settle_speed = 0.02\nsettle_check_time = 0.01\nremove_fallen = true\n' ;;
-    stream) printf 'disc_radius = 0.032\nfill_height = 0.06\nsettle_speed = 0.02\nsettle_check_time = 0.01\nremove_fallen = true\n' ;;
+    criterion) printf 'settle_speed = %s\nsettle_check_time = 0.01\nremove_fallen = true\n' "$settle_speed" ;;
+    stream) printf 'disc_radius = 0.032\nfill_height = %s\nsettle_speed = %s\nsettle_check_time = 0.01\nremove_fallen = true\n' \
+      "$stream_fill_height" "$settle_speed" ;;
   esac
 }
 
