@@ -110,6 +110,9 @@ for n in "${counts[@]}"; do
   done
 done
 wait
+expected=$(( ${#counts[@]} * ${#schedules[@]} * ${#seeds[@]} ))
+got=$(find "$work/rows" -type f | wc -l)
+if [ "$got" -eq 0 ]; then echo "pile-atom-steps: no run finished (see $work)" >&2; exit 1; fi
 
 echo "# summary: mean over seeds; ratio = mean atom-steps / the paper's; sd = sample standard deviation of one run's"
 echo "# angle; diff = mean angle - the paper's mean angle, se = its standard error (sqrt(sd^2/k + sd_paper^2/k_paper))"
@@ -142,3 +145,4 @@ for n in sorted({k[0] for k in rows}):
         print("%-9d %-10s %5d %12.3g %7s %8.2f %6.2f %7s %6s" % (n, s, len(v), a, ratio, m, sd, diff, ses))
 '
 echo "# load average at the end $(cat /proc/loadavg)"
+if [ "$got" -ne "$expected" ]; then echo "pile-atom-steps: $((expected - got)) of $expected runs failed (see $work)" >&2; exit 1; fi
