@@ -17,6 +17,14 @@
 
 namespace demsa::cases {
 
+/// Empties the case folder `folder` for a new attempt of its case: afterwards `folder` does not exist. A task of an
+/// earlier attempt may still be shutting down and writing there (a cancelled SLURM task's mpirun writing its last
+/// lines), so removing the folder in place can fail ("Directory not empty") or leave its files in the new attempt:
+/// the folder is renamed into the hidden `.stale/` beside it first (atomic; the old processes go on writing into the
+/// renamed folder), and then everything in `.stale/` that can be removed is. Throws util::IoError when the folder
+/// cannot be moved.
+void clear_case_folder(const std::filesystem::path& folder);
+
 /// The final dump a finished case of `experiment` leaves in its folder.
 std::string final_dump_name(study::Experiment experiment);
 

@@ -23,8 +23,7 @@ namespace fs = std::filesystem;
 study::PointRun run_point(const study::StudyConfig& config, const fs::path& where, const std::vector<double>& unit) {
   study::PointRun run;
   const fs::path folder = fs::absolute(where);
-  std::error_code ignored;
-  fs::remove_all(folder, ignored);
+  clear_case_folder(folder);
   cases::CaseRequest request = cases::request_from_unit_point(config, -1, unit);
   request.demsa_executable = util::self_executable();
   if (const auto info = query_liggghts()) request.liggghts_version = info->version;

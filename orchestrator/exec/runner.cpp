@@ -221,27 +221,6 @@ std::vector<ReplicateRow> replicate_rows(const StudyConfig& config, const std::v
   return rows;
 }
 
-void clear_case_folder(const fs::path& folder) {
-  std::error_code ec;
-  if (!fs::exists(fs::symlink_status(folder, ec))) return;
-  const fs::path stale = folder.parent_path() / ".stale";
-  fs::create_directories(stale, ec);
-  if (ec) throw util::IoError(fmt::format("{}: cannot create: {}", stale.string(), ec.message()));
-  // One demsa holds a study at a time (study::StudyLock): a clock reading and a count make the name unique.
-  const auto clock = std::chrono::steady_clock::now().time_since_epoch().count();
-  fs::path aside;
-  for (int k = 0; aside.empty() || fs::exists(fs::symlink_status(aside, ec)); ++k)
-    aside = stale / fmt::format("{}-{}-{}", folder.filename().string(), clock, k);
-  fs::rename(folder, aside, ec);
-  if (ec)
-    throw util::IoError(fmt::format("{}: cannot move aside for a new attempt: {}", folder.string(), ec.message()));
-  // This folder and what earlier attempts left: whatever is still being written to stays for a later call.
-  for (fs::directory_iterator it(stale, ec), end; !ec && it != end; it.increment(ec)) {
-    std::error_code ignored;
-    fs::remove_all(it->path(), ignored);
-  }
-}
-
 // ----------------------------------------------------------------------------------------------- run_study
 
 namespace {

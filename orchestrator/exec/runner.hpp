@@ -89,14 +89,6 @@ struct RunSummary {
 /// new_study), a study folder another demsa run holds, or submit_only / collect_only with the local executor.
 RunSummary run_study(const RunOptions& options);
 
-/// Empties the case folder `folder` for a new attempt of its case: afterwards `folder` does not exist. A task of an
-/// earlier attempt may still be shutting down and writing there (a cancelled SLURM task's mpirun writing its last
-/// lines), so removing the folder in place can fail ("Directory not empty") or leave its files in the new attempt:
-/// the folder is renamed into the hidden `.stale/` beside it first (atomic; the old processes go on writing into the
-/// renamed folder), and then everything in `.stale/` that can be removed is. Throws util::IoError when the folder
-/// cannot be moved.
-void clear_case_folder(const std::filesystem::path& folder);
-
 /// The study's design: the unit-cube points of config.design drawn from config.seed, with their physical values.
 /// Deterministic: an optimised LHS runs a fixed number of iterations (no wall-clock limit), so `demsa run` and
 /// `demsa case --sample K` draw the same points on any machine and under any load.

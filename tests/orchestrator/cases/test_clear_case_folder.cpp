@@ -1,6 +1,6 @@
-// exec::clear_case_folder: a case folder is emptied for a new attempt even while a process of the old attempt still
+// cases::clear_case_folder: a case folder is emptied for a new attempt even while a process of the old attempt still
 // writes into it (a cancelled SLURM task shutting down), and what it leaves behind is removed by a later call.
-#include "orchestrator/exec/runner.hpp"
+#include "orchestrator/cases/case_writer.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "support/test_support.hpp"
 
@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
+#include <iterator>
 #include <string>
 #include <thread>
 
@@ -17,18 +19,11 @@ namespace demsa::test {
 namespace {
 namespace fs = std::filesystem;
 
-int entries(const fs::path& dir) {
-  int n = 0;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
-    (void)e;
-    ++n;
-  }
-  return n;
-}
+long entries(const fs::path& dir) { return std::distance(fs::directory_iterator(dir), fs::directory_iterator{}); }
 
 TEST(ClearCaseFolder, AFolderThatIsMissingIsLeftAlone) {
   TempDir dir;
-  exec::clear_case_folder(dir / "cases" / "000001");
+  cases::clear_case_folder(dir / "cases" / "000001");
   EXPECT_FALSE(fs::exists(dir / "cases" / ".stale"));
 }
 
@@ -38,7 +33,7 @@ TEST(ClearCaseFolder, TheFolderIsGoneAndNothingIsLeftWhenNobodyWritesThere) {
   fs::create_directories(folder / "vtk");
   write_file(folder / "log.liggghts", "old attempt\n");
   write_file(folder / "vtk" / "particles.vtp", "<VTKFile/>\n");
-  exec::clear_case_folder(folder);
+  cases::clear_case_folder(folder);
   EXPECT_FALSE(fs::exists(folder));
   EXPECT_EQ(entries(dir / "cases" / ".stale"), 0);
 }
@@ -61,7 +56,7 @@ TEST(ClearCaseFolder, AWriterThatKeepsCreatingFilesNeitherFailsTheCallNorReaches
   });
   while (written < 50) std::this_thread::yield();
 
-  EXPECT_NO_THROW(exec::clear_case_folder(folder));
+  EXPECT_NO_THROW(cases::clear_case_folder(folder));
   // The new attempt writes its case into a folder of its own: nothing of the old one appears there.
   fs::create_directories(folder);
   write_file(folder / "in.liggghts", "new attempt\n");
@@ -72,7 +67,7 @@ TEST(ClearCaseFolder, AWriterThatKeepsCreatingFilesNeitherFailsTheCallNorReaches
   writer.join();
   ::close(dir_fd);
   // Once the writer has ended, the next call removes what it left.
-  exec::clear_case_folder(folder);
+  cases::clear_case_folder(folder);
   EXPECT_FALSE(fs::exists(folder));
   EXPECT_EQ(entries(dir / "cases" / ".stale"), 0);
 }
@@ -82,7 +77,7 @@ TEST(ClearCaseFolder, WhereTheFolderCannotBeMovedAsideTheErrorNamesThePlace) {
   const fs::path cases = dir / "cases";
   fs::create_directories(cases / "000002");
   write_file(cases / ".stale", "a file where the folder of stale attempts belongs\n");
-  const std::string message = message_of<util::IoError>([&] { exec::clear_case_folder(cases / "000002"); });
+  const std::string message = message_of<util::IoError>([&] { cases::clear_case_folder(cases / "000002"); });
   EXPECT_NE(message.find(".stale"), std::string::npos) << message;
   EXPECT_TRUE(fs::exists(cases / "000002"));  // nothing was removed
 }
