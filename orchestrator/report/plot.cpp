@@ -149,21 +149,20 @@ Plotter::Plotter(PlotOptions options) : m_options(std::move(options)) {
 }
 
 PlotFiles Plotter::render(const fs::path& stem, const std::string& title, const std::string& data_blocks,
-                          const std::string& body, double size_scale) const {
-  assert(size_scale > 0);
+                          const std::string& body, double size_scale, double width_scale) const {
+  assert(size_scale > 0 && width_scale > 0);
   const fs::path folder = stem.parent_path().empty() ? fs::path(".") : stem.parent_path();
   const std::string name = stem.filename().string();
   fs::create_directories(folder);
   PlotFiles files{folder / (name + ".gp"), folder / (name + ".png"), folder / (name + ".svg")};
 
   const int height = static_cast<int>(std::lround(m_options.height * size_scale));
+  const int width = static_cast<int>(std::lround(m_options.width * width_scale));
   const std::string font = gnuplot_quote(fmt::format("{},{}", m_options.font, m_options.font_size));
   std::string png_terminal =
       m_info.png_terminal == "pngcairo"
-          ? fmt::format("set terminal pngcairo size {},{} font {} enhanced background rgb 'white'", m_options.width,
-                        height, font)
-          : fmt::format("set terminal png size {},{} font {} enhanced background rgb 'white'", m_options.width, height,
-                        font);
+          ? fmt::format("set terminal pngcairo size {},{} font {} enhanced background rgb 'white'", width, height, font)
+          : fmt::format("set terminal png size {},{} font {} enhanced background rgb 'white'", width, height, font);
   std::string script;
   script += fmt::format("# {}\n", title);
   script +=
@@ -171,8 +170,8 @@ PlotFiles Plotter::render(const fs::path& stem, const std::string& title, const 
   script += data_blocks;
   script += "do for [format in \"png svg\"] {\n  reset\n";
   script += fmt::format("  if (format eq \"png\") {{\n    {}\n  }} else {{\n", png_terminal);
-  script += fmt::format("    set terminal svg size {},{} font {} enhanced background rgb 'white'\n  }}\n",
-                        m_options.width, height, font);
+  script += fmt::format("    set terminal svg size {},{} font {} enhanced background rgb 'white'\n  }}\n", width,
+                        height, font);
   script += fmt::format("  set output {}.format\n", gnuplot_quote(name + "."));
   script += "  set datafile missing \"NaN\"\n";
   script += body;

@@ -54,9 +54,10 @@ class Plotter {
 
   /// Writes `<stem>.gp` from `body` (data blocks and commands that draw one picture, terminal-free) and runs it
   /// in the stem's folder to make `<stem>.png` and `<stem>.svg`. `size_scale` multiplies the default height (tall
-  /// multi-panel figures). Throws std::runtime_error with gnuplot's own message when gnuplot fails.
+  /// multi-panel figures), `width_scale` the default width (wide ones). Throws std::runtime_error with gnuplot's own
+  /// message when gnuplot fails.
   PlotFiles render(const std::filesystem::path& stem, const std::string& title, const std::string& data_blocks,
-                   const std::string& body, double size_scale = 1.0) const;
+                   const std::string& body, double size_scale = 1.0, double width_scale = 1.0) const;
 
  private:
   PlotOptions m_options;

@@ -27,6 +27,12 @@ std::string num(double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) 
 double design(double v, const PosteriorParameter& p) { return p.log ? std::log10(v) : v; }
 std::string axis(const PosteriorParameter& p) { return p.log ? fmt::format("log10({})", p.name) : p.name; }
 
+/// Three labelled tics, at both ends and the middle of [lo, hi]: a corner plot's small panels have room for no more.
+std::string three_tics(double lo, double hi) {
+  return fmt::format("('{:.3g}' {}, '{:.3g}' {}, '{:.3g}' {})", lo, num(lo), 0.5 * (lo + hi), num(0.5 * (lo + hi)), hi,
+                     num(hi));
+}
+
 /// Histogram of column j as a density on the prior's range: "centre density" rows.
 std::string histogram(const Eigen::MatrixXd& draws, int j, const PosteriorParameter& p) {
   const double lo = design(p.low, p), hi = design(p.high, p);
@@ -102,12 +108,15 @@ PosteriorFigures plot_posterior(const Plotter& plotter, const PosteriorOutcome& 
     for (int j = 0; j < d; ++j) data += fmt::format("$h{} << EOD\n{}EOD\n", j, histogram(draws, j, o.parameters[j]));
     std::string body = fmt::format("  set multiplot layout {0},{0} title 'posterior: marginals and pairs'\n", d);
     body += "  unset key\n  set style fill solid 0.6 border rgb 'black'\n  set tics font ',8'\n";
-    body += "  set lmargin 7\n  set rmargin 1\n  set tmargin 1\n  set bmargin 3\n";
+    body += "  set lmargin 7\n  set rmargin 3\n  set tmargin 1\n  set bmargin 3\n";
     for (int r = 0; r < d; ++r)
       for (int c = 0; c < d; ++c) {
         const PosteriorParameter& pr = o.parameters[r];
         const PosteriorParameter& pc = o.parameters[c];
-        body += fmt::format("  set xrange [{}:{}]\n", num(design(pc.low, pc)), num(design(pc.high, pc)));
+        body += fmt::format("  set xrange [{}:{}]\n  set xtics {}\n", num(design(pc.low, pc)), num(design(pc.high, pc)),
+                            three_tics(design(pc.low, pc), design(pc.high, pc)));
+        body += r == c ? std::string("  set ytics autofreq\n")
+                       : fmt::format("  set ytics {}\n", three_tics(design(pr.low, pr), design(pr.high, pr)));
         body += r == d - 1 ? fmt::format("  set xlabel '{}' noenhanced\n", axis(pc)) : "  unset xlabel\n";
         body += c == 0 && r > 0 ? fmt::format("  set ylabel '{}' noenhanced\n", axis(pr)) : "  unset ylabel\n";
         if (c > r) {
@@ -122,8 +131,10 @@ PosteriorFigures plot_posterior(const Plotter& plotter, const PosteriorOutcome& 
               c + 1, r + 1, k_bar, num(design(pc.map, pc)), num(design(pr.map, pr)), k_map);
         }
       }
-    figures.corner =
-        plotter.render(folder / "posterior_corner", "posterior corner plot", data, body, std::max(1.0, 0.5 * d));
+    // Square panels of about 180 px: a square canvas, whatever the default aspect.
+    const double side = std::max(960.0, 180.0 * d);
+    figures.corner = plotter.render(folder / "posterior_corner", "posterior corner plot", data, body,
+                                    side / plotter.options().height, side / plotter.options().width);
   }
 
   // Posterior predictive against the measurements, one panel per observable family.
