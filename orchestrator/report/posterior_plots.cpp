@@ -113,10 +113,11 @@ PosteriorFigures plot_posterior(const Plotter& plotter, const PosteriorOutcome& 
       for (int c = 0; c < d; ++c) {
         const PosteriorParameter& pr = o.parameters[r];
         const PosteriorParameter& pc = o.parameters[c];
-        body += fmt::format("  set xrange [{}:{}]\n  set xtics {}\n", num(design(pc.low, pc)), num(design(pc.high, pc)),
-                            three_tics(design(pc.low, pc), design(pc.high, pc)));
-        body += r == c ? std::string("  set ytics autofreq\n")
-                       : fmt::format("  set ytics {}\n", three_tics(design(pr.low, pr), design(pr.high, pr)));
+        const double x_lo = design(pc.low, pc), x_hi = design(pc.high, pc);
+        const double y_lo = design(pr.low, pr), y_hi = design(pr.high, pr);
+        body += fmt::format("  set xrange [{}:{}]\n  set xtics {}\n", num(x_lo), num(x_hi), three_tics(x_lo, x_hi));
+        body +=
+            r == c ? std::string("  set ytics autofreq\n") : fmt::format("  set ytics {}\n", three_tics(y_lo, y_hi));
         body += r == d - 1 ? fmt::format("  set xlabel '{}' noenhanced\n", axis(pc)) : "  unset xlabel\n";
         body += c == 0 && r > 0 ? fmt::format("  set ylabel '{}' noenhanced\n", axis(pr)) : "  unset ylabel\n";
         if (c > r) {
@@ -124,7 +125,7 @@ PosteriorFigures plot_posterior(const Plotter& plotter, const PosteriorOutcome& 
         } else if (r == c) {
           body += fmt::format("  set yrange [0:*]\n  plot $h{} using 1:2 with boxes lc rgb '{}'\n", r, k_bar);
         } else {
-          body += fmt::format("  set yrange [{}:{}]\n", num(design(pr.low, pr)), num(design(pr.high, pr)));
+          body += fmt::format("  set yrange [{}:{}]\n", num(y_lo), num(y_hi));
           body += fmt::format(
               "  plot $draws using {}:{} with dots lc rgb '{}', '+' using ({}):({}) every ::0::0 "
               "with points pt 7 ps 1 lc rgb '{}'\n",
