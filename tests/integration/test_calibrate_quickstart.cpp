@@ -5,7 +5,6 @@
 // two rolling frictions that it does depend on trade off along one ridge.
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/study/config.hpp"
-#include "orchestrator/study/observables.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "support/test_support.hpp"
@@ -37,7 +36,6 @@ std::vector<double> rebuild_quickstart(const fs::path& dir) {
 
   Store store((dir / "study.db").string());
   store.initialize(design_hash(config), config.name, design);
-  const std::vector<std::string> names = observable_names(config);
   std::vector<double> angles;
   for (int r = 0; r < recorded.rows(); ++r) {
     const int sample = static_cast<int>(recorded.values(r, recorded.column_index("sample")));
@@ -49,10 +47,10 @@ std::vector<double> rebuild_quickstart(const fs::path& dir) {
     for (std::size_t k = 0; k < config.parameters.size(); ++k)
       EXPECT_NEAR(recorded.values(r, recorded.column_index("u_" + config.parameters[k].name)), row->unit[k], 1e-9)
           << "sample " << sample << ", " << config.parameters[k].name;
+    // observables.csv: the sample, the unit and the physical values, then every observable the store held.
     std::map<std::string, double> values;
-    for (const std::string& c : recorded.columns)
-      if (std::find(names.begin(), names.end(), c) != names.end() || c == k_settled || c == k_removed_off_pedestal)
-        values[c] = recorded.values(r, recorded.column_index(c));
+    for (std::size_t c = 1 + 2 * config.parameters.size(); c < recorded.columns.size(); ++c)
+      values[recorded.columns[c]] = recorded.values(r, static_cast<Eigen::Index>(c));
     angles.push_back(values.at("angle"));
     RunOutcome done;
     done.exit_code = 0;
