@@ -17,8 +17,16 @@
 //               Its indices are computed once by QMC on the noise-free function at N = 2^18 (Saltelli 2010 S1,
 //               Jansen ST; the QMC error there is below 1e-3, a twentieth of the target widths).
 //
+// With `fixed`, every GP (refine's and the one-shot designs') takes the length scales and nugget fitted once on a
+// 400-point maximin LHS of the same simulator, instead of its own likelihood search. With the hyperparameters
+// known, the GP's posterior covariance depends on where the points are and not on the values observed (Rasmussen &
+// Williams 2006, eq. 2.26), so a sequential design can do no better than the best one-shot design of its size
+// (the posterior-variance criteria are then non-adaptive; Santner, Williams & Notz 2003 §6.2): this mode measures
+// how much of refinement's advantage is placement, with an interval that is not overconfident from hyperparameters
+// fitted on few points.
+//
 //   build/bench/refine_vs_lhs [FIRST_SEED] [LAST_SEED] [W] [BATCH] [INITIAL] [alc|variance] [posterior|bootstrap]
-//                             [sines|saturating]
+//                             [sines|saturating] [learned|fixed]
 #include "sobol/augment.hpp"
 #include "sobol/design.hpp"
 #include "sobol/gp.hpp"
@@ -108,6 +116,9 @@ struct Setup {
   Simulator simulator = Simulator::sines;
   Truth truth;
   MetamodelInterval interval = MetamodelInterval::gp_posterior;
+  bool fixed = false;  ///< every GP takes `lengths` and `nugget` instead of its own likelihood search
+  Eigen::VectorXd lengths;
+  double nugget = 0.0;
 };
 
 struct Evaluation {
@@ -123,7 +134,10 @@ Evaluation evaluate(const Setup& setup, const Eigen::MatrixXd& x, const Eigen::V
   gp.seed = seed;
   Evaluation e;
   e.gp = std::make_unique<GaussianProcess>(gp);
-  e.gp->fit(x, y);
+  if (setup.fixed)
+    e.gp->fit_with(x, y, setup.lengths, setup.nugget);
+  else
+    e.gp->fit(x, y);
   MetamodelSobolOptions o;
   o.base = 1024;
   o.interval = setup.interval;
@@ -242,6 +256,25 @@ int main(int argc, char** argv) {
                                                                    : MetamodelInterval::gp_posterior;
   setup.simulator = argc > 8 && std::string(argv[8]) == "saturating" ? Simulator::saturating : Simulator::sines;
   setup.truth = truth(setup.simulator);
+  if (argc > 9 && std::string(argv[9]) == "fixed") {
+    if (setup.interval != MetamodelInterval::gp_posterior) {
+      fmt::print(stderr, "refine_vs_lhs: `fixed` needs the GP-posterior interval (a bootstrap refit would fit)\n");
+      return 2;
+    }
+    Random rng(424242);
+    const Eigen::MatrixXd x = maximin_lhs(400, 424242);
+    GpOptions gp;
+    gp.nugget = true;
+    gp.seed = 424242;
+    GaussianProcess reference(gp);
+    reference.fit(x, simulate(setup.simulator, x, rng));
+    setup.fixed = true;
+    setup.lengths = reference.lengths();
+    setup.nugget = reference.nugget();
+    fmt::print("fixed hyperparameters (400-point maximin LHS): nugget {:.4g}, lengths", setup.nugget);
+    for (double v : setup.lengths) fmt::print(" {:.4g}", v);
+    fmt::print("\n");
+  }
   fmt::print("simulator {} (variance {:.5f}, noise sd {}), interval {}\n  S1 =", argc > 8 ? argv[8] : "sines",
              setup.truth.variance, noise_sd(setup.simulator), to_string(setup.interval));
   for (double v : setup.truth.s1) fmt::print(" {:.4f}", v);
