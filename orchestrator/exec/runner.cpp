@@ -23,11 +23,13 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <utility>
 
@@ -225,6 +227,20 @@ std::vector<ReplicateRow> replicate_rows(const StudyConfig& config, const std::v
 
 namespace {
 
+/// The replicates a stored study runs, as its study file said: P = the points with replicate cases, R = the largest
+/// repeat + 1 (the point's own case is the first); none without replicate cases.
+ReplicateSettings stored_replicates(const Store& store) {
+  ReplicateSettings r;
+  std::set<int> points;
+  for (const ReplicateRow& row : store.replicates()) {
+    points.insert(row.point);
+    r.repeats = std::max(r.repeats, row.repeat + 1);
+  }
+  r.points = static_cast<int>(points.size());
+  if (r.points == 0) r.repeats = 0;
+  return r;
+}
+
 /// Opens the store of `dir` for `config`: creates design, samples and design.csv on a new study, refuses a changed
 /// design-relevant setting.
 Store open_study(const StudyConfig& config, const fs::path& study_file, const fs::path& dir, bool new_study) {
@@ -238,24 +254,50 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
   Store store(db.string());
   const std::string hash = design_hash(config);
   if (const std::optional<std::string> stored = store.design_hash()) {
-    // A raised [design] samples is an extension: everything else hashes as the stored design.
+    // A raised [design] samples, or raised replicates, is growth: everything else hashes as the stored design.
     StudyConfig at_stored = config;
     at_stored.samples = store.design_samples();
-    if (*stored != hash && design_hash(at_stored) == *stored) {
-      if (config.samples < at_stored.samples)
+    std::optional<StudyConfig> grown;
+    if (*stored != hash) {
+      if (design_hash(at_stored) == *stored) grown = at_stored;
+      at_stored.replicates = stored_replicates(store);
+      if (!grown && design_hash(at_stored) == *stored) grown = at_stored;
+    }
+    if (grown) {
+      if (config.samples < grown->samples)
         throw UserError(fmt::format(
             "{}: [design] samples = {}, but the study in {} has {} design samples already; a design can grow, not "
             "shrink (its cases are run or reserved): set samples = {} or more, or start a new study with `demsa run "
             "--new` or another --dir",
-            study_file.string(), config.samples, dir.string(), at_stored.samples, at_stored.samples));
-      const std::vector<SampleRow> existing = store.samples();
-      const std::vector<SampleRow> added =
-          design_extension(config, existing, at_stored.samples, config.samples - at_stored.samples);
-      store.add_samples(added, "extended",
-                        fmt::format("design {} grown from {} to {} samples (samples {} to {})", config.design,
-                                    at_stored.samples, config.samples, added.front().sample, added.back().sample),
-                        hash);
-      write_file_atomically(dir / k_design_file, design_csv(config, store.samples()));
+            study_file.string(), config.samples, dir.string(), grown->samples, grown->samples));
+      const ReplicateSettings& was = grown->replicates;
+      if (config.replicates.points < was.points || (was.enabled() && config.replicates.repeats < was.repeats))
+        throw UserError(fmt::format(
+            "{}: [design] replicates = {}, but the study in {} has replicates = {{ points = {}, repeats = {} }} "
+            "already; replicates can grow, not shrink (their cases are run or reserved): set points >= {} and "
+            "repeats >= {}, or start a new study with `demsa run --new` or another --dir",
+            study_file.string(),
+            config.replicates.enabled()
+                ? fmt::format("{{ points = {}, repeats = {} }}", config.replicates.points, config.replicates.repeats)
+                : std::string("none"),
+            dir.string(), was.points, was.repeats, was.points, was.repeats));
+      if (config.samples > grown->samples) {
+        const std::vector<SampleRow> existing = store.samples();
+        const std::vector<SampleRow> added =
+            design_extension(config, existing, grown->samples, config.samples - grown->samples);
+        store.add_samples(added, "extended",
+                          fmt::format("design {} grown from {} to {} samples (samples {} to {})", config.design,
+                                      grown->samples, config.samples, added.front().sample, added.back().sample),
+                          hash);
+        write_file_atomically(dir / k_design_file, design_csv(config, store.samples()));
+      } else {
+        // Only the replicates grew: their cases are added below; the hash follows the study file first, so that a
+        // demsa killed in between adds them on the next run as it would for a new study.
+        store.add_samples({}, "extended",
+                          fmt::format("replicates grown from {} points x {} repeats to {} x {}", was.points,
+                                      was.repeats, config.replicates.points, config.replicates.repeats),
+                          hash);
+      }
     } else if (*stored != hash) {
       // The frozen copy is the last file the study accepted: it names the changed keys (when it still reads).
       std::string changed;

@@ -458,7 +458,8 @@ std::vector<Setting> build_settings() {
                "the design point's own case is the first of the R, so the study runs P (R − 1) cases more. The "
                "analysis measures each observable's noise variance from them (pooled within-point variance), sets "
                "the GP nugget from it and reports the noise share; the replicates do not enter the metamodels' "
-               "training"));
+               "training. Raising P or R in an existing study adds the missing replicate cases (those run are "
+               "kept); lowering either, or removing the setting, is refused"));
 
   // [parameters]: one table row per contact parameter; the admissible values are those of its [material] row.
   for (const ContactParameter& p : contact_parameters()) {

@@ -248,5 +248,107 @@ TEST(RunReplicates, ResumeAfterSigkillAtRandomMomentsDoesEachCaseExactlyOnce) {
   EXPECT_NE(again.out.find("from 3 points, 9 cases, 6 degrees of freedom"), std::string::npos) << again.out;
 }
 
+TEST(RunReplicates, RaisedReplicatesAddCasesAndKeepTheDoneOnes) {
+  test::TempDir tmp;
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  FakeNoise noise(1.0);
+  const std::vector<std::string> args = test::run_args(tmp, {"--quiet"});
+  // 6 samples, 2 points x 2 repeats: 8 cases.
+  test::write_file(tmp / "study.toml", study_text(6, 2, 2, "[\"rsm1\"]", 2));
+  const test::CommandResult first = test::run_demsa(args);
+  ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
+  EXPECT_EQ(starts_per_sample(tmp.path()).size(), 8u);
+
+  // Raised to 3 points x 3 repeats: the 2 replicate cases done stay, 4 more run (the repeats 2 of points 0 and 1,
+  // both of point 2), and the noise is measured from the 3 points.
+  test::write_file(tmp / "study.toml", study_text(6, 3, 3, "[\"rsm1\"]", 2));
+  const test::CommandResult grown = test::run_demsa(args);
+  ASSERT_EQ(grown.exit_code, 0) << grown.out << grown.err;
+  EXPECT_NE(grown.out.find("from 3 points, 9 cases, 6 degrees of freedom"), std::string::npos) << grown.out;
+  std::map<int, int> starts = starts_per_sample(tmp.path());
+  EXPECT_EQ(starts.size(), 12u);
+  for (const auto& [sample, n] : starts) EXPECT_EQ(n, 1) << sample;
+  EXPECT_EQ(starts.count(replicate_sample_id(2, 2)), 1u);
+  {
+    const Store store = Store::open_read_only((tmp / "study" / "study.db").string());
+    EXPECT_EQ(store.replicates().size(), 6u);
+    EXPECT_EQ(store.design_samples(), 6);
+    bool event = false;
+    for (const EventRow& e : store.events())
+      event = event || e.message == "replicates grown from 2 points x 2 repeats to 3 x 3";
+    EXPECT_TRUE(event);
+  }
+
+  // Fewer points, fewer repeats or none at all are refused, and nothing runs.
+  const std::size_t starts_before = test::read_file(tmp / "starts.log").size();
+  for (const auto& [points, repeats] : {std::pair{2, 3}, std::pair{3, 2}}) {
+    test::write_file(tmp / "study.toml", study_text(6, points, repeats, "[\"rsm1\"]", 2));
+    const test::CommandResult shrunk = test::run_demsa(args);
+    EXPECT_EQ(shrunk.exit_code, 2) << shrunk.out;
+    EXPECT_NE(shrunk.err.find("replicates can grow, not shrink"), std::string::npos) << shrunk.err;
+    EXPECT_NE(shrunk.err.find("has replicates = { points = 3, repeats = 3 } already"), std::string::npos) << shrunk.err;
+  }
+  std::string none = study_text(6, 3, 3, "[\"rsm1\"]", 2);
+  none.erase(none.find("replicates = "), std::string("replicates = { points = 3, repeats = 3 }\n").size());
+  test::write_file(tmp / "study.toml", none);
+  const test::CommandResult dropped = test::run_demsa(args);
+  EXPECT_EQ(dropped.exit_code, 2) << dropped.out;
+  EXPECT_NE(dropped.err.find("[design] replicates = none, but"), std::string::npos) << dropped.err;
+  EXPECT_EQ(test::read_file(tmp / "starts.log").size(), starts_before);
+
+  // Samples and replicates raised together: 2 design samples and point 3's 2 replicate cases more.
+  test::write_file(tmp / "study.toml", study_text(8, 4, 3, "[\"rsm1\"]", 2));
+  const test::CommandResult both = test::run_demsa(args);
+  ASSERT_EQ(both.exit_code, 0) << both.out << both.err;
+  EXPECT_NE(both.out.find("8 of 8 samples done"), std::string::npos) << both.out;
+  EXPECT_NE(both.out.find("replicate cases (DEM noise): 8 of 8 done"), std::string::npos) << both.out;
+  starts = starts_per_sample(tmp.path());
+  EXPECT_EQ(starts.size(), 16u);
+  for (const auto& [sample, n] : starts) EXPECT_EQ(n, 1) << sample;
+  EXPECT_EQ(starts.count(7), 1u);
+  EXPECT_EQ(starts.count(replicate_sample_id(3, 2)), 1u);
+}
+
+TEST(RunReplicates, GrowthSurvivesSigkillAtRandomMoments) {
+  test::TempDir tmp;
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.4);
+  FakeNoise noise(1.0);
+  const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
+  test::write_file(tmp / "study.toml", study_text(6, 2, 2, "[\"rsm1\"]", 2));
+  ASSERT_EQ(test::run_demsa(args).exit_code, 0);
+  // Samples and replicates raised together (2 design samples and 8 replicate cases more), killed at random moments.
+  test::write_file(tmp / "study.toml", study_text(8, 4, 3, "[\"rsm1\"]", 2));
+  test::kill_at_random_moments(args, tmp / "demsa.log", 2027, 6, 100, 900);
+  const test::CommandResult final_run = test::run_demsa(args);
+  ASSERT_EQ(final_run.exit_code, 0) << final_run.out << final_run.err << test::read_file(tmp / "demsa.log");
+  const Store store = Store::open_read_only((tmp / "study" / "study.db").string());
+  EXPECT_EQ(store.integrity_check(), "ok");
+  EXPECT_EQ(store.design_samples(), 8);
+  EXPECT_EQ(store.replicates().size(), 8u);
+  std::vector<int> cases{0, 1, 2, 3, 4, 5, 6, 7};
+  for (int point = 0; point < 4; ++point)
+    for (int repeat = 1; repeat < 3; ++repeat) cases.push_back(replicate_sample_id(point, repeat));
+  std::map<int, std::vector<RunRow>> runs;
+  for (const RunRow& r : store.runs()) runs[r.sample].push_back(r);
+  EXPECT_EQ(runs.size(), cases.size());
+  const std::map<int, int> starts = starts_per_sample(tmp.path());
+  for (const int k : cases) {
+    SCOPED_TRACE(fmt::format("case {}", k));
+    const std::vector<RunRow>& rows = runs[k];
+    ASSERT_FALSE(rows.empty());
+    int done = 0;
+    for (const RunRow& r : rows) done += r.state == RunState::done;
+    EXPECT_EQ(done, 1);
+    EXPECT_EQ(rows.back().state, RunState::done);
+    const auto it = starts.find(k);
+    EXPECT_LE(it == starts.end() ? 0 : it->second, static_cast<int>(rows.size()));
+  }
+  // The cases done before the growth ran once.
+  for (const int k : {0, 5, replicate_sample_id(0, 1), replicate_sample_id(1, 1)}) EXPECT_EQ(starts.at(k), 1) << k;
+  const StoreCounts c = store.counts();
+  EXPECT_EQ(c.done, 8);
+  EXPECT_EQ(c.replicates_done, 8);
+}
+
 }  // namespace
 }  // namespace demsa
