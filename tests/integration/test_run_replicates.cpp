@@ -69,6 +69,33 @@ const nlohmann::json& observable(const nlohmann::json& analysis, const std::stri
   throw std::runtime_error("no observable " + name);
 }
 
+/// Checks that each of the `design` samples and the points x (repeats - 1) replicate cases has exactly one done run,
+/// its last, and was started at most once per run row; returns the starts per case.
+std::map<int, int> expect_each_case_done_once(const Store& store, const fs::path& state, int design, int points,
+                                              int repeats) {
+  std::vector<int> cases;
+  for (int k = 0; k < design; ++k) cases.push_back(k);
+  for (int point = 0; point < points; ++point)
+    for (int repeat = 1; repeat < repeats; ++repeat) cases.push_back(replicate_sample_id(point, repeat));
+  std::map<int, std::vector<RunRow>> runs;
+  for (const RunRow& r : store.runs()) runs[r.sample].push_back(r);
+  EXPECT_EQ(runs.size(), cases.size());
+  const std::map<int, int> starts = starts_per_sample(state);
+  for (const int k : cases) {
+    SCOPED_TRACE(fmt::format("case {}", k));
+    const std::vector<RunRow>& rows = runs[k];
+    EXPECT_FALSE(rows.empty());
+    if (rows.empty()) continue;
+    int done = 0;
+    for (const RunRow& r : rows) done += r.state == RunState::done;
+    EXPECT_EQ(done, 1);
+    EXPECT_EQ(rows.back().state, RunState::done);
+    const auto it = starts.find(k);
+    EXPECT_LE(it == starts.end() ? 0 : it->second, static_cast<int>(rows.size()));
+  }
+  return starts;
+}
+
 TEST(RunReplicates, NoiseIsMeasuredSetsTheNuggetAndIsReported) {
   test::TempDir tmp;
   // 10 samples; 5 points x 4 repeats: 15 replicate cases, 15 degrees of freedom. Noise sd 1.5 degrees.
@@ -211,32 +238,21 @@ TEST(RunReplicates, ResumeAfterSigkillAtRandomMomentsDoesEachCaseExactlyOnce) {
   test::kill_at_random_moments(args, tmp / "demsa.log", 1811, 7, 100, 1100);
   const test::CommandResult final_run = test::run_demsa(args);
   ASSERT_EQ(final_run.exit_code, 0) << final_run.out << final_run.err << test::read_file(tmp / "demsa.log");
-  std::vector<int> cases{0, 1, 2, 3, 4, 5};
-  for (int point = 0; point < 3; ++point)
-    for (int repeat = 1; repeat < 3; ++repeat) cases.push_back(replicate_sample_id(point, repeat));
   const Store store = Store::open_read_only((tmp / "study" / "study.db").string());
   EXPECT_EQ(store.integrity_check(), "ok");
   EXPECT_EQ(store.replicates().size(), 6u);
   EXPECT_EQ(store.samples().size(), 6u);
-  std::map<int, std::vector<RunRow>> runs;
-  for (const RunRow& r : store.runs()) runs[r.sample].push_back(r);
-  EXPECT_EQ(runs.size(), cases.size());
-  const std::map<int, int> starts = starts_per_sample(tmp.path());
-  for (const int k : cases) {
+  expect_each_case_done_once(store, tmp.path(), 6, 3, 3);
+  std::map<int, long> last_run;
+  for (const RunRow& r : store.runs()) last_run[r.sample] = r.id;
+  for (const auto& [k, run] : last_run) {
     SCOPED_TRACE(fmt::format("case {}", k));
-    const std::vector<RunRow>& rows = runs[k];
-    ASSERT_FALSE(rows.empty());
-    int done = 0;
-    for (const RunRow& r : rows) done += r.state == RunState::done;
-    EXPECT_EQ(done, 1);
-    EXPECT_EQ(rows.back().state, RunState::done);
-    const auto it = starts.find(k);
-    EXPECT_LE(it == starts.end() ? 0 : it->second, static_cast<int>(rows.size()));
     const nlohmann::json result =
         nlohmann::json::parse(test::read_file(tmp / "study" / "cases" / fmt::format("{:06d}", k) / "result.json"));
-    EXPECT_EQ(result.at("run").get<long>(), rows.back().id);
+    EXPECT_EQ(result.at("run").get<long>(), run);
     EXPECT_TRUE(store.observables().at(k).count("angle"));
   }
+  EXPECT_EQ(last_run.size(), 12u);
   const StoreCounts c = store.counts();
   EXPECT_EQ(c.done, 6);
   EXPECT_EQ(c.replicates_done, 6);
@@ -325,24 +341,7 @@ TEST(RunReplicates, GrowthSurvivesSigkillAtRandomMoments) {
   EXPECT_EQ(store.integrity_check(), "ok");
   EXPECT_EQ(store.design_samples(), 8);
   EXPECT_EQ(store.replicates().size(), 8u);
-  std::vector<int> cases{0, 1, 2, 3, 4, 5, 6, 7};
-  for (int point = 0; point < 4; ++point)
-    for (int repeat = 1; repeat < 3; ++repeat) cases.push_back(replicate_sample_id(point, repeat));
-  std::map<int, std::vector<RunRow>> runs;
-  for (const RunRow& r : store.runs()) runs[r.sample].push_back(r);
-  EXPECT_EQ(runs.size(), cases.size());
-  const std::map<int, int> starts = starts_per_sample(tmp.path());
-  for (const int k : cases) {
-    SCOPED_TRACE(fmt::format("case {}", k));
-    const std::vector<RunRow>& rows = runs[k];
-    ASSERT_FALSE(rows.empty());
-    int done = 0;
-    for (const RunRow& r : rows) done += r.state == RunState::done;
-    EXPECT_EQ(done, 1);
-    EXPECT_EQ(rows.back().state, RunState::done);
-    const auto it = starts.find(k);
-    EXPECT_LE(it == starts.end() ? 0 : it->second, static_cast<int>(rows.size()));
-  }
+  const std::map<int, int> starts = expect_each_case_done_once(store, tmp.path(), 8, 4, 3);
   // The cases done before the growth ran once.
   for (const int k : {0, 5, replicate_sample_id(0, 1), replicate_sample_id(1, 1)}) EXPECT_EQ(starts.at(k), 1) << k;
   const StoreCounts c = store.counts();
