@@ -159,10 +159,8 @@ PlotFiles Plotter::render(const fs::path& stem, const std::string& title, const 
   const int height = static_cast<int>(std::lround(m_options.height * size_scale));
   const int width = static_cast<int>(std::lround(m_options.width * width_scale));
   const std::string font = gnuplot_quote(fmt::format("{},{}", m_options.font, m_options.font_size));
-  std::string png_terminal =
-      m_info.png_terminal == "pngcairo"
-          ? fmt::format("set terminal pngcairo size {},{} font {} enhanced background rgb 'white'", width, height, font)
-          : fmt::format("set terminal png size {},{} font {} enhanced background rgb 'white'", width, height, font);
+  const std::string png_terminal = fmt::format("set terminal {} size {},{} font {} enhanced background rgb 'white'",
+                                               m_info.png_terminal, width, height, font);
   std::string script;
   script += fmt::format("# {}\n", title);
   script +=
