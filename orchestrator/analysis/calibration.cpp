@@ -3,6 +3,7 @@
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/parameters.hpp"
@@ -73,10 +74,10 @@ std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const S
   };
   for (const std::string& text : options.targets) {
     const auto [name, values] = parse_assignment("--target", text);
-    if (name == "settlement" && !known("settlement")) {
-      // settlement=V1,V2,... -> settlement_1, settlement_2, ...
+    if (!known(name) && known(fmt::format("{}_1", name))) {
+      // A curve: NAME=V1,V2,... -> NAME_1, NAME_2, ... (settlement=s1,s2,s3 -> settlement_1, settlement_2, ...)
       for (size_t i = 0; i < values.size(); ++i) {
-        const std::string n = settlement_name(i + 1);
+        const std::string n = fmt::format("{}_{}", name, i + 1);
         if (!known(n))
           throw UserError(
               fmt::format("--target '{}': the study has no observable {} (observables: {})", text, n, join(available)));
@@ -91,20 +92,8 @@ std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const S
     targets.push_back({name, values[0], 1.0});
   }
   if (options.targets.empty()) {
-    if (config.experiment == Experiment::pile) {
-      targets.push_back({std::string(k_angle), config.pile.target_angle, 1.0});
-    } else {
-      const std::vector<double>& measured = config.oedometer.measured_settlements;
-      if (measured.empty())
-        throw UserError(fmt::format(
-            "{}: no --target given and the study has no [oedometer] measured_settlements; give e.g. --target "
-            "settlement=0.5e-3,1.2e-3,1.9e-3",
-            config.file.string()));
-      // Either n-1 values (loads after the first) or n values starting with the first load's 0.
-      const size_t offset = measured.size() == config.oedometer.loads.size() ? 1 : 0;
-      for (size_t i = offset; i < measured.size(); ++i)
-        targets.push_back({settlement_name(i + 1 - offset), measured[i], 1.0});
-    }
+    for (const auto& [name, value] : experiments::of(config).default_targets(config))
+      targets.push_back({name, value, 1.0});
     for (const TargetSpec& t : targets)
       if (!known(t.name))
         throw UserError(fmt::format("{}: the study's target {} has no measured values yet (observables: {})",
@@ -153,7 +142,7 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
   options.validate();
   const fs::path& dir = options.dir;
   require_study_folder(dir);
-  const StudyConfig config = load_study(dir / k_frozen_study);
+  const StudyConfig config = experiments::load_study(dir / k_frozen_study);
   const Store store = Store::open_read_only((dir / k_store_file).string());
   const std::vector<SampleRow> samples = store.samples();
   const std::map<int, std::map<std::string, double>> observables = store.observables();

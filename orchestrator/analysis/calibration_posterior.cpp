@@ -2,6 +2,7 @@
 
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/parameters.hpp"
 #include "orchestrator/study/store.hpp"
@@ -48,10 +49,8 @@ std::vector<double> numbers_of(const std::string& option, const std::string& who
   return out;
 }
 
-/// NAME_k for the k-th point of a curve (settlement_k through the one home of that name).
-std::string point_name(const std::string& name, size_t k) {
-  return name == "settlement" ? settlement_name(k) : fmt::format("{}_{}", name, k);
-}
+/// NAME_k for the k-th point of a curve (settlement_k of an oedometer's settlement curve).
+std::string point_name(const std::string& name, size_t k) { return fmt::format("{}_{}", name, k); }
 
 /// d₂(n), the expected range of n standard normal values (Tippett 1925; the control-chart constants of
 /// ASTM E2587): σ ≈ range / d₂(n).
@@ -175,7 +174,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
     require_study_folder(dir);
     Study s;
     s.dir = dir;
-    s.config = load_study(dir / k_frozen_study);
+    s.config = experiments::load_study(dir / k_frozen_study);
     const Store store = Store::open_read_only((dir / k_store_file).string());
     s.samples = store.samples();
     s.observables = store.observables();

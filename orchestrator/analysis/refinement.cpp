@@ -2,6 +2,7 @@
 
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/observables.hpp"
 #include "sobol/augment.hpp"
 #include "sobol/gp.hpp"
@@ -98,7 +99,7 @@ std::vector<SampleRow> choose_refinement_points(const StudyConfig& config, const
       existing(static_cast<Eigen::Index>(i), k) = samples[i].unit.at(static_cast<std::size_t>(k));
 
   std::vector<FittedMetamodel> fits;
-  for (const std::string& name : observable_names(config)) {
+  for (const std::string& name : experiments::observable_names(config)) {
     const TrainingData data = training_data(config, samples, observables, name);
     if (data.size() < 3) continue;
     FittedMetamodel fit =

@@ -4,6 +4,7 @@
 #include "orchestrator/analysis/model_file.hpp"
 #include "orchestrator/analysis/sobol_json.hpp"
 #include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/observables.hpp"
@@ -111,7 +112,7 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   require_study_folder(dir);
   const fs::path study_file = dir / k_frozen_study;
   const fs::path db = dir / k_store_file;
-  const StudyConfig config = load_study(study_file);
+  const StudyConfig config = experiments::load_study(study_file);
   const Store store = Store::open_read_only(db.string());
   const std::vector<SampleRow> samples = store.samples();
   const std::map<int, std::map<std::string, double>> observables = store.observables();
@@ -140,7 +141,7 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
                                 summary.samples_used.size(), samples.size()));
 
   const std::size_t d = summary.parameters.size();
-  std::vector<std::string> names = observable_names(config);
+  std::vector<std::string> names = experiments::observable_names(config);
 
   sobol::MetamodelSobolOptions sobol_options;
   sobol_options.base = summary.base_samples;

@@ -1,12 +1,11 @@
 #pragma once
-// One LIGGGHTS case folder per sample (README "A study" and "One case by hand"; paper §3–4): the experiment's input
-// script and its includes (embedded in demsa from liggghts_templates/), a generated params.liggghts with every physical
-// value, the geometry (pedestal / plate STL), the initial particles, run.sh and case.json. A person runs it with `cd
-// DIR && ./run.sh`.
+// One LIGGGHTS case folder per sample (README "A study" and "One case by hand"; paper §3–4): what every case has — a
+// generated params.liggghts with every physical value, the system and contact includes (embedded in demsa from
+// liggghts_templates/), run.sh and case.json — around what its experiment writes (orchestrator/experiments/: its input
+// script, particles and geometry). A person runs it with `cd DIR && ./run.sh`.
 //
-// Files written by LIGGGHTS (or by `demsa drive-oedometer` for the trial-step oedometer) in the folder:
-//   log.liggghts, screen.txt, and pile_final.dump (pile) or oedometer_final.dump, plate_history.txt,
-//   plate_states.txt (oedometer). The names are the constants of study/folder.hpp.
+// Files written by LIGGGHTS (or by the demsa command an experiment runs in-process) in the folder: log.liggghts,
+// screen.txt and the experiment's final dump and outputs (study/folder.hpp and the experiment's folder name them).
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
 
@@ -24,9 +23,6 @@ namespace demsa::cases {
 /// renamed folder), and then everything in `.stale/` that can be removed is. Throws util::IoError when the folder
 /// cannot be moved.
 void clear_case_folder(const std::filesystem::path& folder);
-
-/// The final dump a finished case of `experiment` leaves in its folder.
-std::string final_dump_name(study::Experiment experiment);
 
 /// What to write: one sample of a study (or a hand-set parameter tuple).
 struct CaseRequest {
@@ -55,7 +51,7 @@ struct CaseSummary {
   double dt = 0.0;             ///< time step [s]
   double rayleigh_time = 0.0;  ///< T_R of the smallest particle [s]
   std::string dt_source;       ///< "rayleigh" (fraction * T_R) or "fixed"
-  int particles = 0;           ///< particles of the assembly
+  long particles = 0;          ///< particles of the assembly
   std::string final_dump;      ///< file name of the final dump
 };
 

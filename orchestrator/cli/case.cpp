@@ -1,11 +1,11 @@
-// `demsa case`: one LIGGGHTS case folder, runnable by hand; and the hidden `demsa drive-oedometer`, which
-// run.sh of a trial-step oedometer case starts under mpirun.
+// `demsa case`: one LIGGGHTS case folder, runnable by hand; and the hidden commands of the experiments' in-process
+// drivers (`demsa drive-oedometer`, which run.sh of a trial-step oedometer case starts under mpirun).
 #include "orchestrator/cases/case_writer.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
-#include "orchestrator/driver/oedometer_driver.hpp"
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/exec/runner.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/store.hpp"
@@ -28,7 +28,6 @@ namespace demsa::cli {
 using namespace demsa::util;
 using namespace demsa::study;
 using namespace demsa::cases;
-using namespace demsa::driver;
 using namespace demsa::exec;
 
 namespace {
@@ -124,7 +123,7 @@ CaseRequest request_for_sample(const StudyConfig& config, int id, const std::fil
 }
 
 void run_case(const CaseOptions& o, CliState& state) {
-  StudyConfig config = load_study(o.study);
+  StudyConfig config = experiments::load_study(o.study);
   // run.sh names the LIGGGHTS found for the study's rolling model; one without it is a warning here (the case may
   // run elsewhere) and refused by `demsa run`.
   resolve_liggghts(config, false);
@@ -191,11 +190,14 @@ void register_case_commands(CLI::App& app, CliState& state) {
     run_case(*options, state);
   });
 
-  auto driver_dir = std::make_shared<std::string>();
-  CLI::App* driver = app.add_subcommand("drive-oedometer", "Run a trial-step oedometer case in-process");
-  driver->group("");  // internal: run.sh calls it under mpirun
-  driver->add_option("case_dir", *driver_dir, "Case folder")->required()->check(CLI::ExistingDirectory);
-  driver->callback([driver_dir, &state] { state.exit_code = drive_oedometer(*driver_dir); });
+  for (const experiments::Experiment* e : experiments::all())
+    for (const experiments::Driver& d : e->drivers()) {
+      auto driver_dir = std::make_shared<std::string>();
+      CLI::App* driver = app.add_subcommand(std::string(d.command), std::string(d.description));
+      driver->group("");  // internal: run.sh calls it under mpirun
+      driver->add_option("case_dir", *driver_dir, "Case folder")->required()->check(CLI::ExistingDirectory);
+      driver->callback([driver_dir, run = d.run, &state] { state.exit_code = run(*driver_dir); });
+    }
 }
 
 }  // namespace demsa::cli

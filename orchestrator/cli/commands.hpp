@@ -10,13 +10,13 @@ struct CliState {
   int exit_code = 0;
 };
 
-void register_run_command(CLI::App& app, CliState& state);          // run.cpp
-void register_status_command(CLI::App& app, CliState& state);       // status.cpp
-void register_analyze_command(CLI::App& app, CliState& state);      // analyze.cpp
-void register_case_commands(CLI::App& app, CliState& state);        // case.cpp: case and the hidden drive-oedometer
-void register_report_command(CLI::App& app, CliState& state);       // report.cpp
-void register_calibrate_command(CLI::App& app, CliState& state);    // calibrate.cpp
-void register_design_command(CLI::App& app, CliState& state);       // design.cpp
+void register_run_command(CLI::App& app, CliState& state);        // run.cpp
+void register_status_command(CLI::App& app, CliState& state);     // status.cpp
+void register_analyze_command(CLI::App& app, CliState& state);    // analyze.cpp
+void register_case_commands(CLI::App& app, CliState& state);      // case.cpp: case and the experiments' hidden drivers
+void register_report_command(CLI::App& app, CliState& state);     // report.cpp
+void register_calibrate_command(CLI::App& app, CliState& state);  // calibrate.cpp
+void register_design_command(CLI::App& app, CliState& state);     // design.cpp
 void register_sensitivity_command(CLI::App& app, CliState& state);  // sensitivity.cpp
 void register_postprocess_command(CLI::App& app, CliState& state);  // postprocess.cpp
 void register_compare_command(CLI::App& app, CliState& state);      // compare.cpp
@@ -24,5 +24,6 @@ void register_export_vtk_command(CLI::App& app, CliState& state);   // export_vt
 void register_predict_command(CLI::App& app, CliState& state);      // predict.cpp
 void register_extend_command(CLI::App& app, CliState& state);       // extend.cpp
 void register_refine_command(CLI::App& app, CliState& state);       // refine.cpp
+void register_measure_command(CLI::App& app, CliState& state);      // measure.cpp
 
 }  // namespace demsa::cli

@@ -4,6 +4,9 @@
 // (exec/measure.cpp); options given on the command line override them.
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
+#include "orchestrator/experiments/case_record.hpp"
+#include "orchestrator/experiments/oedometer/oedometer.hpp"
+#include "orchestrator/experiments/pile/pile.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
@@ -155,24 +158,14 @@ struct PileArgs {
 
 bool given(const CLI::Option* option) { return option != nullptr && option->count() > 0; }
 
-/// The number at `section`.`key` of a case.json, if the key is there; a key holding anything but a number is an error
-/// naming the file, the key and the value.
-std::optional<double> case_number(const nlohmann::json& doc, const fs::path& file, const char* section,
-                                  const char* key) {
-  if (!doc.contains(section) || !doc[section].is_object() || !doc[section].contains(key)) return std::nullopt;
-  const nlohmann::json& v = doc[section][key];
-  if (!v.is_number())
-    throw UserError(file.string(), 0, fmt::format("{}.{} = {}: not a number", section, key, v.dump()));
-  return v.get<double>();
-}
-
 /// Takes the pile's pedestal and measurement settings from the case.json of the case that holds `dump` (the folder
 /// given, or the dump's own folder); command-line options win. Returns the case.json read, or "" when there is none.
 ///
 /// Without a case.json (a dump not written by a demsa case) the options stand, defaults included, with a warning when
 /// the pedestal was not given. A case.json without the pedestal (written before demsa recorded it) is an error unless
 /// both --pedestal-radius and --pedestal-top are given: the defaults would measure another pedestal silently.
-std::string apply_case_settings(const PileArgs& a, const fs::path& dump, pp::PileAngleOptions& options) {
+std::string apply_case_settings(const PileArgs& a, const fs::path& dump, pp::PileAngleOptions& options,
+                                long& base_particles) {
   const fs::path folder = dump.parent_path().empty() ? fs::path(".") : dump.parent_path();
   const fs::path file = folder / study::k_case_json;
   std::error_code ec;
@@ -184,56 +177,31 @@ std::string apply_case_settings(const PileArgs& a, const fs::path& dump, pp::Pil
           dump.string(), study::k_case_json, options.pedestal_radius, options.pedestal_top);
     return {};
   }
-  std::ifstream in(file);
-  if (!in) throw UserError(file.string(), 0, "cannot be read");
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw UserError(file.string(), 0, fmt::format("not valid JSON: {}", e.what()));
-  }
-  if (!doc.is_object()) throw UserError(file.string(), 0, "not a case description (a JSON object)");
-  if (doc.contains("experiment") && doc["experiment"] != "pile")
-    throw UserError(file.string(), 0,
-                    fmt::format("experiment = {}: not a pile case; `demsa postprocess oedometer` measures it",
-                                doc["experiment"].dump()));
-  const std::optional<double> radius = case_number(doc, file, "pile", "pedestal_radius_m");
-  const std::optional<double> height = case_number(doc, file, "pile", "pedestal_height_m");
-  for (const auto& [value, key, option] : {std::tuple{radius, "pile.pedestal_radius_m", a.pedestal_radius},
-                                           std::tuple{height, "pile.pedestal_height_m", a.pedestal_top}}) {
+  const nlohmann::json doc = experiments::read_case_json(folder);
+  if (const std::optional<std::string> name = experiments::case_string(doc, file, "experiment");
+      name && *name != experiments::pile::experiment().name)
+    throw UserError(
+        file.string(), 0,
+        fmt::format("experiment = \"{}\": not a pile case; `demsa measure {}` measures it", *name, folder.string()));
+  const experiments::pile::CaseAngleSettings recorded = experiments::pile::read_case_angle_settings(doc, file);
+  for (const auto& [value, key, option] :
+       {std::tuple{recorded.pedestal_radius, "pile.pedestal_radius_m", a.pedestal_radius},
+        std::tuple{recorded.pedestal_top, "pile.pedestal_height_m", a.pedestal_top}}) {
     if (!value && !given(option))
       throw UserError(file.string(), 0,
                       fmt::format("records no {} (a case written by an older demsa): give the pile's pedestal as "
                                   "--pedestal-radius and --pedestal-top",
                                   key));
   }
-  if (radius && !given(a.pedestal_radius)) {
-    if (!(*radius > 0.0))
-      throw UserError(file.string(), 0, fmt::format("pile.pedestal_radius_m = {}: must be > 0", *radius));
-    options.pedestal_radius = *radius;
-  }
-  if (height && !given(a.pedestal_top)) options.pedestal_top = *height;  // the ground is at z = 0
   // The measurement settings of the study (absent from cases written before demsa recorded them: the defaults).
-  if (doc.contains("pile") && doc["pile"].is_object() && doc["pile"].contains("angle_measurement")) {
-    const nlohmann::json& m = doc["pile"]["angle_measurement"];
-    const auto integer = [&](const char* key, int& field, const CLI::Option* option) {
-      if (!m.contains(key) || given(option)) return;
-      if (!m[key].is_number_integer())
-        throw UserError(file.string(), 0,
-                        fmt::format("pile.angle_measurement.{} = {}: not an integer", key, m[key].dump()));
-      field = m[key].get<int>();
-    };
-    integer("directions", options.directions, a.directions);
-    integer("levels", options.levels, a.levels);
-    if (m.contains("estimator") && !given(a.estimator_option)) {
-      try {
-        options.estimator = pp::angle_estimator_from_string(
-            m["estimator"].is_string() ? m["estimator"].get<std::string>() : m["estimator"].dump());
-      } catch (const std::invalid_argument& e) {
-        throw UserError(file.string(), 0, fmt::format("pile.angle_measurement.estimator: {}", e.what()));
-      }
-    }
-  }
+  if (recorded.pedestal_radius && !given(a.pedestal_radius)) options.pedestal_radius = *recorded.pedestal_radius;
+  if (recorded.pedestal_top && !given(a.pedestal_top)) options.pedestal_top = *recorded.pedestal_top;
+  // A pile on a base layer ([pile] base = "particles"): measured without the layer, from its mean top.
+  if (recorded.base_top && !given(a.pedestal_top)) options.pedestal_top = *recorded.base_top;
+  base_particles = recorded.base_particles.value_or(0);
+  if (recorded.directions && !given(a.directions)) options.directions = *recorded.directions;
+  if (recorded.levels && !given(a.levels)) options.levels = *recorded.levels;
+  if (recorded.estimator && !given(a.estimator_option)) options.estimator = *recorded.estimator;
   try {
     options.validate();
   } catch (const std::invalid_argument& e) {
@@ -246,9 +214,10 @@ void run_pile(const PileArgs& a) {
   pp::PileAngleOptions options = a.options;
   options.point = pp::boundary_point_kind_from_string(a.point);
   options.estimator = pp::angle_estimator_from_string(a.estimator);
-  const fs::path dump = resolve_dump(a.dump, "pile_final.dump");
-  const std::string case_json = apply_case_settings(a, dump, options);
-  const pp::Particles particles = pp::read_particles(dump);
+  const fs::path dump = resolve_dump(a.dump, experiments::pile::k_final_dump);
+  long base_particles = 0;
+  const std::string case_json = apply_case_settings(a, dump, options, base_particles);
+  const pp::Particles particles = experiments::pile::without_base(pp::read_particles(dump), base_particles);
   pp::PileAngleResult r;
   try {
     r = pp::measure_pile_angle(particles, options);
@@ -303,14 +272,15 @@ bool looks_like_history(const fs::path& path) {
 
 void run_oedometer(const OedometerArgs& a) {
   std::optional<fs::path> states_file, history_file, dump_file;
-  if (!a.dump.empty()) dump_file = resolve_dump(a.dump, "oedometer_final.dump");
+  if (!a.dump.empty()) dump_file = resolve_dump(a.dump, experiments::oedometer::k_final_dump);
   for (const std::string& arg : a.files) {
     const fs::path p(arg);
     std::error_code ec;
     if (fs::is_directory(p, ec)) {  // a case folder: its plate files and final dump
-      if (fs::exists(p / "plate_states.txt", ec)) states_file = p / "plate_states.txt";
-      if (fs::exists(p / "plate_history.txt", ec)) history_file = p / "plate_history.txt";
-      if (!dump_file && fs::exists(p / "oedometer_final.dump", ec)) dump_file = p / "oedometer_final.dump";
+      namespace oedometer = experiments::oedometer;
+      if (fs::exists(p / oedometer::k_plate_states, ec)) states_file = p / oedometer::k_plate_states;
+      if (fs::exists(p / oedometer::k_plate_history, ec)) history_file = p / oedometer::k_plate_history;
+      if (!dump_file && fs::exists(p / oedometer::k_final_dump, ec)) dump_file = p / oedometer::k_final_dump;
       if (!states_file && !history_file)
         throw UserError(arg, 0, "case folder has neither plate_states.txt nor plate_history.txt");
       continue;

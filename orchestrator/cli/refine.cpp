@@ -12,6 +12,7 @@
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/exec/runner.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
@@ -106,7 +107,7 @@ int do_refine(const RefineArgs& args) {
     const analysis::RefinementCheck check = analysis::check_refinement(summary);
 
     Store store((dir / k_store_file).string());
-    const StudyConfig config = load_study(study_file);
+    const StudyConfig config = experiments::load_study(study_file);
     const std::vector<SampleRow> samples = store.samples();
     std::vector<RefineStep> history = store.refine_history();
     RefineStep step;

@@ -4,6 +4,7 @@
 #include "orchestrator/exec/local_executor.hpp"
 #include "orchestrator/exec/progress.hpp"
 #include "orchestrator/exec/runner.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/observables.hpp"
@@ -47,7 +48,7 @@ int collect_submitted(const fs::path& dir) {
     if (Store::open_read_only((dir / k_store_file).string()).counts().running == 0) return 0;
     ExecutorKind kind = ExecutorKind::local;
     try {
-      kind = load_study(frozen).run.executor;
+      kind = experiments::load_study(frozen).run.executor;
     } catch (const UserError&) {
       return 0;  // status still works on a study whose file no longer parses here
     }
@@ -86,7 +87,7 @@ int do_status(const StatusArgs& args) {
   }
   int parallel = 1;
   try {
-    const StudyConfig config = load_study(dir / k_frozen_study);
+    const StudyConfig config = experiments::load_study(dir / k_frozen_study);
     if (config.run.executor == ExecutorKind::local) parallel = local_parallel(config.run, machine_cores());
   } catch (const UserError&) {
     parallel = 1;  // status still works on a study whose file no longer parses here

@@ -3,26 +3,20 @@
 // (postprocess/vtk.hpp says why that format), written after a case is measured (runner, point_run) and by
 // `demsa export-vtk`. Files, in CASE/vtk/ unless another folder is given:
 //   particles.vtp  every atom of the final dump: id, type, radius, velocity
-//   pile:          pedestal.vtp (pedestal.stl, the mesh LIGGGHTS used), ground.vtp (the ground plane z = 0 over the
-//                  dump's box)
-//   oedometer:     box.vtp (floor and four side walls, case.json's box_side_m × box_height_m, open at the top),
-//                  plate.vtp (plate.stl at the plate's last height in plate_states.txt)
+//   NAME.vtp       each surface of the case's experiment (Experiment::vtk_surfaces): for a pile pedestal.vtp (the
+//                  mesh LIGGGHTS used) and ground.vtp; for an oedometer box.vtp and plate.vtp; ...
 #include <filesystem>
 #include <vector>
 
 namespace demsa::exec {
 
 inline constexpr const char* k_vtk_particles = "particles.vtp";
-inline constexpr const char* k_vtk_pedestal = "pedestal.vtp";
-inline constexpr const char* k_vtk_ground = "ground.vtp";
-inline constexpr const char* k_vtk_box = "box.vtp";
-inline constexpr const char* k_vtk_plate = "plate.vtp";
 
 /// Writes the VTK files of the finished case in `case_dir` into `out_dir` (created when missing), each atomically;
 /// returns them in the order above. Throws util::UserError when `case_dir` has no case.json or final dump, or its
 /// case.json lacks a value the geometry needs (naming the file, the key and the value); postprocess::ParseError
-/// (file:line) on a malformed dump, STL or plate file. An oedometer whose plate_states.txt has no row yet gets no
-/// plate.vtp (a warning says so).
+/// (file:line) on a malformed dump, STL or plate file. A surface the case has no state of yet (an oedometer's plate
+/// before its first load) is not written, and a file of it from an earlier state is removed.
 std::vector<std::filesystem::path> write_case_vtk(const std::filesystem::path& case_dir,
                                                   const std::filesystem::path& out_dir);
 

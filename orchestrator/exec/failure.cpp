@@ -1,6 +1,6 @@
 #include "orchestrator/exec/failure.hpp"
 
-#include "orchestrator/exec/measure.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/liggghts_log.hpp"
@@ -95,26 +95,6 @@ DumpCheck check_dump(const fs::path& file) {
   return check;
 }
 
-/// Oedometer: plate_states.txt (postprocess::read_plate_states) has a row per load and every row converged. Sets
-/// `unreadable` when the file is missing or malformed.
-std::string plate_problem(const fs::path& file, std::size_t loads, bool& unreadable) {
-  std::error_code ec;
-  unreadable = !fs::exists(file, ec);
-  if (unreadable) return fmt::format("{} is missing", file.filename().string());
-  std::vector<postprocess::PlateState> states;
-  try {
-    states = postprocess::read_plate_states(file);
-  } catch (const postprocess::ParseError& e) {
-    unreadable = true;
-    return problem(file, e);
-  }
-  for (const postprocess::PlateState& state : states)
-    if (!state.converged) return fmt::format("load {} N not reached (plate force {} N)", state.load_N, state.force_N);
-  if (states.size() < loads) return fmt::format("only {} of {} load steps reached", states.size(), loads);
-  if (states.empty()) return fmt::format("{} has no load step", file.filename().string());  // nothing to measure
-  return {};
-}
-
 std::string combined_tail(const fs::path& folder, int lines) {
   std::string tail = file_tail(folder / k_case_log, lines);
   const std::string out = file_tail(folder / k_run_output_file, std::max(5, lines / 3));
@@ -135,7 +115,7 @@ void FailureOptions::validate() const {
     throw std::invalid_argument(fmt::format("lost_fraction = {}: must be in [0, 1]", lost_fraction));
   if (!(kinetic_energy_limit >= 0))
     throw std::invalid_argument(fmt::format("kinetic_energy_limit = {}: must be >= 0", kinetic_energy_limit));
-  if (load_steps < 0) throw std::invalid_argument(fmt::format("load_steps = {}: must be >= 0", load_steps));
+  if (config == nullptr) throw std::invalid_argument("config: the case's study is needed");
   if (tail_lines < 1) throw std::invalid_argument(fmt::format("tail_lines = {}: must be >= 1", tail_lines));
 }
 
@@ -188,18 +168,16 @@ FailureReport classify_case(const CaseExit& exit, const fs::path& folder, const 
                 fmt::format("exit status {} (128 + signal {})", exit.exit_code, exit.exit_code - 128));
   if (exit.exit_code != 0) return fail(FailureClass::nonzero_exit, fmt::format("exit status {}", exit.exit_code));
 
-  const DumpCheck dump =
-      check_dump(folder / (options.experiment == Experiment::pile ? k_pile_final_dump : k_oedometer_final_dump));
+  const experiments::Experiment& experiment = experiments::of(*options.config);
+  const DumpCheck dump = check_dump(folder / std::string(experiment.final_dump));
   if (!dump.ok) return fail(FailureClass::missing_dump, dump.problem);
   if (options.expected_particles > 0) {
-    // Particles removed off the pedestal on purpose ([pile] remove_fallen) are not lost.
+    // Particles the experiment removed on purpose (a pile's particles off the pedestal) are not lost.
     long removed = 0;
-    if (options.experiment == Experiment::pile) {
-      try {
-        if (const std::optional<PileSettling> settling = read_pile_settling(folder)) removed = settling->removed;
-      } catch (const postprocess::ParseError& e) {
-        return fail(FailureClass::missing_dump, problem(folder / k_pile_settling, e));
-      }
+    try {
+      removed = experiment.removed_particles(folder);
+    } catch (const postprocess::ParseError& e) {
+      return fail(FailureClass::missing_dump, problem(e.file(), e));
     }
     const long lost = std::max(0L, options.expected_particles - dump.atoms - removed);
     const double fraction = static_cast<double>(lost) / static_cast<double>(options.expected_particles);
@@ -207,14 +185,11 @@ FailureReport classify_case(const CaseExit& exit, const fs::path& folder, const 
       return fail(FailureClass::lost_particles,
                   fmt::format("{} of {} particles lost ({:.3g} %, limit {:.3g} %){}", lost, options.expected_particles,
                               100 * fraction, 100 * options.lost_fraction,
-                              removed > 0 ? fmt::format("; {} more removed off the pedestal", removed) : ""));
+                              removed > 0 ? fmt::format("; {} more removed on purpose", removed) : ""));
   }
-  if (options.experiment == Experiment::oedometer) {
-    bool unreadable = false;
-    const std::string plate =
-        plate_problem(folder / k_plate_states, static_cast<std::size_t>(options.load_steps), unreadable);
-    if (!plate.empty()) return fail(unreadable ? FailureClass::missing_dump : FailureClass::plate_not_converged, plate);
-  }
+  if (experiment.check_outputs)
+    if (const std::optional<experiments::OutputProblem> p = experiment.check_outputs(folder, *options.config))
+      return fail(p->failure, p->message);
   return report;
 }
 

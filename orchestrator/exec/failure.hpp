@@ -5,7 +5,7 @@
 // The checks run in this order and the first that applies wins, so a class names the most specific cause:
 //   timeout, cancelled/lost (not failures: `none` with requeue), signal, LIGGGHTS ERROR line, kinetic-energy
 //   blow-up or NaN in the thermo output, non-zero exit, missing or truncated dump, lost particles above the
-//   threshold, plate not converged (oedometer).
+//   threshold, then the experiment's own output checks (an oedometer's plate not converged).
 // The files are read by the postprocess readers, the ones the measurement uses (liggghts_log.hpp, dump.hpp,
 // oedometer.hpp): a final dump or plate_states.txt they refuse, or that was cut, is `missing_dump` here rather
 // than `measurement` later.
@@ -22,11 +22,12 @@ namespace demsa::exec {
 using study::FailureClass;
 
 struct FailureOptions {
-  study::Experiment experiment = study::Experiment::pile;  ///< which final files must exist
+  /// The case's study: its experiment (experiments/registry.hpp) names the final dump, counts the particles removed
+  /// on purpose and checks its other outputs (an oedometer's plate_states.txt). Must not be null.
+  const study::StudyConfig* config = nullptr;
   long expected_particles = 0;        ///< particles the case creates; 0 = do not check lost particles
   double lost_fraction = 0.01;        ///< lost / expected above this fails the case, [0, 1]
   double kinetic_energy_limit = 0.0;  ///< kinetic energy above this [J] is a blow-up; 0 = only NaN/inf
-  int load_steps = 0;                 ///< oedometer: rows plate_states.txt must have (0 = any number)
   int tail_lines = 30;                ///< lines of log kept in the report, >= 1
   void validate() const;              ///< throws std::invalid_argument naming the field
 };
@@ -38,8 +39,9 @@ struct FailureReport {
   std::string log_tail;  ///< last lines of log.liggghts (or run.out/screen.txt when that says more)
 };
 
-/// Classifies one finished case. Reads log.liggghts, screen.txt, run.out, the final dump and (oedometer)
-/// plate_states.txt in `folder`. A missing or malformed file is a failure class, not an exception.
+/// Classifies one finished case. Reads log.liggghts, screen.txt, run.out, the final dump and what the experiment
+/// checks (an oedometer's plate_states.txt) in `folder`. A missing or malformed file is a failure class, not an
+/// exception.
 FailureReport classify_case(const CaseExit& exit, const std::filesystem::path& folder, const FailureOptions& options);
 
 /// The last `lines` lines of a text file ("" when it does not exist).

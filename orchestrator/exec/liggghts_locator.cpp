@@ -1,6 +1,7 @@
 #include "orchestrator/exec/liggghts_locator.hpp"
 
-#include "orchestrator/cases/physics.hpp"
+#include "orchestrator/experiments/physics.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
 #include "orchestrator/util/process.hpp"
@@ -165,13 +166,12 @@ void resolve_liggghts(study::StudyConfig& config, bool refuse) {
         "[contact] rolling_model = \"{}\": the LIGGGHTS found through {} ({}) has only the rolling "
         "models {}; {}",
         name, source, *exe, models, how);
-  } else if (model == RollingModel::viscous && config.experiment == study::Experiment::oedometer &&
-             config.oedometer.plate_mode == study::PlateMode::trial_step && !cases::liggghts_library_dir(*exe)) {
+  } else if (const std::string driver = experiments::of(config).driver_command(config);
+             model == RollingModel::viscous && !driver.empty() && !experiments::liggghts_library_dir(*exe)) {
     problem = fmt::format(
-        "[contact] rolling_model = \"viscous\" with plate_mode = \"trial-step\": demsa drives the "
-        "plate in-process and needs the LIGGGHTS library of the same build, which {} ({}) does not "
-        "come with; {}",
-        source, *exe, how);
+        "[contact] rolling_model = \"viscous\" with a case that demsa runs in-process (`demsa {}`, the {}'s "
+        "settings): it needs the LIGGGHTS library of the same build, which {} ({}) does not come with; {}",
+        driver, config.experiment, source, *exe, how);
   }
   if (problem.empty()) return;
   if (refuse) throw util::UserError(config.file.string(), 0, problem);

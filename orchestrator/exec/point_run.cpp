@@ -45,7 +45,7 @@ study::PointRun run_point(const study::StudyConfig& config, const fs::path& wher
     return run;
   }
   try {
-    run.observables = measure_case(config, folder);
+    run.observables = measure_case(folder);
     write_case_vtk_or_warn(folder);
   } catch (const std::exception& e) {
     run.error = fmt::format("the case ran but could not be measured: {}", e.what());

@@ -9,6 +9,7 @@
 #include "orchestrator/exec/measure.hpp"
 #include "orchestrator/exec/plan.hpp"
 #include "orchestrator/exec/progress.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/study/store.hpp"
@@ -50,22 +51,19 @@ namespace fs = std::filesystem;
 /// Mass of the heaviest particle times g times 1 m, times the particle count, times 100: a kinetic energy no
 /// settling pile or oedometer reaches (its potential energy is below N m_max g × 1 m).
 double kinetic_energy_limit(const StudyConfig& config, long particles) {
-  const double r_max = config.experiment == Experiment::pile ? config.pile.radii.r_max : config.oedometer.radii.r_max;
+  const double r_max = experiments::of(config).largest_radius(config);
   const double mass = config.material.density * 4.0 / 3.0 * std::numbers::pi * r_max * r_max * r_max;
   return 100.0 * static_cast<double>(particles) * mass * 9.81 * 1.0;
 }
 
-long configured_particles(const StudyConfig& config) {
-  return config.experiment == Experiment::pile ? config.pile.particles : config.oedometer.particles;
-}
+long configured_particles(const StudyConfig& config) { return experiments::of(config).particles(config); }
 
 FailureOptions failure_options(const StudyConfig& config, long particles) {
   FailureOptions options;
-  options.experiment = config.experiment;
+  options.config = &config;
   options.expected_particles = particles;
   options.lost_fraction = config.run.lost_fraction;
   options.kinetic_energy_limit = kinetic_energy_limit(config, particles);
-  options.load_steps = config.experiment == Experiment::oedometer ? static_cast<int>(config.oedometer.loads.size()) : 0;
   return options;
 }
 
@@ -302,7 +300,7 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
       // The frozen copy is the last file the study accepted: it names the changed keys (when it still reads).
       std::string changed;
       try {
-        for (const std::string& key : changed_settings(load_study(dir / k_frozen_study), config)) {
+        for (const std::string& key : config.table->changed(experiments::load_study(dir / k_frozen_study), config)) {
           changed += changed.empty() ? "; changed: " : ", ";
           changed += key;
         }
@@ -384,7 +382,7 @@ int extend_study(const fs::path& dir, int samples) {
   require_study_folder(dir);
   const StudyLock lock(dir);
   const fs::path frozen = dir / k_frozen_study;
-  const StudyConfig before = load_study(frozen);
+  const StudyConfig before = experiments::load_study(frozen);
   int design = 0;
   {
     const Store store((dir / k_store_file).string());
@@ -414,7 +412,7 @@ int extend_study(const fs::path& dir, int samples) {
   write_file_atomically(candidate, *text);
   StudyConfig after;
   try {
-    after = load_study(candidate);
+    after = experiments::load_study(candidate);
   } catch (const UserError& e) {
     fs::remove(candidate);
     throw UserError(fmt::format("--samples {}: {}", samples, e.what()));
@@ -552,7 +550,7 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
   std::map<std::string, double> observables;
   if (report.failure == FailureClass::none) {
     try {
-      observables = measure_case(loop.config, folder);
+      observables = measure_case(folder);
     } catch (const std::exception& e) {
       report.failure = FailureClass::measurement;
       report.message = e.what();
@@ -650,7 +648,7 @@ void handle_interrupt(Loop& loop) {
 RunSummary run_study(const RunOptions& options) {
   options.validate();
   const auto start = std::chrono::steady_clock::now();
-  StudyConfig config = load_study(options.study_file);
+  StudyConfig config = experiments::load_study(options.study_file);
   // The LIGGGHTS the cases run, and whether it has the study's rolling model: refused before any case runs.
   resolve_liggghts(config, !options.dry_run);
   RunSummary summary;

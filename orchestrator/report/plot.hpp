@@ -5,6 +5,8 @@
 //
 // The functions take plain structs (numbers and labels), not study files, so that the report and the tests can
 // feed them from anywhere. Labels use gnuplot's enhanced text: `μ_{PP}` is μ with subscript PP.
+#include "orchestrator/experiments/case_report.hpp"
+
 #include <Eigen/Core>
 
 #include <filesystem>
@@ -13,6 +15,13 @@
 #include <vector>
 
 namespace demsa::report {
+
+// The figure data of a case, as the experiments hand it to the report.
+using experiments::PileLine;
+using experiments::PileParticle;
+using experiments::PileSideView;
+using experiments::PlateHistoryPlot;
+using experiments::SettlementCurve;
 
 /// How gnuplot is run and how large the images are.
 struct PlotOptions {
@@ -115,55 +124,11 @@ struct RefineHistoryPlot {
 };
 PlotFiles plot_refine_history(const Plotter& plotter, const RefineHistoryPlot& data, const std::filesystem::path& stem);
 
-/// A particle of the measured pile, with the direction in which it is a boundary particle (paper §3.3, Fig. 4a).
-struct PileParticle {
-  double x = 0, y = 0, z = 0;  ///< centre [m]
-  double radius = 0;           ///< [m]
-  int direction = -1;          ///< i_φ when it is a boundary particle, -1 otherwise
-};
-/// The line fitted in one direction, as a segment in that direction's vertical half-plane.
-struct PileLine {
-  int direction = 0;                          ///< i_φ
-  double phi_deg = 0;                         ///< φ of the direction [°] (paper eq. 9: e = (cos φ, −sin φ))
-  double angle_deg = 0;                       ///< slope angle of the line [°]
-  double rho0 = 0, z0 = 0, rho1 = 0, z1 = 0;  ///< segment ends: radial distance and height [m]
-};
-/// The pile seen from the side (paper Fig. 4): a cross section with its boundary particles and fitted lines,
-/// and every direction's boundary particles and lines unrolled onto one radial plane.
-struct PileSideView {
-  std::string title;
-  std::vector<PileParticle> particles;  ///< the filtered pile
-  std::vector<PileLine> lines;          ///< one per direction that has a line
-  int directions = 180;                 ///< φ_N
-  double angle_deg = 0;                 ///< the mean angle of repose [°]
-  double height = 0;                    ///< h_P [m]
-  double pedestal_radius = 0.05;        ///< [m]
-  double pedestal_height = 0.005;       ///< [m]
-  double slab = 0;                      ///< half-thickness of the cross section [m]; 0: 2 × largest radius
-};
 PlotFiles plot_pile_side(const Plotter& plotter, const PileSideView& view, const std::filesystem::path& stem);
 
-/// Settlement against stress for the load steps (paper Fig. 5); settlements relative to the first load.
-struct SettlementCurve {
-  std::string title;
-  std::vector<double> loads;          ///< L_n [N]
-  double area = 0.01;                 ///< loaded area [m²] (stress = load / area)
-  std::vector<double> simulated;      ///< s_n [m] per load (first = 0); empty when not simulated
-  std::vector<double> measured;       ///< s̃_n [m] per load (first = 0); empty when not measured
-  std::vector<double> measured_low;   ///< lowest measured s̃_n [m]; empty = no error bars
-  std::vector<double> measured_high;  ///< highest measured s̃_n [m]
-};
 PlotFiles plot_settlement_curve(const Plotter& plotter, const SettlementCurve& curve,
                                 const std::filesystem::path& stem);
 
-/// The force on the plate over the iteration (paper Fig. 6b), with the load steps and the plate height.
-struct PlateHistoryPlot {
-  std::string title;
-  std::vector<double> step;     ///< time step of each row
-  std::vector<double> load;     ///< load step L_n being applied [N]
-  std::vector<double> force;    ///< particle force on the plate [N]
-  std::vector<double> plate_z;  ///< plate height [m]
-};
 PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& history,
                              const std::filesystem::path& stem);
 

@@ -8,18 +8,15 @@
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/observables.hpp"
 #include "orchestrator/study/parameters.hpp"
-#include "orchestrator/study/pile_measurement.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
-#include "postprocess/dump.hpp"
-#include "postprocess/oedometer.hpp"
-#include "postprocess/pile_angle.hpp"
 #include "sobol/metamodel.hpp"
 
 #include <fmt/core.h>
@@ -34,6 +31,8 @@
 #include <optional>
 #include <sstream>
 #include <string_view>
+#include <type_traits>
+#include <variant>
 
 namespace demsa::report {
 
@@ -271,7 +270,7 @@ ParameterText parameter_text(const std::string& name) {
 
 /// "angle of repose [°]", or the bare label of an observable without a unit.
 std::string axis_label(const std::string& observable) {
-  const Observable o = describe_observable(observable);
+  const Observable o = experiments::describe_observable(observable);
   return o.unit.empty() ? o.label : fmt::format("{} [{}]", o.label, o.unit);
 }
 
@@ -307,8 +306,7 @@ ReportSection summary_section(const StudyData& s) {
   ReportSection section;
   section.heading = "Study";
   const StudyConfig& c = s.config;
-  const std::string experiment =
-      c.experiment == Experiment::pile ? "pile (angle of repose, paper §3)" : "oedometer (settlements, paper §4)";
+  const std::string experiment = fmt::format("{} ({})", c.experiment, experiments::of(c).summary);
   section.paragraphs.push_back(fmt::format("Study `{}`: {} experiment, design `{}` of {} samples, seed {}.", c.name,
                                            experiment, c.design, c.samples, c.seed));
   double cpu = 0;
@@ -372,7 +370,7 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
                                  const std::vector<std::string>& names, const Plotter& plotter, const fs::path& out,
                                  ReportSummary& summary) {
   const std::string& name = observable.name;
-  const Observable label = describe_observable(name);
+  const Observable label = experiments::describe_observable(name);
   ReportSection section;
   section.heading = fmt::format("Observable `{}`: {}", name, label.label);
   section.paragraphs.push_back(fmt::format("{} samples; mean {} {}, standard deviation {} {}.", observable.samples,
@@ -547,17 +545,13 @@ int choose_sample(const StudyData& s, int requested) {
     return requested;
   }
   if (s.observables.empty()) return -1;
-  const StudyConfig& c = s.config;
-  std::string key;
+  const experiments::ReportFocus focus = experiments::of(s.config).report_focus(s.config);
+  const std::string& key = focus.observable;
   double goal = 0;
-  if (c.experiment == Experiment::pile) {
-    key = k_angle;
-    goal = c.pile.target_angle;
-  } else if (!c.oedometer.measured_settlements.empty()) {
-    key = k_settlement_error;
-    goal = 0;
+  if (focus.value) {
+    goal = *focus.value;
   } else {
-    key = settlement_name(c.oedometer.loads.size() - 1);
+    // No value aimed at: the median of the study's values.
     std::vector<double> values;
     for (const auto& [sample, v] : s.observables)
       if (v.count(key)) values.push_back(v.at(key));
@@ -578,121 +572,33 @@ int choose_sample(const StudyData& s, int requested) {
   return best;
 }
 
-ReportSection pile_section(const StudyData& s, int sample, const Plotter& plotter, const fs::path& out,
+/// The experiment's section on one case, its figures drawn (experiments::CaseReport).
+ReportSection case_section(const StudyData& s, int sample, const Plotter& plotter, const fs::path& out,
                            const fs::path& dir, ReportSummary& summary) {
-  ReportSection section;
-  section.heading = fmt::format("Sample {}: the pile (paper Fig. 4)", sample);
   const fs::path folder = case_dir(dir, sample);
-  const postprocess::Particles particles = postprocess::read_particles(folder / k_pile_final_dump, 1);
-  // The estimator the study measured with ([pile] angle_estimator), so that the figure shows the stored angle.
-  const postprocess::PileAngleOptions options = pile_angle_options(s.config.pile);
-  const postprocess::PileAngleResult r = postprocess::measure_pile_angle(particles, options);
-  PileSideView view;
-  view.title = fmt::format("sample {}", sample);
-  view.directions = options.directions;
-  view.angle_deg = r.angle_mean;
-  view.height = r.pile_height;
-  view.pedestal_radius = options.pedestal_radius;
-  view.pedestal_height = options.pedestal_top;
-  std::vector<int> direction(particles.size(), -1);
-  for (const postprocess::BoundaryParticle& b : r.boundary) direction[b.index] = b.direction;
-  for (size_t i : postprocess::pedestal_particles(particles, options))
-    view.particles.push_back({particles.x[i], particles.y[i], particles.z[i], particles.radius[i], direction[i]});
-  // The fitted lines live in the (radial, height above the pedestal top) plane; the plot wants z.
-  for (const postprocess::DirectionLine& l : r.lines) {
-    if (!l.used) continue;
-    view.lines.push_back({l.direction, l.phi, l.angle, l.radial_low, l.height_low + options.pedestal_top, l.radial_high,
-                          l.height_high + options.pedestal_top});
-  }
-  section.paragraphs.push_back(
-      fmt::format("Case `{}`: {} particles on the pedestal, pile height h_P = {:.1f} mm, angle of repose φ = {:.2f}° "
-                  "(standard deviation {:.2f}° over {} of {} directions, range {:.2f}°–{:.2f}°; {}), E_φ = {:.3g} deg² "
-                  "against φ̂ = {:g}°.",
-                  fs::relative(folder, dir).generic_string(), r.particles_on_pedestal, r.pile_height * 1e3,
-                  r.angle_mean, r.angle_sd, r.directions_used, options.directions, r.angle_min, r.angle_max,
-                  options.estimator == postprocess::AngleEstimator::robust
-                      ? "robust estimator: Theil–Sen lines through the surface points"
-                      : "the paper's estimator, §3.3",
-                  r.angle_error, options.target_angle));
-  section.figures.push_back({fmt::format("The pile of sample {} from the side: a cross section with its boundary "
-                                         "particles (coloured by direction) and fitted lines, and every "
-                                         "direction's boundary particles and line unrolled onto one plane",
-                                         sample),
-                             plot_pile_side(plotter, view, out / "pile_side")});
-  summary.images.push_back(section.figures.back().files.png);
-  return section;
-}
-
-ReportSection oedometer_section(const StudyData& s, int sample, const Plotter& plotter, const fs::path& out,
-                                const fs::path& dir, ReportSummary& summary) {
+  const experiments::CaseReport r =
+      experiments::of(s.config).case_report(folder, fs::relative(folder, dir).generic_string(), sample, s.config);
   ReportSection section;
-  section.heading = fmt::format("Sample {}: the oedometer (paper Figs. 5 and 6b)", sample);
-  const fs::path folder = case_dir(dir, sample);
-  const std::vector<postprocess::PlateState> states = postprocess::read_plate_states(folder / k_plate_states);
-  postprocess::OedometerOptions options;
-  options.box_side = s.config.oedometer.box_side;
-  options.measured_settlements = s.config.oedometer.measured_settlements;
-  const postprocess::OedometerResult r = postprocess::measure_oedometer(states, options);
-
-  SettlementCurve curve;
-  curve.title = fmt::format("sample {}: settlement against vertical stress", sample);
-  curve.area = options.box_side * options.box_side;
-  for (const postprocess::OedometerStep& step : r.steps) {
-    curve.loads.push_back(step.load_N);
-    curve.simulated.push_back(step.settlement_m);
+  section.heading = r.heading;
+  section.paragraphs = r.paragraphs;
+  section.tables = r.tables;
+  for (const experiments::CaseFigure& f : r.figures) {
+    const fs::path stem = out / f.stem;
+    const PlotFiles files = std::visit(
+        [&](const auto& data) -> PlotFiles {
+          using T = std::decay_t<decltype(data)>;
+          if constexpr (std::is_same_v<T, PileSideView>)
+            return plot_pile_side(plotter, data, stem);
+          else if constexpr (std::is_same_v<T, SettlementCurve>)
+            return plot_settlement_curve(plotter, data, stem);
+          else
+            return plot_plate_history(plotter, data, stem);
+        },
+        f.data);
+    section.figures.push_back({f.caption, files});
+    summary.images.push_back(files.png);
   }
-  const std::vector<double>& measured = s.config.oedometer.measured_settlements;
-  if (!measured.empty()) {
-    curve.measured.assign(curve.loads.size(), k_nan);
-    const size_t offset = measured.size() == s.config.oedometer.loads.size() ? 0 : 1;
-    if (!curve.measured.empty()) curve.measured[0] = 0.0;
-    for (size_t i = 0; i < measured.size() && i + offset < curve.measured.size(); ++i)
-      curve.measured[i + offset] = measured[i];
-  }
-  ReportTable table;
-  table.caption = "Load steps: plate force and settlement relative to the first load";
-  table.header = {"load L_n [N]", "stress [kPa]",      "plate force [N]",
-                  "converged",    "settlement s [mm]", "measured s̃ [mm]"};
-  for (size_t i = 0; i < r.steps.size(); ++i) {
-    const postprocess::OedometerStep& st = r.steps[i];
-    table.rows.push_back(
-        {fmt::format("{:g}", st.load_N), fmt::format("{:.1f}", st.stress_Pa * 1e-3), fmt::format("{:.3f}", st.force_N),
-         st.converged ? "yes" : "no", fmt::format("{:.4f}", st.settlement_m * 1e3),
-         curve.measured.empty() || !std::isfinite(curve.measured[i]) ? ""
-                                                                     : fmt::format("{:.4f}", curve.measured[i] * 1e3)});
-  }
-  section.tables.push_back(table);
-  if (r.settlement_error)
-    section.paragraphs.push_back(fmt::format("Settlement error E_0 = {:.4f} mm.", *r.settlement_error * 1e3));
-  section.figures.push_back({fmt::format("Settlement of sample {} against the vertical stress, with the measured "
-                                         "settlements; dashed: the load steps",
-                                         sample),
-                             plot_settlement_curve(plotter, curve, out / "settlement_curve")});
-  summary.images.push_back(section.figures.back().files.png);
-
-  const fs::path history_file = folder / k_plate_history;
-  if (fs::exists(history_file)) {
-    const postprocess::PlateHistory h = postprocess::read_plate_history(history_file);
-    if (h.size() > 0) {
-      PlateHistoryPlot plot;
-      plot.title = fmt::format("sample {}: plate iteration", sample);
-      for (size_t i = 0; i < h.size(); ++i) {
-        plot.step.push_back(static_cast<double>(h.step[i]));
-        plot.load.push_back(h.load_N[i]);
-        plot.force.push_back(h.force_N[i]);
-        plot.plate_z.push_back(h.plate_z_m[i]);
-      }
-      section.figures.push_back({fmt::format("Force of the particles on the plate and plate height over the "
-                                             "iteration of sample {}; dashed: the load step being applied",
-                                             sample),
-                                 plot_plate_history(plotter, plot, out / "plate_history")});
-      summary.images.push_back(section.figures.back().files.png);
-    } else {
-      summary.notes.push_back(fmt::format("{}: no rows, no plate history plot", history_file.string()));
-    }
-  } else {
-    summary.notes.push_back(fmt::format("{}: missing, no plate history plot", history_file.string()));
-  }
+  for (const std::string& note : r.notes) summary.notes.push_back(note);
   return section;
 }
 
@@ -723,7 +629,7 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
   targets.header = {"observable", "metamodel", "Q²", "target", "predicted", "measured (verification)"};
   bool any_measured = false;
   for (const CalibratedTarget& t : c.targets) {
-    const Observable l = describe_observable(t.name);
+    const Observable l = experiments::describe_observable(t.name);
     targets.rows.push_back({t.name, model_title(t.model), fixed4(t.q2),
                             fmt::format("{:.5g} {}", t.target * l.factor, l.unit),
                             fmt::format("{:.5g} {}", t.predicted * l.factor, l.unit),
@@ -836,7 +742,7 @@ ReportSummary write_study_report(const ReportOptions& options) {
   const fs::path& dir = options.dir;
   require_study_folder(dir);
   StudyData s;
-  s.config = load_study(dir / k_frozen_study);
+  s.config = experiments::load_study(dir / k_frozen_study);
   {
     const Store store = Store::open_read_only((dir / k_store_file).string());
     s.samples = store.samples();
@@ -879,9 +785,7 @@ ReportSummary write_study_report(const ReportOptions& options) {
 
   if (summary.sample_shown >= 0) {
     try {
-      doc.sections.push_back(s.config.experiment == Experiment::pile
-                                 ? pile_section(s, summary.sample_shown, plotter, summary.out_dir, dir, summary)
-                                 : oedometer_section(s, summary.sample_shown, plotter, summary.out_dir, dir, summary));
+      doc.sections.push_back(case_section(s, summary.sample_shown, plotter, summary.out_dir, dir, summary));
     } catch (const std::exception& e) {
       summary.notes.push_back(fmt::format("sample {}: no case figures: {}", summary.sample_shown, e.what()));
     }

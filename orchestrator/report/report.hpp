@@ -27,11 +27,7 @@
 
 namespace demsa::report {
 
-struct ReportTable {
-  std::string caption;
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;  ///< each as long as the header
-};
+using ReportTable = experiments::CaseTable;
 
 struct ReportFigure {
   std::string caption;

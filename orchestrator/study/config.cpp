@@ -32,16 +32,17 @@ namespace {
 /// type. Messages are "study.toml:LINE: [section] key: ...".
 class TableReader {
  public:
-  TableReader(const toml::table& table, std::string file, std::string section)
-      : m_table(table), m_file(std::move(file)), m_section(std::move(section)) {}
+  TableReader(const SettingsTable& settings, const toml::table& table, std::string file, std::string section)
+      : m_settings(settings), m_table(table), m_file(std::move(file)), m_section(std::move(section)) {}
 
   /// Calls `handle(key, node)` for every key; `handle` returns false for an unknown key.
   void each(const std::function<bool(const std::string&, const toml::node&)>& handle) const {
     for (const auto& [key, node] : m_table) {
       const std::string name(key.str());
       if (!handle(name, node)) {
-        throw UserError(m_file, line_of(node),
-                        fmt::format("unknown key '{}' in [{}]{}", name, m_section, unknown_key_hint(m_section, name)));
+        throw UserError(
+            m_file, line_of(node),
+            fmt::format("unknown key '{}' in [{}]{}", name, m_section, m_settings.unknown_key_hint(m_section, name)));
       }
     }
   }
@@ -93,6 +94,7 @@ class TableReader {
 
   const std::string& file() const { return m_file; }
   const std::string& section() const { return m_section; }
+  const SettingsTable& settings() const { return m_settings; }
 
   static std::string describe(const toml::node& node) {
     switch (node.type()) {
@@ -114,25 +116,11 @@ class TableReader {
   }
 
  private:
+  const SettingsTable& m_settings;
   const toml::table& m_table;
   std::string m_file;
   std::string m_section;
 };
-
-void check_radii(const TableReader& r, const toml::table& table, const RadiusDistribution& radii) {
-  const toml::node* at = table.get("r_min");
-  if (!at) at = table.get("r_max");
-  const int line = at ? r.line_of(*at) : static_cast<int>(table.source().begin.line);
-  if (!(radii.r_min < radii.r_max)) {
-    throw UserError(r.file(), line,
-                    fmt::format("[{}] r_min ({}) must be less than r_max ({})", r.section(), radii.r_min, radii.r_max));
-  }
-  if (radii.mean < radii.r_min || radii.mean > radii.r_max) {
-    throw UserError(r.file(), line,
-                    fmt::format("[{}] r_mean ({}) must lie in [r_min, r_max] = [{}, {}]", r.section(), radii.mean,
-                                radii.r_min, radii.r_max));
-  }
-}
 
 /// LIGGGHTS's SI check on Young's modulus (physics.hpp: k_liggghts_min_E, k_liggghts_max_E), applied to the whole
 /// range of a varied E and to a fixed [material] E once every table is read (the flags may follow [parameters]):
@@ -211,7 +199,7 @@ void read_value(const TableReader& r, const Setting& s, const toml::node& node, 
 /// One [parameters] entry `{ low, high, scale }`; its admissible values are those of its row (the [material] rules).
 ParameterRange read_parameter(const TableReader& r, const Setting& s, const toml::node& node) {
   const toml::table& pt = r.table(s.key, node);
-  const TableReader pr(pt, r.file(), "parameters." + s.key);
+  const TableReader pr(r.settings(), pt, r.file(), "parameters." + s.key);
   ParameterRange p;
   p.name = s.key;
   p.line = r.line_of(node);
@@ -248,7 +236,7 @@ ParameterRange read_parameter(const TableReader& r, const Setting& s, const toml
 /// `[design] replicates = { points = P, repeats = R }` (P <= samples is checked with the section: check_section).
 ReplicateSettings read_replicates(const TableReader& r, const Setting& s, const toml::node& node) {
   const toml::table& t = r.table(s.key, node);
-  const TableReader tr(t, r.file(), "design." + s.key);
+  const TableReader tr(r.settings(), t, r.file(), "design." + s.key);
   ReplicateSettings rep;
   bool points = false, repeats = false;
   tr.each([&](const std::string& key, const toml::node& n) {
@@ -283,19 +271,19 @@ struct Seen {
 
 /// Reads one section through its rows: presets first (explicit keys override them), then every key in file order.
 void read_section(const TableReader& r, const toml::table& table, StudyConfig& c, Seen& seen) {
-  for (const Setting& s : study_settings()) {
+  for (const Setting& s : r.settings().rows()) {
     if (s.section != r.section() || !s.first) continue;
     if (const toml::node* node = table.get(s.key)) read_value(r, s, *node, c);
   }
   r.each([&](const std::string& key, const toml::node& node) {
-    const Setting* s = find_setting(r.section(), key);
+    const Setting* s = r.settings().find(r.section(), key);
     if (!s) {
       // A sub-table with rows of its own ([run.slurm]).
       const std::string sub = r.section() + "." + key;
-      const auto& sections = setting_sections();
+      const auto& sections = r.settings().sections();
       if (std::none_of(sections.begin(), sections.end(), [&](const SettingSection& x) { return x.name == sub; }))
         return false;
-      read_section(TableReader(r.table(key, node), r.file(), sub), r.table(key, node), c, seen);
+      read_section(TableReader(r.settings(), r.table(key, node), r.file(), sub), r.table(key, node), c, seen);
       return true;
     }
     seen.lines[s->section + "." + key] = r.line_of(node);
@@ -310,30 +298,27 @@ void read_section(const TableReader& r, const toml::table& table, StudyConfig& c
   });
 }
 
+/// A section's cross-key rules fail at the line of the key they name (SectionCheck).
+class SectionAt final : public SectionCheck {
+ public:
+  SectionAt(const TableReader& reader, const toml::table& table) : m_reader(reader), m_table(table) {}
+  const std::string& section() const override { return m_reader.section(); }
+  bool given(const std::string& key) const override { return m_table.get(key) != nullptr; }
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const override {
+    if (const toml::node* node = m_table.get(key)) m_reader.fail(*node, key, message);
+    m_reader.fail(m_table, key, message);
+  }
+
+ private:
+  const TableReader& m_reader;
+  const toml::table& m_table;
+};
+
 /// The rules that tie keys of one section together.
 void check_section(const TableReader& r, const toml::table& table, StudyConfig& c) {
   const std::string& section = r.section();
-  if (section == "pile") {
-    const PileSettings& p = c.pile;
-    check_radii(r, table, p.radii);
-    if (2 * p.radii.r_max > 2 * p.disc_radius)
-      r.fail(table, "disc_radius",
-             fmt::format("{} m cannot hold a particle of radius r_max = {} m", p.disc_radius, p.radii.r_max));
-    if (p.disc_radius + p.radii.r_max > p.domain_half_width || p.pedestal_radius >= p.domain_half_width)
-      r.fail(table, "domain_half_width",
-             fmt::format("{} m must exceed the disc radius + r_max and the pedestal radius", p.domain_half_width));
-  } else if (section == "oedometer") {
-    const OedometerSettings& o = c.oedometer;
-    check_radii(r, table, o.radii);
-    if (!o.measured_settlements.empty() && o.measured_settlements.size() + 1 != o.loads.size()) {
-      const toml::node* at = table.get("measured_settlements");
-      r.fail(*at, "measured_settlements",
-             fmt::format("has {} values; it needs one per load after the first ({} loads -> {} values)",
-                         o.measured_settlements.size(), o.loads.size(), o.loads.size() - 1));
-    }
-    if (2 * o.radii.r_max >= o.box_side)
-      r.fail(table, "box_side",
-             fmt::format("{} m is too small for particles of radius {} m", o.box_side, o.radii.r_max));
+  if (const ExperimentSchema* experiment = r.settings().owner(section)) {
+    if (experiment->check) experiment->check(c, SectionAt(r, table));
   } else if (section == "design") {
     if (c.replicates.points > c.samples)
       r.fail(*table.get("replicates"), "replicates",
@@ -478,7 +463,7 @@ void check_ascii_outside_strings(const std::string& text, const std::string& nam
 
 }  // namespace
 
-StudyConfig parse_study(const std::string& text, const std::filesystem::path& file) {
+StudyConfig SettingsTable::parse(const std::string& text, const std::filesystem::path& file) const {
   const std::string name = file.filename().string();
   check_ascii_outside_strings(text, name);
   toml::table root;
@@ -489,12 +474,13 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
   }
   StudyConfig c;
   c.file = file;
+  c.table = this;
   Seen seen;
-  const TableReader top(root, name, "");
+  const TableReader top(*this, root, name, "");
 
   std::vector<std::string> sections;
   std::map<std::string, int> section_lines;  ///< the top-level tables given, and their lines
-  for (const SettingSection& s : setting_sections())
+  for (const SettingSection& s : m_sections)
     if (s.name.find('.') == std::string::npos) sections.push_back(s.name);
   for (const auto& [key, node] : root) {
     const std::string section(key.str());
@@ -505,25 +491,26 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
     }
     const toml::table& table = top.table(section, node);
     section_lines[section] = top.line_of(node);
-    const TableReader r(table, name, section);
+    const TableReader r(*this, table, name, section);
     read_section(r, table, c, seen);
     check_section(r, table, c);
   }
 
-  for (const Setting& s : study_settings()) {
+  for (const Setting& s : m_rows) {
     if (!s.required || seen.lines.count(s.section + "." + s.key)) continue;
     const std::string choices = s.choices.empty() ? "" : " (" + join(s.choices, " or ") + ")";
     throw UserError(name, 0, fmt::format("[{}] {} is required{}", s.section, s.key, choices));
   }
-  // The table of the other experiment would be silently ignored: its values would look used and are not.
-  const char* other = c.experiment == Experiment::pile ? "oedometer" : "pile";
-  if (const auto it = section_lines.find(other); it != section_lines.end()) {
+  // The table of another experiment would be silently ignored: its values would look used and are not.
+  for (const auto& [section, line] : section_lines) {
+    const ExperimentSchema* experiment = owner(section);
+    if (!experiment || experiment->name == c.experiment) continue;
     const auto at = seen.lines.find("study.experiment");
-    throw UserError(name, it->second,
-                    fmt::format("[{}] does not apply to this study: [study] experiment = \"{}\"{}; remove the table or "
-                                "change the experiment",
-                                other, c.experiment == Experiment::pile ? "pile" : "oedometer",
-                                at == seen.lines.end() ? "" : fmt::format(" (line {})", at->second)));
+    throw UserError(
+        name, line,
+        fmt::format("[{}] does not apply to this study: [study] experiment = \"{}\"{}; remove the table or "
+                    "change the experiment",
+                    section, c.experiment, at == seen.lines.end() ? "" : fmt::format(" (line {})", at->second)));
   }
   if (c.parameters.empty()) throw UserError(name, 0, "[parameters] must vary at least one parameter");
   // The optimised Latin hypercubes keep an N x N matrix of the sample pairs: refused here, at its line, rather than
@@ -549,7 +536,7 @@ StudyConfig parse_study(const std::string& text, const std::filesystem::path& fi
   return c;
 }
 
-StudyConfig load_study(const std::filesystem::path& file) {
+StudyConfig SettingsTable::load(const std::filesystem::path& file) const {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec))
     throw UserError(fmt::format("{}: is a folder, not a study file (give the study's .toml file{})", file.string(),
@@ -566,7 +553,7 @@ StudyConfig load_study(const std::filesystem::path& file) {
   if (text.size() > k_max_study_file_bytes)
     throw UserError(fmt::format("{}: larger than {} bytes; a study file is a few kB of TOML", file.string(),
                                 k_max_study_file_bytes));
-  StudyConfig c = parse_study(text, file);
+  StudyConfig c = parse(text, file);
   c.file = file;
   return c;
 }

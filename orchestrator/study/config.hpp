@@ -12,15 +12,16 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <typeindex>
+#include <typeinfo>
 #include <vector>
 
 namespace demsa::study {
 
-enum class Experiment { pile, oedometer };
-enum class PlateMode { servo, trial_step };
 enum class TimestepMode { rayleigh, fixed };
 enum class ExecutorKind { local, slurm };
 /// How the SLURM executor submits: one job array per batch of cases, or one allocation whose cases run as job steps.
@@ -63,64 +64,6 @@ struct RadiusDistribution {
   double r_max = 3.5e-3;  ///< [m]
   double mean = 2.0e-3;   ///< [m]
   double sd = 0.5e-3;     ///< [m]
-};
-
-/// Pile experiment (paper §3). Defaults: particle set 1 of Table 2 scaled to `particles`.
-struct PileSettings {
-  std::string preset;    ///< "", "set1" or "set2" (paper Table 2); fills radii and particles
-  int particles = 6000;  ///< number of particles
-  RadiusDistribution radii;
-  double disc_radius = 0.020;       ///< r_fu: radius of the filling discs [m]
-  double fill_height = 0.100;       ///< h_fu: discs below it are present at start [m]
-  double pedestal_radius = 0.050;   ///< r_cy [m]
-  double pedestal_height = 0.005;   ///< h_cy [m]
-  double settle_time = 0.6;         ///< settling after the last disc: the cap [s]
-  double settle_speed = 0.0;        ///< settled: particles on the pedestal slower than this x sqrt(|g| r_min); 0 = off
-  double settle_quantile = 0.95;    ///< ... this share of them at least (1 = every one)
-  double settle_window = 0.05;      ///< ... at every check for this long [s]
-  bool remove_fallen = false;       ///< delete particles below the pedestal top and outside its radius
-  double target_angle = 33.5;       ///< φ̂ for E_φ [deg]
-  int directions = 180;             ///< φ_N (paper §3.3)
-  int levels = 10;                  ///< height levels between 0.2 h_P and 0.75 h_P
-  double settle_check_time = 0.02;  ///< the settling criterion and the removal are checked every this long [s]
-  double domain_half_width = 0.15;  ///< simulation box half width in x and y [m]; particles leaving it are lost
-
-  /// "paper" (§3.3) or "robust": the angle estimator of the measurement (postprocess::AngleEstimator)
-  std::string angle_estimator = "paper";
-};
-
-/// Radii of the paper's oedometer assembly one (§4; derivation in apply_oedometer_preset): the `paper` preset and the
-/// default.
-inline constexpr RadiusDistribution k_paper_oedometer_radii{2.0e-3, 3.0e-3, 2.466e-3, 0.25e-3};
-
-/// Oedometer experiment (paper §4).
-struct OedometerSettings {
-  int particles = 4642;
-  std::string preset;  ///< "" or "paper" (assembly one of §4: 4642 particles)
-  RadiusDistribution radii = k_paper_oedometer_radii;
-  double box_side = 0.10;                                   ///< [m]
-  double box_height = 0.10;                                 ///< [m]
-  double fill_time = 0.5;                                   ///< pouring and settling before loading [s]
-  std::vector<double> loads{100.0, 400.0, 1100.0, 2700.0};  ///< L_n [N], increasing
-  std::vector<double> measured_settlements;                 ///< s̃_i for loads 1..n-1 relative to load 0 [m]
-  PlateMode plate_mode = PlateMode::servo;
-  // servo mode
-  double servo_vel_max = 0.05;  ///< [m/s]; must be < skin/(2 dt)
-  double servo_kp = 0.5;
-  double servo_ki = 0.0;
-  double servo_kd = 0.0;
-  double load_tolerance = 0.03;   ///< |F - L| that counts as reached [N] (paper R_pr = 0.03 N)
-  long servo_max_steps = 400000;  ///< give up on a load after this many steps
-  long servo_check_steps = 2000;  ///< servo: force averaged and the load checked every this many steps
-  double rest_velocity = 1e-3;    ///< servo: the plate is at rest when its mean speed over a check is below [m/s]
-  double plate_gap = 0.5e-3;      ///< the plate starts this far above the settled packing [m]
-  // trial-step mode (paper §4 constants)
-  long trial_steps = 15000;        ///< n_s
-  long relax_steps = 80000;        ///< n_L
-  double trial_reduction = 0.95;   ///< m_T
-  double trial_step0 = 0.0075e-3;  ///< δ_T0 [m]
-  double trial_floor = 0.05;       ///< minimum trial step as a fraction of δ_T0
-  int max_trials = 2000;           ///< per load
 };
 
 /// The contact model's rolling resistance; hertz normal and history tangential are fixed.
@@ -195,36 +138,82 @@ struct ReplicateSettings {
   int extra_cases() const { return enabled() ? points * (repeats - 1) : 0; }  ///< P (R − 1)
 };
 
+class SettingsTable;
+
+/// The settings of the experiments' own sections ([pile], [oedometer], ...), by type: each experiment defines its
+/// settings struct (orchestrator/experiments/NAME/) and its rows read and write it through get<T>(). A type not
+/// stored reads as its defaults (a default-constructed T), so that a config of one experiment shows the defaults of
+/// the others' rows.
+class ExperimentSettings {
+ public:
+  ExperimentSettings() = default;
+  ExperimentSettings(const ExperimentSettings& other) { *this = other; }
+  ExperimentSettings& operator=(const ExperimentSettings& other) {
+    if (this == &other) return *this;
+    m_slots.clear();
+    for (const auto& [type, slot] : other.m_slots) m_slots.emplace(type, slot->clone());
+    return *this;
+  }
+  ExperimentSettings(ExperimentSettings&&) noexcept = default;
+  ExperimentSettings& operator=(ExperimentSettings&&) noexcept = default;
+  ~ExperimentSettings() = default;
+
+  /// The stored T, created with its defaults on first use.
+  template <typename T>
+  T& get() {
+    std::unique_ptr<Slot>& slot = m_slots[std::type_index(typeid(T))];
+    if (!slot) slot = std::make_unique<Holder<T>>();
+    return static_cast<Holder<T>&>(*slot).value;
+  }
+  /// The stored T, or T's defaults.
+  template <typename T>
+  const T& get() const {
+    const auto it = m_slots.find(std::type_index(typeid(T)));
+    if (it == m_slots.end()) {
+      static const T defaults{};
+      return defaults;
+    }
+    return static_cast<const Holder<T>&>(*it->second).value;
+  }
+
+ private:
+  struct Slot {
+    virtual ~Slot() = default;
+    virtual std::unique_ptr<Slot> clone() const = 0;
+  };
+  template <typename T>
+  struct Holder final : Slot {
+    T value{};
+    std::unique_ptr<Slot> clone() const override { return std::make_unique<Holder>(*this); }
+  };
+  std::map<std::type_index, std::unique_ptr<Slot>> m_slots;
+};
+
 struct StudyConfig {
   std::filesystem::path file;  ///< the study file it was read from
   std::string name;            ///< study name
-  Experiment experiment = Experiment::pile;
-  std::uint64_t seed = 12345;          ///< one seed for the design, the radii and the initial positions
+  std::string experiment;      ///< the experiment's name ([study] experiment; orchestrator/experiments/registry.hpp)
+  std::uint64_t seed = 12345;  ///< one seed for the design, the radii and the initial positions
   std::string design = "lhs-maximin";  ///< a canonical name of sobol::design_kind_names()
   int samples = 16;
   ReplicateSettings replicates;            ///< [design] replicates (DEM noise)
   std::vector<ParameterRange> parameters;  ///< the varied parameters, in the paper's order
   Material material;
   ContactSettings contact;
-  PileSettings pile;
-  OedometerSettings oedometer;
+  ExperimentSettings experiment_settings;  ///< the experiments' own sections, by type
   TimestepSettings timestep;
   RunSettings run;
   AnalysisSettings analysis;
+  /// The settings table the config was read with (SettingsTable::parse): design_hash() hashes its rows.
+  const SettingsTable* table = nullptr;
 };
 
 /// The largest study file load_study() reads (a study file is a few kB).
 inline constexpr std::size_t k_max_study_file_bytes = 1 << 20;
 
-/// Reads and validates a study file. Throws util::UserError "study.toml:LINE: ..." for unknown keys, wrong types and
-/// impossible values, and "FILE: ..." for a folder or a file larger than k_max_study_file_bytes.
-StudyConfig load_study(const std::filesystem::path& file);
-
-/// Parses study text (for tests); `file` is the name used in messages.
-StudyConfig parse_study(const std::string& text, const std::filesystem::path& file);
-
 /// A stable hash (16 hex digits, FNV-1a 64) of the settings whose effect is cases or measurement (settings.hpp:
-/// design_hash_text): everything but [run] and [analysis], except run.ranks (a result depends on the rank count).
+/// SettingsTable::hash_text of config.table): everything but [run] and [analysis], except run.ranks (a result
+/// depends on the rank count).
 std::string design_hash(const StudyConfig& config);
 
 /// The member of Material that holds the contact parameter `key` (a key of contact_parameters()); nullptr for any

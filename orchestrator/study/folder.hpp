@@ -1,8 +1,7 @@
 #pragma once
-// The names of everything in a study folder and in a case folder (README "A study"): every file name has this one
-// home. Files written by LIGGGHTS (or by `demsa drive-oedometer` for the trial-step oedometer) in a case folder:
-// log.liggghts, screen.txt, and pile_final.dump (pile) or oedometer_final.dump, plate_history.txt,
-// plate_states.txt (oedometer).
+// The names of everything in a study folder and of the files every case folder has (README "A study"): every file
+// name has this one home. The files of one experiment's cases (its final dump, its plate files) are named in its
+// folder, orchestrator/experiments/NAME/.
 #include "orchestrator/util/file_lock.hpp"
 
 #include <filesystem>
@@ -21,20 +20,15 @@ inline constexpr const char* k_report_folder = "report";      ///< report/ outpu
 inline constexpr const char* k_lock_file = ".demsa.lock";     ///< held by the demsa that runs the study
 
 // ---------------------------------------------------------------- a case folder
-inline constexpr const char* k_case_input = "in.liggghts";           ///< main LIGGGHTS script
-inline constexpr const char* k_case_params = "params.liggghts";      ///< generated variables
-inline constexpr const char* k_case_run_script = "run.sh";           ///< runs the case from its folder
-inline constexpr const char* k_case_json = "case.json";              ///< what the case is (write_case)
-inline constexpr const char* k_case_log = "log.liggghts";            ///< LIGGGHTS log
-inline constexpr const char* k_case_screen = "screen.txt";           ///< LIGGGHTS screen output
-inline constexpr const char* k_run_output_file = "run.out";          ///< stdout + stderr of ./run.sh
-inline constexpr const char* k_result_file = "result.json";          ///< the committed observables
-inline constexpr const char* k_pile_final_dump = "pile_final.dump";  ///< id type x y z radius vx vy vz
-inline constexpr const char* k_pile_settling = "pile_settling.txt";  ///< how settling ended, particles removed
-inline constexpr const char* k_oedometer_final_dump = "oedometer_final.dump";  ///< same columns
-inline constexpr const char* k_plate_history = "plate_history.txt";            ///< step load_N plate_z_m force_N ...
-inline constexpr const char* k_plate_states = "plate_states.txt";              ///< load_N plate_z_m force_N converged
-inline constexpr const char* k_case_vtk_folder = "vtk";  ///< final state for ParaView (exec/case_vtk.hpp)
+inline constexpr const char* k_case_input = "in.liggghts";       ///< main LIGGGHTS script
+inline constexpr const char* k_case_params = "params.liggghts";  ///< generated variables
+inline constexpr const char* k_case_run_script = "run.sh";       ///< runs the case from its folder
+inline constexpr const char* k_case_json = "case.json";          ///< what the case is (write_case)
+inline constexpr const char* k_case_log = "log.liggghts";        ///< LIGGGHTS log
+inline constexpr const char* k_case_screen = "screen.txt";       ///< LIGGGHTS screen output
+inline constexpr const char* k_run_output_file = "run.out";      ///< stdout + stderr of ./run.sh
+inline constexpr const char* k_result_file = "result.json";      ///< the committed observables
+inline constexpr const char* k_case_vtk_folder = "vtk";          ///< final state for ParaView (exec/case_vtk.hpp)
 
 /// The default study folder for a study file: the file's path without ".toml".
 inline std::filesystem::path default_study_dir(const std::filesystem::path& study_file) {

@@ -10,17 +10,13 @@
 
 namespace demsa::study {
 
-/// Stored with a pile's observables, not analysed: 1 when the settling criterion ([pile] settle_speed) was met, 0
-/// when the pile reached settle_time still moving (absent when the criterion is off), and the number of particles
-/// removed off the pedestal during the run ([pile] remove_fallen).
+/// Stored with a case's observables by an experiment that judges whether its particles came to rest, not analysed: 1
+/// when its settling criterion was met, 0 when the case reached its time cap still moving (absent when the
+/// criterion is off). `demsa status` and the report flag the samples stored with 0.
 inline constexpr std::string_view k_settled = "settled";
-inline constexpr std::string_view k_removed_off_pedestal = "removed_off_pedestal";
 
 /// The samples whose done run recorded an unsettled pile (k_settled = 0), from Store::observables().
 std::vector<int> unsettled_samples(const std::map<int, std::map<std::string, double>>& observables);
-
-/// The names of the observables an experiment produces, in table order (for the analysis).
-std::vector<std::string> observable_names(const StudyConfig& config);
 
 /// A case run at one point outside the design (the verification of a calibration) and what it measured.
 struct PointRun {

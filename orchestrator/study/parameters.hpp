@@ -28,28 +28,14 @@ const ContactParameter* find_contact_parameter(std::string_view key);
 /// The keys of contact_parameters(), in order.
 const std::vector<std::string>& contact_parameter_names();
 
-/// One observable a study measures (paper §3.3, §4).
+/// One observable a study measures (paper §3.3, §4): each experiment lists its own
+/// (orchestrator/experiments/experiment.hpp).
 struct Observable {
-  std::string name;     ///< column in observables.csv and the store: "angle", "settlement_2"
-  std::string label;    ///< words: "angle of repose", "settlement s_2"
-  std::string unit;     ///< unit as shown: "°", "mm"
-  double factor = 1.0;  ///< shown value = stored (SI) value × factor (m -> mm)
+  std::string name;         ///< column in observables.csv and the store: "angle", "settlement_2"
+  std::string label;        ///< words: "angle of repose", "settlement s_2"
+  std::string unit;         ///< unit as shown: "°", "mm"
+  double factor = 1.0;      ///< shown value = stored (SI) value × factor (m -> mm)
+  std::string stored_unit;  ///< the unit of the stored value (observables.csv, the store, `demsa measure`): "m", "°"
 };
-
-/// Pile observables (paper §3.3).
-inline constexpr std::string_view k_angle = "angle";              ///< angle of repose φ [deg]
-inline constexpr std::string_view k_angle_sd = "angle_sd";        ///< spread of φ over the directions [deg]
-inline constexpr std::string_view k_pile_height = "pile_height";  ///< h_P [m]
-inline constexpr std::string_view k_particles_on_pedestal = "particles_on_pedestal";
-/// Oedometer observables (paper §4).
-inline constexpr std::string_view k_settlement_error = "settlement_error";  ///< E_0 [m]
-
-/// "settlement_K": the settlement s_K at load K relative to load 0 [m], K >= 1.
-std::string settlement_name(std::size_t k);
-/// K of a "settlement_K" name; nullopt for any other name.
-std::optional<std::size_t> settlement_index(std::string_view name);
-
-/// The label, unit and display factor of an observable name (any name: unknown ones get themselves as label).
-Observable describe_observable(std::string_view name);
 
 }  // namespace demsa::study

@@ -1,5 +1,7 @@
 #include "orchestrator/study/settings.hpp"
 
+#include "orchestrator/study/setting_row.hpp"
+
 #include "orchestrator/study/parameters.hpp"
 #include "orchestrator/util/log.hpp"
 #include "sobol/design.hpp"
@@ -23,356 +25,13 @@ namespace demsa::study {
 
 namespace {
 
-using Lines = std::vector<std::pair<std::string, std::string>>;
-
-std::string join(const std::vector<std::string>& items, const std::string& separator = ", ") {
-  std::string out;
-  for (const std::string& item : items) out += (out.empty() ? "" : separator) + item;
-  return out;
-}
-
-/// The names as markdown code, joined: "`a`, `b`".
-std::string code_list(const std::vector<std::string>& names) {
-  std::vector<std::string> quoted;
-  for (const std::string& name : names) quoted.push_back(fmt::format("`{}`", name));
-  return join(quoted);
-}
-
-/// The shortest text that reads back as the same double, in fixed or exponent notation (1e+08 rather than
-/// 100000000, 2500 rather than 2.5e+03): for docs and messages.
-std::string shortest(double v) {
-  const std::string fixed = fmt::format("{}", v);
-  for (int digits = 1; digits <= 17; ++digits) {
-    const std::string g = fmt::format("{:.{}g}", v, digits);
-    if (std::stod(g) == v) return g.size() < fixed.size() ? g : fixed;
-  }
-  return fixed;
-}
-/// The hash's number format since the first version: 17 significant digits.
-std::string canonical_number(double v) { return fmt::format("{:.17g}", v); }
-
-SettingBounds greater(double v, std::string reason = {}) { return {SettingBound{v, false}, std::nullopt, reason}; }
-SettingBounds at_least(double v) { return {SettingBound{v, true}, std::nullopt, {}}; }
-SettingBounds between(double low, bool low_in, double high, bool high_in, std::string reason = {}) {
-  return {SettingBound{low, low_in}, SettingBound{high, high_in}, std::move(reason)};
-}
-const SettingBounds k_positive = greater(0);
-const SettingBounds k_non_negative = at_least(0);
-
-// Upper bounds of the settings that size what demsa holds in memory, each far above any DEM study and low enough
-// that what it asks for exists: a typo of a few digits (or a 64-bit value) is refused at its line instead of ending
-// in std::bad_alloc or being narrowed.
+// Upper bounds of the settings that size what demsa holds in memory (setting_row.hpp has the shared ones).
 constexpr double k_max_samples = 100000;
-constexpr double k_max_particles = 1e7;
-constexpr double k_max_steps = 1e12;
 constexpr double k_max_base_samples = 1 << 20;
 constexpr double k_max_bootstrap = 100000;
 
-/// Builds one row. The typed setters take the field as a generic lambda `[](auto& c) -> auto& { return c.x; }`
-/// (FIELD below), called with a StudyConfig& to assign and a const StudyConfig& to show and hash.
-class Row {
- public:
-  Row(std::string section, std::string key) {
-    m_s.section = std::move(section);
-    m_s.key = std::move(key);
-    m_s.hash_key = m_s.key;
-  }
-  Row& doc(std::string text) { return m_s.doc = std::move(text), *this; }
-  Row& unit(std::string text) { return m_s.unit = std::move(text), *this; }
-  Row& effect(SettingEffect e) { return m_s.effect = e, *this; }
-  Row& cases(std::string hash_key) {
-    m_s.hash_key = std::move(hash_key);
-    return effect(SettingEffect::cases);
-  }
-  Row& measurement(std::string hash_key) {
-    m_s.hash_key = std::move(hash_key);
-    return effect(SettingEffect::measurement);
-  }
-  Row& default_text(std::string text) { return m_s.default_text = std::move(text), *this; }
-  Row& range(std::string text) { return m_s.range_text = std::move(text), *this; }
-  Row& required() { return m_s.required = true, *this; }
-  Row& first() { return m_s.first = true, *this; }
-
-  template <typename F>
-  Row& number(F field, SettingBounds bounds = {}) {
-    m_s.type = SettingType::number;
-    m_s.bounds = std::move(bounds);
-    m_s.assign = [field](StudyConfig& c, const SettingValue& v) { field(c) = std::get<double>(v); };
-    m_s.show = [field](const StudyConfig& c) { return shortest(field(c)); };
-    return scalar_canonical([field](const StudyConfig& c) { return canonical_number(field(c)); });
-  }
-  /// An integer row: `bounds` must lie inside the range of the field's type, so that the parser refuses (at its line)
-  /// every value the field cannot hold instead of narrowing it (4294967304 into an int is 8).
-  template <typename F>
-  Row& integer(F field, SettingBounds bounds) {
-    using T = std::remove_cvref_t<decltype(field(std::declval<StudyConfig&>()))>;
-    static_assert(std::is_integral_v<T>);
-    // A TOML integer is 64-bit signed: only a field that holds every such value may leave out the upper bound.
-    assert(bounds.low && bounds.low->value >= static_cast<double>(std::numeric_limits<T>::min()) &&
-           "an integer row needs a lower bound inside its field's type");
-    assert((bounds.high
-                ? bounds.high->value <= static_cast<double>(std::numeric_limits<T>::max())
-                : std::cmp_greater_equal(std::numeric_limits<T>::max(), std::numeric_limits<std::int64_t>::max())) &&
-           "an integer row needs an upper bound inside its field's type");
-    m_s.type = SettingType::integer;
-    m_s.bounds = std::move(bounds);
-    m_s.bounds.integral = true;
-    m_s.assign = [field](StudyConfig& c, const SettingValue& v) {
-      const long value = std::get<long>(v);
-      // The parser checked the bounds; this holds whatever a bound says.
-      if (!std::in_range<T>(value)) throw SettingError(fmt::format("{} does not fit the setting", value));
-      field(c) = static_cast<T>(value);
-    };
-    m_s.show = [field](const StudyConfig& c) { return std::to_string(field(c)); };
-    return scalar_canonical(m_s.show);
-  }
-  template <typename F>
-  Row& boolean(F field) {
-    m_s.type = SettingType::boolean;
-    m_s.assign = [field](StudyConfig& c, const SettingValue& v) { field(c) = std::get<bool>(v); };
-    m_s.show = [field](const StudyConfig& c) { return std::string(field(c) ? "true" : "false"); };
-    return scalar_canonical([field](const StudyConfig& c) { return std::string(field(c) ? "1" : "0"); });
-  }
-  template <typename F>
-  Row& string(F field) {
-    m_s.type = SettingType::string;
-    m_s.assign = [field](StudyConfig& c, const SettingValue& v) { field(c) = std::get<std::string>(v); };
-    m_s.show = [field](const StudyConfig& c) { return fmt::format("\"{}\"", field(c)); };
-    return scalar_canonical([field](const StudyConfig& c) { return std::string(field(c)); });
-  }
-  template <typename F>
-  Row& strings(F field) {
-    m_s.type = SettingType::string_list;
-    m_s.assign = [field](StudyConfig& c, const SettingValue& v) { field(c) = std::get<std::vector<std::string>>(v); };
-    m_s.show = [field](const StudyConfig& c) {
-      std::vector<std::string> quoted;
-      for (const std::string& s : field(c)) quoted.push_back(fmt::format("\"{}\"", s));
-      return fmt::format("[{}]", join(quoted));
-    };
-    return list_canonical([field](const StudyConfig& c) { return field(c); });
-  }
-  template <typename F>
-  Row& numbers(F field, SettingBounds bounds = {}) {
-    m_s.type = SettingType::number_list;
-    m_s.bounds = std::move(bounds);
-    m_s.assign = [field](StudyConfig& c, const SettingValue& v) { field(c) = std::get<std::vector<double>>(v); };
-    m_s.show = [field](const StudyConfig& c) {
-      std::vector<std::string> values;
-      for (double v : field(c)) values.push_back(shortest(v));
-      return fmt::format("[{}]", join(values));
-    };
-    return list_canonical([field](const StudyConfig& c) {
-      std::vector<std::string> values;
-      for (double v : field(c)) values.push_back(canonical_number(v));
-      return values;
-    });
-  }
-  /// An enum of the study layer: the names and their values, here only.
-  template <typename F, typename E>
-  Row& choice(F field, std::vector<std::pair<std::string, E>> options) {
-    m_s.type = SettingType::enumeration;
-    for (const auto& option : options) m_s.choices.push_back(option.first);
-    m_s.assign = [field, options, names = m_s.choices](StudyConfig& c, const SettingValue& v) {
-      const std::string& value = std::get<std::string>(v);
-      for (const auto& [name, e] : options)
-        if (name == value) return void(field(c) = e);
-      throw SettingError(fmt::format("unknown value '{}' (valid: {})", value, join(names)));
-    };
-    m_s.show = [field, options](const StudyConfig& c) {
-      for (const auto& [name, e] : options)
-        if (field(c) == e) return fmt::format("\"{}\"", name);
-      assert(false && "enum value without a name");
-      return std::string();
-    };
-    return scalar_canonical([field, options](const StudyConfig& c) {
-      for (const auto& [name, e] : options)
-        if (field(c) == e) return name;
-      return std::string();
-    });
-  }
-  /// An enum of sobol/: its from_string (which may accept aliases and names the valid names when it throws) and
-  /// to_string; `values` lists the values a study may use, in the order the docs show them.
-  template <typename F, typename E, typename From, typename To>
-  Row& choice(F field, const std::vector<E>& values, From from_string, To to_string) {
-    m_s.type = SettingType::enumeration;
-    for (const E& e : values) m_s.choices.push_back(to_string(e));
-    m_s.assign = [field, from_string](StudyConfig& c, const SettingValue& v) {
-      try {
-        field(c) = from_string(std::get<std::string>(v));
-      } catch (const sobol::InputError& e) {
-        throw SettingError(e.what());
-      }
-    };
-    m_s.show = [field, to_string](const StudyConfig& c) { return fmt::format("\"{}\"", to_string(field(c))); };
-    return scalar_canonical([field, to_string](const StudyConfig& c) { return to_string(field(c)); });
-  }
-  /// Makes a string row an enumeration of `names` (its assignment, set before, refuses other names).
-  Row& names(std::vector<std::string> names) {
-    m_s.type = SettingType::enumeration;
-    m_s.choices = std::move(names);
-    return *this;
-  }
-  /// A table row read by dedicated parser code.
-  Row& table(std::vector<std::string> keys, std::function<std::string(const StudyConfig&)> show,
-             std::function<Lines(const StudyConfig&)> canonical) {
-    m_s.type = SettingType::table;
-    m_s.choices = std::move(keys);
-    m_s.show = std::move(show);
-    m_s.canonical = std::move(canonical);
-    return *this;
-  }
-  /// Replaces the assignment of a typed setter (which must come first) by `assign`.
-  Row& assign(std::function<void(StudyConfig&, const SettingValue&)> assign) {
-    m_s.assign = std::move(assign);
-    return *this;
-  }
-  /// Adds a check to the assignment of a typed setter (which must come first): `check` runs before the value is
-  /// stored and throws SettingError.
-  Row& check(std::function<void(const SettingValue&)> check) {
-    m_s.assign = [check = std::move(check), assign = m_s.assign](StudyConfig& c, const SettingValue& v) {
-      check(v);
-      assign(c, v);
-    };
-    return *this;
-  }
-  /// Refuses an empty (or blank) string: a name, a path or a command must say something.
-  Row& non_empty() {
-    check([](const SettingValue& v) {
-      const std::string& text = std::get<std::string>(v);
-      if (text.find_first_not_of(" \t\r\n") == std::string::npos)
-        throw SettingError(text.empty() ? "must not be empty" : "must not be blank");
-    });
-    return range("non-empty");
-  }
-  /// Replaces the canonical lines of a typed setter (which must come first).
-  Row& canonical(std::function<Lines(const StudyConfig&)> canonical) {
-    m_s.canonical = std::move(canonical);
-    m_value = nullptr;
-    m_list = nullptr;
-    return *this;
-  }
-
-  /// The finished row: the canonical lines of a typed setter use the final hash key (set after the setter).
-  Setting finish() && {
-    const std::string key = m_s.hash_key;
-    if (m_value) m_s.canonical = [key, value = m_value](const StudyConfig& c) -> Lines { return {{key, value(c)}}; };
-    if (m_list)
-      m_s.canonical = [key, list = m_list](const StudyConfig& c) -> Lines {
-        Lines lines;
-        for (const std::string& v : list(c)) lines.emplace_back(key, v);
-        return lines;
-      };
-    if (m_s.range_text.empty()) {
-      if (m_s.type == SettingType::enumeration) {
-        m_s.range_text = code_list(m_s.choices);
-      } else {
-        m_s.range_text = m_s.bounds.text();
-      }
-    }
-    if (m_s.default_text.empty() && m_s.show) m_s.default_text = m_s.show(StudyConfig{});
-    // The reason of a bound is documented where the bound is.
-    if (!m_s.bounds.reason.empty()) m_s.doc += " (bounds: " + m_s.bounds.reason + ")";
-    return std::move(m_s);
-  }
-
- private:
-  Row& scalar_canonical(std::function<std::string(const StudyConfig&)> value) {
-    m_value = std::move(value);
-    m_list = nullptr;
-    return *this;
-  }
-  Row& list_canonical(std::function<std::vector<std::string>(const StudyConfig&)> values) {
-    m_list = std::move(values);
-    m_value = nullptr;
-    return *this;
-  }
-
- private:
-  Setting m_s;
-  std::function<std::string(const StudyConfig&)> m_value;
-  std::function<std::vector<std::string>(const StudyConfig&)> m_list;
-};
-
 #define FIELD(path) \
   [](auto& c) -> auto& { return c.path; }
-
-void apply_pile_preset(PileSettings& pile, const std::string& preset) {
-  // Paper Table 2: particle sets 1 and 2.
-  if (preset == "set1") {
-    pile.particles = 6000;
-    pile.radii = RadiusDistribution{1.0e-3, 3.5e-3, 2.0e-3, 0.5e-3};
-  } else {
-    pile.particles = 8000;
-    pile.radii = RadiusDistribution{0.8e-3, 2.5e-3, 1.5e-3, 0.35e-3};
-  }
-  pile.preset = preset;
-}
-
-void apply_oedometer_preset(OedometerSettings& oedometer, const std::string& preset) {
-  // Paper §4: assembly one has 4642 particles and the void ratio 0.66, with the pore volume computed on a
-  // 10 x 10 x 5 cm^3 sample: V_P = 500 cm^3 - V_S. (The paper's formula reads e_1 = V_S / V_P, but a solid
-  // fraction of 1/1.66 = 0.60 is a sphere packing under load and 0.40 is not, so e = V_P / V_S as usual.) The
-  // paper gives no radii; these give that solid volume in expectation:
-  //   V_S = 500 cm^3 / (1 + 0.66) = 301.2 cm^3, so E[r^3] = V_S / (4642 * 4/3 pi) = 15.49 mm^3.
-  // Radii are N(mu, sd) truncated to [a, b] = [2.0, 3.0] mm with sd = 0.25 mm, i.e. density proportional to
-  // phi((r - mu)/sd) on [a, b]; E[r^3] = int_a^b r^3 phi dr / int_a^b phi dr (trapezoid rule, 2e5 intervals).
-  // mu = 2.466 mm gives E[r] = 2.4737 mm and E[r^3] = 15.496 mm^3: V_S = 301.30 cm^3 and e = 500 / 301.30 - 1 =
-  // 0.6595 (mu = 2.47 mm would give 0.653). The former radii, 2.5 to 3.5 mm around 3 mm (E[r^3] = 27.4 mm^3),
-  // put V_S = 533 cm^3 above the 500 cm^3 of the sample.
-  oedometer.preset = preset;
-  oedometer.particles = 4642;
-  oedometer.radii = k_paper_oedometer_radii;
-}
-
-/// A preset row: a string out of `names`, read before the other keys of its section; it sets other rows' values
-/// (those are hashed), so it adds no line of its own.
-template <typename F>
-Row preset(const std::string& section, F field, std::vector<std::string> names,
-           std::function<void(StudyConfig&, const std::string&)> apply) {
-  Row row(section, "preset");
-  row.string(field)
-      .assign([names, apply](StudyConfig& c, const SettingValue& v) {
-        const std::string& value = std::get<std::string>(v);
-        if (std::find(names.begin(), names.end(), value) == names.end())
-          throw SettingError(fmt::format("unknown preset '{}' (valid: {})", value, join(names)));
-        apply(c, value);
-      })
-      .canonical([](const StudyConfig&) { return Lines{}; })
-      .names(names)
-      .first()
-      .effect(SettingEffect::cases)
-      .default_text("—");
-  return row;
-}
-
-/// The four radius keys of a particle set; `prefix` is the hash's ("pile." or "oed.").
-template <typename F>
-void radius_rows(std::vector<Row>& rows, const std::string& section, const std::string& prefix, F radii) {
-  rows.push_back(std::move(Row(section, "r_min")
-                               .number(
-                                   [radii](auto& c) -> auto& { return radii(c).r_min; }, k_positive)
-                               .unit("m")
-                               .cases(prefix + "r_min")
-                               .doc("smallest radius r_L")));
-  rows.push_back(std::move(Row(section, "r_max")
-                               .number(
-                                   [radii](auto& c) -> auto& { return radii(c).r_max; }, k_positive)
-                               .unit("m")
-                               .cases(prefix + "r_max")
-                               .doc("largest radius r_U; more than `r_min`")));
-  rows.push_back(std::move(Row(section, "r_mean")
-                               .number(
-                                   [radii](auto& c) -> auto& { return radii(c).mean; }, k_positive)
-                               .unit("m")
-                               .cases(prefix + "mean")
-                               .doc("mean of the normal distribution before truncation, in [`r_min`, `r_max`]")));
-  rows.push_back(std::move(Row(section, "r_sd")
-                               .number(
-                                   [radii](auto& c) -> auto& { return radii(c).sd; }, k_positive)
-                               .unit("m")
-                               .cases(prefix + "sd")
-                               .doc("standard deviation of the normal distribution before truncation")));
-}
 
 const Setting& material_row(const std::vector<Setting>& rows, const std::string& key) {
   for (const Setting& s : rows)
@@ -381,24 +40,20 @@ const Setting& material_row(const std::vector<Setting>& rows, const std::string&
   return rows.front();
 }
 
-std::vector<Setting> build_settings() {
+std::vector<Setting> build_core_settings() {
   using E = SettingEffect;
-  const SettingBounds k_steps = between(1, true, k_max_steps, true,
-                                        "LIGGGHTS reads step counts through variables "
-                                        "printed with 15 significant digits");
   std::vector<Row> rows;
   const auto add = [&](Row& row) { rows.push_back(std::move(row)); };
 
   // [study]
   add(Row("study", "name").string(FIELD(name)).non_empty().required().default_text("— (required)").doc("study name"));
+  // The experiments' names are the table's (SettingsTable's constructor makes this row an enumeration of them).
   add(Row("study", "experiment")
-          .choice(FIELD(experiment),
-                  std::vector<std::pair<std::string, Experiment>>{{"pile", Experiment::pile},
-                                                                  {"oedometer", Experiment::oedometer}})
+          .string(FIELD(experiment))
           .required()
           .default_text("— (required)")
           .cases("experiment")
-          .doc("`pile` (paper §3) or `oedometer` (paper §4)"));
+          .doc("the experiment the cases simulate"));
   add(Row("study", "seed")
           .integer(FIELD(seed), at_least(0))
           .range(">= 0")
@@ -541,248 +196,6 @@ std::vector<Setting> build_settings() {
           .cases("m.hard")
           .doc("allow E > 1e9 Pa (LIGGGHTS `hard_particles yes`)"));
 
-  // [pile]
-  add(preset("pile", FIELD(pile.preset), {"set1", "set2"},
-             [](StudyConfig& c, const std::string& name) { apply_pile_preset(c.pile, name); })
-          .doc("`set1` (6000 particles, radii [1, 3.5] mm, mean 2, sd 0.5) or `set2` (8000, [0.8, 2.5] mm, 1.5, "
-               "0.35): paper Table 2. Other keys override it"));
-  add(Row("pile", "particles")
-          .integer(FIELD(pile.particles),
-                   between(1, true, k_max_particles, true,
-                           "the case writer holds every particle, and the text of its data file, in memory"))
-          .cases("pile.particles")
-          .doc("number of particles"));
-  radius_rows(
-      rows, "pile", "pile.", [](auto& c) -> auto& { return c.pile.radii; });
-  add(Row("pile", "disc_radius")
-          .number(FIELD(pile.disc_radius), k_positive)
-          .unit("m")
-          .cases("pile.disc_radius")
-          .doc("r_fu, radius of the filling discs; at least `r_max`"));
-  add(Row("pile", "fill_height")
-          .number(FIELD(pile.fill_height), k_positive)
-          .unit("m")
-          .cases("pile.fill_height")
-          .doc("h_fu above the pedestal top: discs below are present at start, later ones are appended there; a case "
-               "whose pile grows into the layer of a new disc (a particle centre above h_fu − r_U) stops with an "
-               "error naming this key"));
-  add(Row("pile", "pedestal_radius")
-          .number(FIELD(pile.pedestal_radius), k_positive)
-          .unit("m")
-          .cases("pile.pedestal_radius")
-          .doc("r_cy"));
-  add(Row("pile", "pedestal_height")
-          .number(FIELD(pile.pedestal_height), k_positive)
-          .unit("m")
-          .cases("pile.pedestal_height")
-          .doc("h_cy (the pedestal top)"));
-  add(Row("pile", "settle_time")
-          .number(FIELD(pile.settle_time), k_non_negative)
-          .unit("s")
-          .cases("pile.settle_time")
-          .doc("settling after the last disc: the cap; a pile still moving then is recorded as unsettled and flagged "
-               "by `demsa status` and the report"));
-  // The settling rows replaced `ke_stop` (0: settle for settle_time). At their defaults they give the hash text of
-  // that version (`pile.ke_stop=0`, nothing more), so its studies keep their hash and their fixed settling time.
-  const auto unless_default = [](std::string key, auto field) {
-    return [key = std::move(key), field](const StudyConfig& c) -> Lines {
-      static const StudyConfig defaults;
-      if (field(c) == field(defaults)) return {};
-      if constexpr (std::is_same_v<std::remove_cvref_t<decltype(field(c))>, bool>)
-        return {{key, field(c) ? "1" : "0"}};
-      else
-        return {{key, canonical_number(field(c))}};
-    };
-  };
-  add(Row("pile", "settle_speed")
-          .number(FIELD(pile.settle_speed), k_non_negative)
-          .cases("pile.settle_speed")
-          .canonical([](const StudyConfig& c) -> Lines {
-            if (c.pile.settle_speed == 0) return {{"pile.ke_stop", canonical_number(0)}};
-            return {{"pile.settle_speed", canonical_number(c.pile.settle_speed)}};
-          })
-          .doc("the pile is settled once the particles on the pedestal (centre above its top, within its radius) "
-               "move slower than `settle_speed` × √(\\|g\\| r_min) (the share `settle_quantile` of them at "
-               "least) at every check for `settle_window`; 0 = settle for `settle_time` (the paper's schedule)"));
-  add(Row("pile", "settle_quantile")
-          .number(FIELD(pile.settle_quantile), between(0, false, 1, true))
-          .cases("pile.settle_quantile")
-          .canonical(unless_default("pile.settle_quantile", FIELD(pile.settle_quantile)))
-          .doc("share of the particles on the pedestal that must be slow; 1 = every one (the fastest is judged)"));
-  add(Row("pile", "settle_window")
-          .number(FIELD(pile.settle_window), k_positive)
-          .unit("s")
-          .cases("pile.settle_window")
-          .canonical(unless_default("pile.settle_window", FIELD(pile.settle_window)))
-          .doc("how long the settling criterion must hold"));
-  add(Row("pile", "settle_check_time")
-          .number(FIELD(pile.settle_check_time), k_positive)
-          .unit("s")
-          .cases("pile.settle_check_time")
-          .doc("how often the settling criterion is checked and fallen particles removed (also after every disc)"));
-  add(Row("pile", "remove_fallen")
-          .boolean(FIELD(pile.remove_fallen))
-          .cases("pile.remove_fallen")
-          .canonical(unless_default("pile.remove_fallen", FIELD(pile.remove_fallen)))
-          .doc("delete particles whose centre is below the pedestal top and outside its radius (§3.2's filter "
-               "applied during the run); they are counted as removed, not lost"));
-  add(Row("pile", "domain_half_width")
-          .number(FIELD(pile.domain_half_width), k_positive)
-          .unit("m")
-          .cases("pile.domain_half_width")
-          .doc("simulation box half width; particles leaving it are lost. Must exceed `disc_radius` + `r_max` and "
-               "`pedestal_radius`"));
-  add(Row("pile", "target_angle")
-          .number(FIELD(pile.target_angle), between(0, false, 90, false))
-          .unit("deg")
-          .doc("φ̂ of E_φ = (φ̂ − φ)²: the calibration target of `demsa calibrate` and the report (not stored with "
-               "the cases)"));
-  add(Row("pile", "directions")
-          .integer(FIELD(pile.directions), between(1, true, 100000, true))
-          .measurement("pile.directions")
-          .doc("φ_N of §3.3: the angle of a finished pile is measured in this many directions"));
-  add(Row("pile", "levels")
-          .integer(FIELD(pile.levels), between(2, true, 100000, true))
-          .measurement("pile.levels")
-          .doc("height levels at which the angle is measured: between 0.2 h_P and 0.75 h_P (paper), 0.25 h_P and "
-               "0.8 h_P (robust)"));
-  add(Row("pile", "angle_estimator")
-          .choice(FIELD(pile.angle_estimator),
-                  std::vector<std::pair<std::string, std::string>>{{"paper", "paper"}, {"robust", "robust"}})
-          .measurement("pile.angle_estimator")
-          .doc("`paper`: §3.3 (outermost particle per direction and level, orthogonal line, mean over directions), "
-               "which reads up to 1° low on rough flanks; `robust`: surface points at the exact level heights and a "
-               "Theil–Sen line per direction, within 0.5° on synthetic cones with 1–2 mm of surface roughness "
-               "(docs/benchmarks.md, angle estimators)"));
-
-  // [oedometer]
-  add(preset("oedometer", FIELD(oedometer.preset), {"paper"},
-             [](StudyConfig& c, const std::string& name) { apply_oedometer_preset(c.oedometer, name); })
-          .doc("`paper`: assembly one of §4: 4642 particles, radii [2.0, 3.0] mm, mean 2.466, sd 0.25, whose "
-               "expected solid volume V_S = 301 cm³ gives the paper's void ratio e = V_P/V_S = 0.66 on a 10 × 10 × "
-               "5 cm³ sample (the paper gives no radii). Other keys override it"));
-  add(Row("oedometer", "particles")
-          .integer(FIELD(oedometer.particles),
-                   between(1, true, k_max_particles, true,
-                           "the case writer holds every particle, and the text of its data file, in memory"))
-          .cases("oed.particles")
-          .doc("number of particles"));
-  radius_rows(
-      rows, "oedometer", "oed.", [](auto& c) -> auto& { return c.oedometer.radii; });
-  add(Row("oedometer", "box_side")
-          .number(FIELD(oedometer.box_side), k_positive)
-          .unit("m")
-          .cases("oed.box_side")
-          .doc("side of the square box; more than 2 `r_max`"));
-  add(Row("oedometer", "box_height")
-          .number(FIELD(oedometer.box_height), k_positive)
-          .unit("m")
-          .cases("oed.box_height")
-          .doc("box height; a case whose settled packing top plus `plate_gap` lies above it stops after the fill "
-               "with an error naming this key (both plate modes)"));
-  add(Row("oedometer", "fill_time")
-          .number(FIELD(oedometer.fill_time), k_positive)
-          .unit("s")
-          .cases("oed.fill_time")
-          .doc("pouring and settling before loading"));
-  add(Row("oedometer", "loads")
-          .numbers(FIELD(oedometer.loads))
-          .check([](const SettingValue& v) {
-            const auto& loads = std::get<std::vector<double>>(v);
-            if (loads.empty()) throw SettingError("needs at least one load");
-            for (std::size_t i = 0; i < loads.size(); ++i) {
-              if (!(loads[i] > 0))
-                throw SettingError(fmt::format("load {} is {} N; loads must be > 0", i + 1, loads[i]));
-              if (i > 0 && !(loads[i] > loads[i - 1]))
-                throw SettingError(fmt::format("loads must increase: {} N follows {} N", loads[i], loads[i - 1]));
-            }
-          })
-          .range("at least one, > 0, increasing")
-          .unit("N")
-          .cases("oed.load")
-          .doc("the loads L_n"));
-  add(Row("oedometer", "measured_settlements")
-          .numbers(FIELD(oedometer.measured_settlements))
-          .range("none, or one per load after the first")
-          .unit("m")
-          .measurement("oed.measured_settlement")
-          .doc("s̃_i for loads 2..n relative to load 1: a finished case stores its error E_0 against them"));
-  add(Row("oedometer", "plate_mode")
-          .choice(FIELD(oedometer.plate_mode),
-                  std::vector<std::pair<std::string, PlateMode>>{{"servo", PlateMode::servo},
-                                                                 {"trial-step", PlateMode::trial_step}})
-          .cases("oed.mode")
-          .doc("`servo` (`fix mesh/surface/stress/servo`) or `trial-step` (the paper's algorithm)"));
-  add(Row("oedometer", "plate_gap")
-          .number(FIELD(oedometer.plate_gap), k_non_negative)
-          .unit("m")
-          .cases("oed.plate_gap")
-          .doc("the plate starts this far above the settled packing"));
-  add(Row("oedometer", "load_tolerance")
-          .number(FIELD(oedometer.load_tolerance), k_positive)
-          .unit("N")
-          .cases("oed.tol")
-          .doc("\\|F − L\\| that counts as reached (paper R_pr)"));
-  add(Row("oedometer", "servo_vel_max")
-          .number(FIELD(oedometer.servo_vel_max), k_positive)
-          .unit("m/s")
-          .cases("oed.vmax")
-          .doc("servo speed limit; must be below skin/(2 dt)"));
-  add(Row("oedometer", "servo_kp")
-          .number(FIELD(oedometer.servo_kp), k_non_negative)
-          .cases("oed.kp")
-          .doc("servo proportional gain"));
-  add(Row("oedometer", "servo_ki")
-          .number(FIELD(oedometer.servo_ki), k_non_negative)
-          .cases("oed.ki")
-          .doc("servo integral gain"));
-  add(Row("oedometer", "servo_kd")
-          .number(FIELD(oedometer.servo_kd), k_non_negative)
-          .cases("oed.kd")
-          .doc("servo derivative gain"));
-  add(Row("oedometer", "servo_max_steps")
-          .integer(FIELD(oedometer.servo_max_steps), k_steps)
-          .unit("steps")
-          .cases("oed.smax")
-          .doc("servo: a load not reached by then is recorded as not converged"));
-  add(Row("oedometer", "servo_check_steps")
-          .integer(FIELD(oedometer.servo_check_steps), k_steps)
-          .unit("steps")
-          .cases("oed.scheck")
-          .doc("servo: force averaged and the load checked every this many steps (rounded up to a multiple of 10)"));
-  add(Row("oedometer", "rest_velocity")
-          .number(FIELD(oedometer.rest_velocity), k_positive)
-          .unit("m/s")
-          .cases("oed.vrest")
-          .doc("servo: the plate is at rest when its mean speed over a check is below this"));
-  add(Row("oedometer", "trial_steps")
-          .integer(FIELD(oedometer.trial_steps), k_steps)
-          .unit("steps")
-          .cases("oed.ns")
-          .doc("trial-step: n_s"));
-  add(Row("oedometer", "relax_steps")
-          .integer(FIELD(oedometer.relax_steps), k_steps)
-          .unit("steps")
-          .cases("oed.nl")
-          .doc("trial-step: n_L"));
-  add(Row("oedometer", "trial_reduction")
-          .number(FIELD(oedometer.trial_reduction), between(0, false, 1, false))
-          .cases("oed.mt")
-          .doc("trial-step: m_T"));
-  add(Row("oedometer", "trial_step0")
-          .number(FIELD(oedometer.trial_step0), k_positive)
-          .unit("m")
-          .cases("oed.d0")
-          .doc("trial-step: δ_T0 (the paper's 0.0075 mm)"));
-  add(Row("oedometer", "trial_floor")
-          .number(FIELD(oedometer.trial_floor), between(0, false, 1, true))
-          .cases("oed.floor")
-          .doc("trial-step: smallest trial step as a fraction of δ_T0"));
-  add(Row("oedometer", "max_trials")
-          .integer(FIELD(oedometer.max_trials), between(1, true, 1e6, true))
-          .cases("oed.maxtrials")
-          .doc("trial-step: trials per load before it is recorded as not converged"));
-
   // [timestep]
   add(Row("timestep", "mode")
           .choice(FIELD(timestep.mode),
@@ -866,7 +279,7 @@ std::vector<Setting> build_settings() {
             const std::vector<std::string> models = sobol::metamodel_names();
             for (const std::string& m : std::get<std::vector<std::string>>(v))
               if (std::find(models.begin(), models.end(), m) == models.end())
-                throw SettingError(fmt::format("unknown metamodel '{}' (valid: {})", m, join(models)));
+                throw SettingError(fmt::format("unknown metamodel '{}' (valid: {})", m, util::join(models)));
           })
           .range(fmt::format("any of {}", code_list(sobol::metamodel_names())))
           .doc("metamodels to fit: `rsm1`–`rsm3` are polynomials of total degree 1–3"));
@@ -984,12 +397,6 @@ std::string fnv1a_64(const std::string& text) {
   return fmt::format("{:016x}", h);
 }
 
-bool applies_to(const Setting& s, Experiment experiment) {
-  if (s.section == "pile") return experiment == Experiment::pile;
-  if (s.section == "oedometer") return experiment == Experiment::oedometer;
-  return true;
-}
-
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);
   for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
@@ -1016,6 +423,43 @@ std::string markdown_cell(std::string text) {
 }
 
 }  // namespace
+
+std::string shortest(double v) {
+  const std::string fixed = fmt::format("{}", v);
+  for (int digits = 1; digits <= 17; ++digits) {
+    const std::string g = fmt::format("{:.{}g}", v, digits);
+    if (std::stod(g) == v) return g.size() < fixed.size() ? g : fixed;
+  }
+  return fixed;
+}
+
+std::string canonical_number(double v) { return fmt::format("{:.17g}", v); }
+
+std::string code_list(const std::vector<std::string>& names) {
+  std::vector<std::string> quoted;
+  for (const std::string& name : names) quoted.push_back(fmt::format("`{}`", name));
+  return util::join(quoted);
+}
+
+SettingBounds step_bounds() {
+  return between(1, true, k_max_steps, true,
+                 "LIGGGHTS reads step counts through variables printed with 15 significant digits");
+}
+
+void check_radii(const RadiusDistribution& radii, const SectionCheck& at) {
+  const std::string key = at.given("r_min") ? "r_min" : "r_max";
+  if (!(radii.r_min < radii.r_max))
+    at.fail(key, fmt::format("r_min ({}) must be less than r_max ({})", radii.r_min, radii.r_max));
+  if (radii.mean < radii.r_min || radii.mean > radii.r_max)
+    at.fail(key,
+            fmt::format("r_mean ({}) must lie in [r_min, r_max] = [{}, {}]", radii.mean, radii.r_min, radii.r_max));
+}
+
+std::vector<Setting> finish_rows(std::vector<Row>& rows) {
+  std::vector<Setting> settings;
+  for (Row& row : rows) settings.push_back(std::move(row).finish());
+  return settings;
+}
 
 std::string to_string(SettingType type) {
   static const sobol::EnumNames<SettingType> names{"setting type",
@@ -1092,8 +536,8 @@ const char* const k_contact_notes =
     "in stock LIGGGHTS: build it with `scripts/build-liggghts.sh` (README); demsa refuses a `viscous` study "
     "before any case runs when the LIGGGHTS it found lacks the model.";
 
-const std::vector<SettingSection>& setting_sections() {
-  static const std::vector<SettingSection> sections{
+std::vector<SettingSection> core_sections(const std::vector<SettingSection>& experiment_sections) {
+  std::vector<SettingSection> sections{
       {"study", "", ""},
       {"design", "", ""},
       {"parameters",
@@ -1109,55 +553,10 @@ const std::vector<SettingSection>& setting_sections() {
        "for `cdt` (the default), `epsd`, `epsd2` and `epsd3`, length × time for the paper's `viscous` model B "
        "(in the unit of `[contact] viscous_unit`)."},
       {"contact", k_contact_intro, k_contact_notes},
-      {"pile", "Defaults: particle set 1 of the paper's Table 2.",
-       "Discs: ring k of a disc has radius 2 r_U k; disc k of the column is at pedestal top + r_U + 2 r_U k; one "
-       "more disc is appended every sqrt(4 r_U/\\|g\\|).\n\n"
-       "Settling and removal (both off by default: the paper's schedule; the quickstart and the paper presets turn "
-       "them on): every `settle_check_time` (and after every disc) the particles whose centre lies below "
-       "the pedestal top and outside its radius are deleted (`remove_fallen`; §3.2's filter, applied during the run: "
-       "they cannot come back) and counted; they are stored as `removed_off_pedestal` and are not lost atoms. The "
-       "pile is settled once no more than the share 1 − `settle_quantile` of the particles on the pedestal move "
-       "faster than `settle_speed` √(\\|g\\| r_min) at every check for `settle_window`; a pile that reaches "
-       "`settle_time` still moving is measured, stored with `settled` = 0 and flagged by `demsa status` and the "
-       "report. One-at-a-time runs (set 1, E = 1e8 Pa, ν = 0.3, μ_PP = 1.3, μ_PW = 1.15, e_r = 0.4, baseline "
-       "μ_R,PP = μ_R,PW = 0.275, `cdt`; the quickstart's settling and removal; one LIGGGHTS run each; angle by "
-       "§3.3):\n\n"
-       "| pedestal radius, particles | baseline angle (h_P) | doubled particles | μ_R,PP 0.05 → 0.5 | μ_R,PW 0.05 → "
-       "0.5 |\n"
-       "|---|---|---|---|---|\n"
-       "| 25 mm, 300 | 22.5° (15 mm)¹ | 25.4° (15 mm)¹ | 18.3° → 23.1° | 12.7° → 26.3° |\n"
-       "| 35 mm, 700 (the quickstart before 2400 on 50 mm) | 23.8° (19 mm) | 23.1° (18 mm) | 21.7° (unsettled) → 27.9° "
-       "| 20.2° → 26.5° |\n"
-       "| 40 mm, 1000 | 25.9° (21 mm) | 27.2° (24 mm) | not run | 20.0° → 26.4° |\n\n"
-       "At these sizes particle-wall rolling friction moves the angle as much as particle-particle rolling friction. ¹ "
-       "with `settle_quantile` = 1.\n\n"
-       "How the pile is poured decides the ranking more than its size. One-at-a-time runs of 2400 particles on the "
-       "paper's 50 mm pedestal (E = 1e7 Pa, the rest as above, removal on unless said; one run each; angle by §3.3; "
-       "share of Δ² over the parameters run; atom-steps: mean of the four rolling runs):\n\n"
-       "| pour | μ_R,PP 0.05 → 0.5 | μ_R,PW 0.05 → 0.5 | μ_PP 0.7 → 1.9 | share of Δ² (μ_R,PW / μ_R,PP / μ_PP) | "
-       "atom-steps |\n"
-       "|---|---|---|---|---|---|\n"
-       "| a wide dump: 16 discs of 45 mm radius, all in the column at the start (150 mm) | 22.6° → 29.8° | "
-       "22.5° → 29.4° | 26.9° → 26.2° | 0.47 / 0.52 / 0.01 | 7.6e7 |\n"
-       "| the same, nothing removed | 21.1° → 28.2° | 21.0° → 27.1° | not run | 0.42 / 0.58 | 9.9e7 |\n"
-       "| a tall column: 38 discs of 25 mm, all in the column (280 mm) | 11.7° → 18.4° | 12.0° → 19.2° | not run | "
-       "0.54 / 0.46 | 7.0e7 |\n"
-       "| a central stream: discs of 25 mm, 9 in the column, 29 appended at 60 mm | 23.0° → 38.3° | 29.7° → 34.3° "
-       "| not run | 0.08 / 0.92 | 1.9e8 |\n"
-       "| **a central stream: discs of 32 mm, 9 in the column, 14 appended at 60 mm (the quickstart)** | 24.7° → "
-       "37.0° | 28.2° → 32.8° | 28.8° → 33.3° | 0.11 / 0.79 / 0.10 | 1.3e8 |\n"
-       "| the same with `fill_height` 80 mm and `settle_speed` 0.05 | 22.7° → 33.1° | 22.6° → 30.8° | not run | "
-       "0.38 / 0.62 | 1.2e8 |\n\n"
-       "Particles that land as a sheet on the pedestal top stop on their particle-wall contacts; a stream onto the "
-       "pile's top builds the cone by avalanches over particles, as the paper pours (discs of 20 mm on its 50 mm "
-       "pedestal, one every sqrt(4 r_U/\\|g\\|)), and ranks μ_R,PP first as the larger piles of the paper's "
-       "schedule do (at 2400 particles, 25.7° → 37.4° for μ_R,PP against 29.2° → 33.6° for μ_R,PW). The quickstart's "
-       "own 20 samples (E in [1e7, 1e8] Pa) rank μ_R,PP first: S1 of the angle 0.63–0.70 (ST 0.68–0.71) against "
-       "0.20–0.22 (ST 0.20–0.27) for μ_R,PW over its four metamodels, S1 of E at most 0.002. Its baseline at E = 1e7 "
-       "Pa measured 30.9°, 31.5° and 31.9° with three packings (study seeds 20240501, 7 and 11; robust estimator "
-       "33.0°, 33.3°, 33.9°); with 4800 particles 31.0° (robust 32.1°, unsettled at the cap); at E = 1e8 Pa 32.3° "
-       "(robust 33.7°)."},
-      {"oedometer", "Defaults: assembly one of the paper's §4 (`preset = \"paper\"`).", ""},
+  };
+  // The experiments' sections sit between [contact] and [timestep] (the order of the design hash's text).
+  sections.insert(sections.end(), experiment_sections.begin(), experiment_sections.end());
+  const std::vector<SettingSection> after{
       {"timestep", "",
        "T_R = π r_min sqrt(ρ/G) / (0.1631 ν + 0.8766), G = E / (2 (1 + ν)). A case is refused (with the reason) "
        "when dt > 0.3 T_R, when E lies outside [5e6, 1e9] Pa without the matching `[material]` flag, or when a "
@@ -1166,55 +565,89 @@ const std::vector<SettingSection>& setting_sections() {
       {"run.slurm", "", ""},
       {"analysis", "", ""},
   };
+  sections.insert(sections.end(), after.begin(), after.end());
   return sections;
 }
 
-const std::vector<Setting>& study_settings() {
-  static const std::vector<Setting> settings = [] {
-    std::vector<Setting> rows = build_settings();
-    // Section by section in the order of setting_sections() (stable: the table order within a section).
-    std::vector<Setting> ordered;
-    for (const SettingSection& section : setting_sections())
-      for (Setting& s : rows)
-        if (s.section == section.name) ordered.push_back(std::move(s));
-    assert(ordered.size() == rows.size() && "a row of an unlisted section");
-    return ordered;
-  }();
-  return settings;
+std::vector<Setting> core_settings() { return build_core_settings(); }
+
+SettingsTable::SettingsTable(std::vector<SettingSection> sections, std::vector<Setting> rows,
+                             std::vector<ExperimentSchema> experiments)
+    : m_sections(std::move(sections)), m_experiments(std::move(experiments)) {
+  // Section by section in the order of the sections (stable: the table order within a section).
+  for (const SettingSection& section : m_sections)
+    for (Setting& s : rows)
+      if (s.section == section.name) m_rows.push_back(std::move(s));
+  assert(m_rows.size() == rows.size() && "a row of an unlisted section");
+  // [study] experiment: one of the experiments' names.
+  std::vector<std::string> names;
+  std::string summaries;
+  for (const ExperimentSchema& e : m_experiments) {
+    names.push_back(e.name);
+    summaries += fmt::format("{}`{}` ({})", summaries.empty() ? "" : ", ", e.name, e.summary);
+  }
+  for (Setting& s : m_rows) {
+    if (s.section != "study" || s.key != "experiment") continue;
+    s.type = SettingType::enumeration;
+    s.choices = names;
+    s.range_text = code_list(names);
+    s.doc = "the experiment the cases simulate: " + summaries;
+    s.assign = [names](StudyConfig& c, const SettingValue& v) {
+      const std::string& value = std::get<std::string>(v);
+      if (std::find(names.begin(), names.end(), value) == names.end())
+        throw SettingError(fmt::format("unknown value '{}' (valid: {})", value, util::join(names)));
+      c.experiment = value;
+    };
+  }
 }
 
-const Setting* find_setting(const std::string& section, const std::string& key) {
-  for (const Setting& s : study_settings())
+const Setting* SettingsTable::find(const std::string& section, const std::string& key) const {
+  for (const Setting& s : m_rows)
     if (s.section == section && s.key == key) return &s;
   return nullptr;
 }
 
-std::vector<std::string> setting_keys(const std::string& section) {
+const ExperimentSchema* SettingsTable::experiment(const std::string& name) const {
+  for (const ExperimentSchema& e : m_experiments)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+const ExperimentSchema* SettingsTable::owner(const std::string& section) const {
+  for (const ExperimentSchema& e : m_experiments)
+    if (std::find(e.sections.begin(), e.sections.end(), section) != e.sections.end()) return &e;
+  return nullptr;
+}
+
+bool SettingsTable::applies(const Setting& s, const std::string& experiment) const {
+  const ExperimentSchema* e = owner(s.section);
+  return !e || e->name == experiment;
+}
+
+std::vector<std::string> SettingsTable::keys(const std::string& section) const {
   // The keys of a table row ("parameters.E": low, high, scale).
   if (const std::size_t dot = section.rfind('.'); dot != std::string::npos)
-    if (const Setting* s = find_setting(section.substr(0, dot), section.substr(dot + 1));
-        s && s->type == SettingType::table)
+    if (const Setting* s = find(section.substr(0, dot), section.substr(dot + 1)); s && s->type == SettingType::table)
       return s->choices;
   std::vector<std::string> keys;
-  for (const Setting& s : study_settings())
+  for (const Setting& s : m_rows)
     if (s.section == section) keys.push_back(s.key);
   const std::string prefix = section + ".";
-  for (const SettingSection& sub : setting_sections())
+  for (const SettingSection& sub : m_sections)
     if (sub.name.rfind(prefix, 0) == 0) keys.push_back(sub.name.substr(prefix.size()));
   return keys;
 }
 
-std::string unknown_key_hint(const std::string& section, const std::string& key) {
-  // Keys an earlier demsa knew.
-  if (section == "pile" && key == "ke_stop")
-    return " (it was replaced by `settle_speed` and `settle_window`: a pile is settled once the particles on the "
-           "pedestal are slow, whatever rolls on the ground; remove `ke_stop`, see docs/study-file.md)";
-  const std::vector<std::string> keys = setting_keys(section);
-  if (keys.empty()) return {};
+std::string SettingsTable::unknown_key_hint(const std::string& section, const std::string& key) const {
+  // Keys an earlier demsa knew, each with the hint of the experiment that retired it.
+  if (const ExperimentSchema* e = owner(section))
+    if (const auto it = e->retired_keys.find(key); it != e->retired_keys.end()) return " (" + it->second + ")";
+  const std::vector<std::string> names = keys(section);
+  if (names.empty()) return {};
   // The nearest key by edit distance, if it is near enough to be a typo, or a key this one begins (or that begins it).
   std::string best;
   std::size_t best_distance = std::string::npos;
-  for (const std::string& k : keys) {
+  for (const std::string& k : names) {
     const std::size_t d = edit_distance(key, k);
     const bool prefix = !key.empty() && (k.rfind(key, 0) == 0 || key.rfind(k, 0) == 0);
     const std::size_t score = prefix ? std::min<std::size_t>(d, 1) : d;
@@ -1224,12 +657,12 @@ std::string unknown_key_hint(const std::string& section, const std::string& key)
     }
   }
   const std::size_t near_enough = std::max<std::size_t>(2, key.size() / 3);
-  const std::string valid = "valid: " + join(keys);
+  const std::string valid = "valid: " + util::join(names);
   if (best_distance <= near_enough) return fmt::format(" (did you mean '{}'? {})", best, valid);
   return " (" + valid + ")";
 }
 
-std::string design_hash_text(const StudyConfig& config) {
+std::string SettingsTable::hash_text(const StudyConfig& config) const {
   // The rows of effect cases give exactly the text of the first version (same keys, order and number format), so a
   // study keeps its hash. The measurement rows came later: a value at its default adds nothing, so studies that
   // never changed them keep their hash too; a study made before, with a non-default measurement value, is refused
@@ -1238,22 +671,19 @@ std::string design_hash_text(const StudyConfig& config) {
   const auto add = [&](const Setting& s) {
     for (const auto& [key, value] : s.canonical(config)) text += key + "=" + value + "\n";
   };
-  for (const Setting& s : study_settings())
-    if (s.effect == SettingEffect::cases && applies_to(s, config.experiment)) add(s);
-  StudyConfig defaults;
-  defaults.experiment = config.experiment;
-  for (const Setting& s : study_settings())
-    if (s.effect == SettingEffect::measurement && applies_to(s, config.experiment) &&
+  for (const Setting& s : m_rows)
+    if (s.effect == SettingEffect::cases && applies(s, config.experiment)) add(s);
+  const StudyConfig defaults;
+  for (const Setting& s : m_rows)
+    if (s.effect == SettingEffect::measurement && applies(s, config.experiment) &&
         s.canonical(config) != s.canonical(defaults))
       add(s);
   return text;
 }
 
-std::string design_hash(const StudyConfig& config) { return fnv1a_64(design_hash_text(config)); }
-
-std::vector<std::string> changed_settings(const StudyConfig& before, const StudyConfig& after) {
+std::vector<std::string> SettingsTable::changed(const StudyConfig& before, const StudyConfig& after) const {
   std::vector<std::string> changed;
-  for (const Setting& s : study_settings()) {
+  for (const Setting& s : m_rows) {
     if (s.effect == SettingEffect::none) continue;
     if (s.canonical(before) == s.canonical(after)) continue;
     changed.push_back(fmt::format("[{}] {}: {} -> {}", s.section, s.key, s.show(before), s.show(after)));
@@ -1261,14 +691,14 @@ std::vector<std::string> changed_settings(const StudyConfig& before, const Study
   return changed;
 }
 
-std::string settings_markdown() {
+std::string SettingsTable::markdown() const {
   std::string md;
-  for (const SettingSection& section : setting_sections()) {
+  for (const SettingSection& section : m_sections) {
     const bool sub = section.name.find('.') != std::string::npos;
     md += fmt::format("{} [{}]\n\n", sub ? "###" : "##", section.name);
     if (!section.intro.empty()) md += section.intro + "\n\n";
     md += "| key | type | default | admissible | unit | effect | meaning |\n|---|---|---|---|---|---|---|\n";
-    for (const Setting& s : study_settings()) {
+    for (const Setting& s : m_rows) {
       if (s.section != section.name) continue;
       md += fmt::format("| `{}` | {} | {} | {} | {} | {} | {} |\n", s.key, to_string(s.type),
                         markdown_cell(s.default_text), markdown_cell(s.range_text.empty() ? "—" : s.range_text),
@@ -1279,6 +709,11 @@ std::string settings_markdown() {
   }
   while (md.size() >= 2 && md.substr(md.size() - 2) == "\n\n") md.pop_back();
   return md;
+}
+
+std::string design_hash(const StudyConfig& config) {
+  assert(config.table && "a config not read through a settings table");
+  return fnv1a_64(config.table->hash_text(config));
 }
 
 }  // namespace demsa::study

@@ -6,7 +6,9 @@
 #include "orchestrator/study/config.hpp"
 #include "sobol/design.hpp"
 
+#include <filesystem>
 #include <functional>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -99,35 +101,93 @@ struct SettingSection {
   std::string notes;  ///< markdown after its table (may be empty)
 };
 
-/// Every section, in the order of the docs: [study], [design], [parameters], [material], [pile], [oedometer],
-/// [timestep], [run], [run.slurm], [analysis].
-const std::vector<SettingSection>& setting_sections();
+/// Where a section's cross-key rules point when they fail: the section just read, the lines of its keys.
+class SectionCheck {
+ public:
+  virtual ~SectionCheck() = default;
+  virtual const std::string& section() const = 0;
+  /// True when the file gives `key` in this section.
+  virtual bool given(const std::string& key) const = 0;
+  /// Throws util::UserError "FILE:LINE: [section] key: message" at the key's line (the section's line when the file
+  /// does not give the key).
+  [[noreturn]] virtual void fail(const std::string& key, const std::string& message) const = 0;
+};
 
-/// Every setting, section by section in the order of setting_sections().
-const std::vector<Setting>& study_settings();
+/// What the settings table knows of one experiment: its name (the value of `[study] experiment`), the sections it
+/// owns and the rules that tie their keys together. The experiment's rows are rows of the table like any other.
+struct ExperimentSchema {
+  std::string name;                   ///< "pile"
+  std::string summary;                ///< for the docs of `[study] experiment`: "angle of repose of a pile (§3)"
+  std::vector<std::string> sections;  ///< the sections only this experiment reads ("pile")
+  /// Checks one of its sections once every key of it is read; throws through `at`. May be empty.
+  std::function<void(const StudyConfig&, const SectionCheck& at)> check;
+  /// Keys an earlier demsa read in its sections, each with the hint that follows "unknown key 'KEY'".
+  std::map<std::string, std::string> retired_keys;
+};
 
-/// The row of `key` in `section`, or nullptr.
-const Setting* find_setting(const std::string& section, const std::string& key);
+/// The one table of every study setting: the sections in the order of the docs, the rows section by section, and
+/// the experiments whose sections they are. The parser (config.cpp) reads a file through it, the unknown-key hints
+/// list its keys, design_hash() hashes its rows and docs/study-file.md is its markdown(). The core sections are
+/// core_settings(); the full table, with every experiment, is orchestrator/experiments/registry.hpp's.
+class SettingsTable {
+ public:
+  /// `sections` in docs order (rows of a section not listed are a programming error); `rows` in table order;
+  /// `experiments` in the order of the docs of `[study] experiment`, whose row gets their names as its choices.
+  SettingsTable(std::vector<SettingSection> sections, std::vector<Setting> rows,
+                std::vector<ExperimentSchema> experiments);
 
-/// The keys of `section` in table order, followed by the names of its sub-tables ("slurm" in [run]); for a table
-/// row's own section ("parameters.E") the keys of that table.
-std::vector<std::string> setting_keys(const std::string& section);
+  /// Every section, in the order of the docs.
+  const std::vector<SettingSection>& sections() const { return m_sections; }
+  /// Every setting, section by section in the order of sections().
+  const std::vector<Setting>& rows() const { return m_rows; }
+  const std::vector<ExperimentSchema>& experiments() const { return m_experiments; }
 
-/// The hint that follows "unknown key 'KEY' in [SECTION]": " (did you mean 'X'? valid: a, b, c)" or
-/// " (valid: a, b, c)"; "" for a section without rows.
-std::string unknown_key_hint(const std::string& section, const std::string& key);
+  /// The row of `key` in `section`, or nullptr.
+  const Setting* find(const std::string& section, const std::string& key) const;
+  /// The experiment named `name`, or nullptr.
+  const ExperimentSchema* experiment(const std::string& name) const;
+  /// The experiment that owns `section`, or nullptr for a core section.
+  const ExperimentSchema* owner(const std::string& section) const;
 
-/// The canonical text design_hash() hashes: the lines of every row whose effect is cases, in table order (rows of
-/// [pile] or [oedometer] only for that experiment), then the lines of every measurement row whose value differs
-/// from its default.
-std::string design_hash_text(const StudyConfig& config);
+  /// The keys of `section` in table order, followed by the names of its sub-tables ("slurm" in [run]); for a table
+  /// row's own section ("parameters.E") the keys of that table.
+  std::vector<std::string> keys(const std::string& section) const;
 
-/// The rows of effect cases or measurement whose values differ between `before` and `after`, one
-/// "[section] key: BEFORE -> AFTER" each.
-std::vector<std::string> changed_settings(const StudyConfig& before, const StudyConfig& after);
+  /// The hint that follows "unknown key 'KEY' in [SECTION]": " (did you mean 'X'? valid: a, b, c)" or
+  /// " (valid: a, b, c)"; "" for a section without rows.
+  std::string unknown_key_hint(const std::string& section, const std::string& key) const;
 
-/// The key-by-key reference of docs/study-file.md (between its settings-table markers): per section a heading, its
-/// intro, one table row per setting and its notes.
-std::string settings_markdown();
+  /// The canonical text design_hash() hashes: the lines of every row whose effect is cases, in table order (rows of
+  /// an experiment's sections only for that experiment), then the lines of every measurement row whose value
+  /// differs from its default.
+  std::string hash_text(const StudyConfig& config) const;
+
+  /// The rows of effect cases or measurement whose values differ between `before` and `after`, one
+  /// "[section] key: BEFORE -> AFTER" each.
+  std::vector<std::string> changed(const StudyConfig& before, const StudyConfig& after) const;
+
+  /// The key-by-key reference of docs/study-file.md (between its settings-table markers): per section a heading, its
+  /// intro, one table row per setting and its notes.
+  std::string markdown() const;
+
+  /// Reads and validates study text; `file` is the name used in messages. Throws util::UserError
+  /// "study.toml:LINE: ..." for unknown keys, wrong types and impossible values. The config points at this table.
+  StudyConfig parse(const std::string& text, const std::filesystem::path& file) const;
+  /// Reads a study file (parse()); also "FILE: ..." for a folder or a file larger than k_max_study_file_bytes.
+  StudyConfig load(const std::filesystem::path& file) const;
+
+ private:
+  bool applies(const Setting& s, const std::string& experiment) const;
+
+  std::vector<SettingSection> m_sections;
+  std::vector<Setting> m_rows;
+  std::vector<ExperimentSchema> m_experiments;
+};
+
+/// The core of the table: every section that is not an experiment's ([study], [design], [parameters], [material],
+/// [contact], [timestep], [run], [run.slurm], [analysis]) with its rows. `experiment_sections` (in order) are
+/// placed where the docs show the experiments' sections, after [contact]; their rows come from the experiments.
+std::vector<SettingSection> core_sections(const std::vector<SettingSection>& experiment_sections);
+std::vector<Setting> core_settings();
 
 }  // namespace demsa::study

@@ -4,6 +4,7 @@
 // target at the median of the measured angles ± 1°. What the angle does not depend on keeps its prior width; the
 // two rolling frictions that it does depend on trade off along one ridge.
 #include "orchestrator/exec/runner.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/csv.hpp"
@@ -24,6 +25,7 @@ namespace demsa::test {
 namespace {
 namespace fs = std::filesystem;
 using namespace demsa::study;
+using namespace demsa::experiments;
 
 /// Builds DIR (study.toml, study.db) from the quickstart's study file and the recorded observables of its run.
 /// Returns the measured angles.

@@ -110,7 +110,7 @@ TEST(CliPostprocessPileCase, CaseJsonWithoutPedestalIsAnError) {
   write_file(tmp / "case.json", R"({"experiment": "pile", "pile": {"pedestal_radius_m": "wide"}})");
   const CommandResult typed = run_demsa({"postprocess", "pile", tmp.path().string()});
   EXPECT_EQ(typed.exit_code, 2);
-  EXPECT_NE(typed.err.find("case.json: pile.pedestal_radius_m = \"wide\": not a number"), std::string::npos)
+  EXPECT_NE(typed.err.find("case.json: pile.pedestal_radius_m = \"wide\": not a finite number"), std::string::npos)
       << typed.err;
 
   write_file(tmp / "case.json", R"({"experiment": "oedometer"})");

@@ -1,6 +1,7 @@
 // demsa links neither LIGGGHTS nor MPI (nor the VTK libraries Debian's libliggghts brings): `demsa drive-oedometer`
 // loads libliggghts.so.3 at run time, as the dynamic loader finds it (LD_LIBRARY_PATH first, as run.sh of a viscous
 // case sets it), and says clearly when it cannot.
+#include "orchestrator/experiments/oedometer/oedometer.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "support/test_support.hpp"
 
@@ -37,7 +38,7 @@ TEST(DriverLoading, DriverLoadsLibliggghtsFromLdLibraryPathAndNamesItWhenItCanno
                        (tmp / "lib" / "libliggghts.so.3").string()),
             std::string::npos)
       << r.err;
-  EXPECT_FALSE(fs::exists(tmp / "trial" / study::k_plate_history));
+  EXPECT_FALSE(fs::exists(tmp / "trial" / experiments::oedometer::k_plate_history));
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 // study whose time cap is too short is flagged unsettled by `demsa status`.
 #include "orchestrator/exec/failure.hpp"
 #include "orchestrator/exec/measure.hpp"
+#include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/observables.hpp"
 #include "postprocess/dump.hpp"
@@ -21,6 +23,7 @@
 namespace demsa {
 
 using namespace demsa::study;
+using namespace demsa::experiments;
 using namespace demsa::exec;
 namespace {
 
@@ -41,8 +44,11 @@ CaseExit clean_exit() {
 }
 
 FailureOptions strict_options(long particles) {
+  // A pile study: its experiment names the final dump and the particles removed on purpose.
+  static const StudyConfig pile_study = parse_study(
+      "[study]\nname = \"s\"\nexperiment = \"pile\"\n[parameters]\nE = { low = 1e8, high = 1e9 }\n", "s.toml");
   FailureOptions options;
-  options.experiment = Experiment::pile;
+  options.config = &pile_study;
   options.expected_particles = particles;
   options.lost_fraction = 0.01;
   options.kinetic_energy_limit = 1e6;
@@ -61,15 +67,16 @@ TEST(PileSettlingReal, QuickstartSizePileSettlesByTheCriterion) {
   const fs::path dir = tmp / "case";
   write_and_run(study, k_quickstart_baseline, dir);
   const StudyConfig config = load_study(study);
-  const std::optional<PileSettling> settling = read_pile_settling(dir);
+  const std::optional<pile::PileSettling> settling = pile::read_settling(dir);
   ASSERT_TRUE(settling.has_value());
   EXPECT_TRUE(settling->criterion);
   EXPECT_TRUE(settling->settled) << test::read_file(dir / "pile_settling.txt");
-  const std::map<std::string, double> values = measure_case(config, dir);
+  const std::map<std::string, double> values = measure_case(dir);
   EXPECT_EQ(values.at(std::string(k_settled)), 1.0);
   // The quickstart's pile overflows its pedestal: particles fell off and were removed, none lost.
-  EXPECT_GT(values.at(std::string(k_removed_off_pedestal)), 0.0);
-  EXPECT_EQ(classify_case(clean_exit(), dir, strict_options(config.pile.particles)).failure, FailureClass::none);
+  EXPECT_GT(values.at(std::string(pile::k_removed_off_pedestal)), 0.0);
+  EXPECT_EQ(classify_case(clean_exit(), dir, strict_options(pile::settings(config).particles)).failure,
+            FailureClass::none);
 }
 
 TEST(PileSettlingReal, LowWallRollingFrictionPileRemovesParticlesAndIsNotFailed) {
@@ -87,7 +94,7 @@ TEST(PileSettlingReal, LowWallRollingFrictionPileRemovesParticlesAndIsNotFailed)
   test::write_file(tmp / "low.toml", text);
   const fs::path dir = tmp / "case";
   write_and_run(tmp / "low.toml", "E=1e8,mu_r_pp=0.275", dir);
-  const std::optional<PileSettling> settling = read_pile_settling(dir);
+  const std::optional<pile::PileSettling> settling = pile::read_settling(dir);
   ASSERT_TRUE(settling.has_value());
   EXPECT_GT(settling->removed, 0);
   const long atoms = static_cast<long>(postprocess::read_particles(dir / "pile_final.dump", 1).size());

@@ -2,7 +2,8 @@
 # The one-way layering of ARCHITECTURE.md:
 #   sobol/ and postprocess/ never include orchestrator/, nor each other;
 #   inside orchestrator/, each folder includes only the folders below it:
-#     util <- study <- cases <- exec, cases <- driver, study <- analysis <- report, and cli on top;
+#     util <- study <- experiments <- cases <- exec, util <- driver <- experiments, experiments <- analysis <- report,
+#     and cli on top;
 #   only orchestrator/driver/ includes LIGGGHTS (the one target that loads it).
 set -euo pipefail
 cd "${DEMSA_SOURCE_DIR:?}"
@@ -13,12 +14,13 @@ bad+=$(grep -nE '#include[[:space:]]*[<"](orchestrator|sobol)/' postprocess/*.hp
 declare -A allowed=(
   [util]="util"
   [study]="util study sobol postprocess"
-  [cases]="util study cases sobol"
-  [driver]="util study cases driver"
-  [exec]="util study cases exec sobol postprocess"
-  [analysis]="util study analysis sobol"
-  [report]="util study analysis report sobol postprocess"
-  [cli]="util study cases driver exec analysis report cli sobol postprocess"
+  [driver]="util driver"
+  [experiments]="util study driver experiments sobol postprocess"
+  [cases]="util study experiments cases sobol"
+  [exec]="util study experiments cases exec sobol postprocess"
+  [analysis]="util study experiments analysis sobol"
+  [report]="util study experiments analysis report sobol postprocess"
+  [cli]="util study experiments cases driver exec analysis report cli sobol postprocess"
 )
 for folder in "${!allowed[@]}"; do
   [[ -d orchestrator/$folder ]] || { bad+=$'\n'"orchestrator/$folder: missing (ARCHITECTURE.md names it)"; continue; }

@@ -2,6 +2,8 @@
 
 #include "support/test_support.hpp"
 
+#include "orchestrator/experiments/registry.hpp"
+
 #include <random>
 
 using namespace demsa::study;
@@ -11,7 +13,7 @@ namespace demsa::test {
 SyntheticStudy start_synthetic_study(const std::filesystem::path& dir, const std::string& toml, unsigned seed) {
   std::filesystem::create_directories(dir);
   write_file(dir / "study.toml", toml);
-  StudyConfig config = load_study(dir / "study.toml");
+  StudyConfig config = experiments::load_study(dir / "study.toml");
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<SampleRow> samples;

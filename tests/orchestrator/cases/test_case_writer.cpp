@@ -1,7 +1,8 @@
 // Case folders: the files, their determinism, run.sh, case.json, the refusal of settings LIGGGHTS cannot run,
 // and the paper-size presets (written, not run).
 #include "orchestrator/cases/case_writer.hpp"
-#include "orchestrator/cases/embedded_templates.hpp"
+#include "orchestrator/experiments/embedded_templates.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "support/test_support.hpp"
@@ -16,6 +17,7 @@ namespace demsa {
 
 using namespace demsa::util;
 using namespace demsa::study;
+using namespace demsa::experiments;
 using namespace demsa::cases;
 namespace {
 
@@ -332,7 +334,7 @@ int count_of(const std::string& text, const std::string& what) {
 }
 
 TEST(CaseWriterRolling, TheDefaultWritesTheCdtTemplatesAsTheyAre) {
-  const study::StudyConfig c = study::parse_study(
+  const study::StudyConfig c = experiments::parse_study(
       "[study]\nname = \"t\"\nexperiment = \"pile\"\n[parameters]\nE = { low = 1e8, high = 1e9 }\n"
       "[pile]\nparticles = 300\n",
       "study.toml");
@@ -342,7 +344,7 @@ TEST(CaseWriterRolling, TheDefaultWritesTheCdtTemplatesAsTheyAre) {
   for (const char* name : {"contact.liggghts", "pile.liggghts"}) {
     const std::string written =
         test::read_file(tmp / "case" / (std::string(name) == "pile.liggghts" ? "in.liggghts" : name));
-    EXPECT_EQ(written, cases::embedded_templates().at(name)) << name;
+    EXPECT_EQ(written, experiments::embedded_templates().at(name)) << name;
   }
   EXPECT_EQ(test::read_file(tmp / "case" / "params.liggghts").find("rolling_damping"), std::string::npos);
 }
@@ -353,7 +355,7 @@ TEST(CaseWriterRolling, ViscousIsWrittenIntoEveryPairAndWallFixInSI) {
     const std::string experiment = oedometer.empty() ? "pile" : "oedometer";
     const std::string table = oedometer.empty() ? "[pile]\nparticles = 300\n"
                                                 : "[oedometer]\nparticles = 300\nplate_mode = \"" + oedometer + "\"\n";
-    const study::StudyConfig c = study::parse_study(
+    const study::StudyConfig c = experiments::parse_study(
         "[study]\nname = \"t\"\nexperiment = \"" + experiment +
             "\"\n[parameters]\nmu_r_pp = { low = 0.45, high = 4.5 }\n[contact]\nrolling_model = \"viscous\"\n"
             "viscous_unit = \"mm*ms\"\n[material]\nmu_r_pw = 5\n" +
@@ -380,7 +382,7 @@ TEST(CaseWriterRolling, ViscousIsWrittenIntoEveryPairAndWallFixInSI) {
 }
 
 TEST(CaseWriterRolling, EpsdModelsWriteTheirDampingAndStiffness) {
-  const study::StudyConfig c = study::parse_study(
+  const study::StudyConfig c = experiments::parse_study(
       "[study]\nname = \"t\"\nexperiment = \"pile\"\n[parameters]\nmu_r_pp = { low = 0.05, high = 0.5 }\n"
       "[contact]\nrolling_model = \"epsd3\"\nrolling_damping = 0.25\nrolling_stiffness = 3\n[pile]\nparticles = 300\n",
       "study.toml");

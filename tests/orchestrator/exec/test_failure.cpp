@@ -1,4 +1,5 @@
 #include "orchestrator/exec/failure.hpp"
+#include "orchestrator/experiments/registry.hpp"
 
 #include "support/test_support.hpp"
 
@@ -11,6 +12,7 @@ namespace demsa {
 
 using namespace demsa::util;
 using namespace demsa::study;
+using namespace demsa::experiments;
 using namespace demsa::exec;
 namespace {
 
@@ -38,8 +40,20 @@ CaseExit clean_exit() {
   return exit;
 }
 
+/// A study of `experiment` (an oedometer's with three loads).
+const study::StudyConfig& study_of(const std::string& experiment) {
+  static const study::StudyConfig pile = experiments::parse_study(
+      "[study]\nname = \"s\"\nexperiment = \"pile\"\n[parameters]\nE = { low = 1e8, high = 1e9 }\n", "s.toml");
+  static const study::StudyConfig oedometer = experiments::parse_study(
+      "[study]\nname = \"s\"\nexperiment = \"oedometer\"\n[parameters]\nE = { low = 1e8, high = 1e9 }\n"
+      "[oedometer]\nloads = [100, 400, 1100]\n",
+      "s.toml");
+  return experiment == "pile" ? pile : oedometer;
+}
+
 FailureOptions pile_options() {
   FailureOptions options;
+  options.config = &study_of("pile");
   options.expected_particles = 10;
   options.lost_fraction = 0.15;
   options.kinetic_energy_limit = 100.0;
@@ -193,7 +207,7 @@ TEST(Failure, ParticlesRemovedOffThePedestalAreNotLost) {
   const FailureReport report = classify_case(clean_exit(), lost.tmp.path(), pile_options());
   EXPECT_EQ(report.failure, FailureClass::lost_particles);
   EXPECT_NE(report.message.find("2 of 10 particles lost"), std::string::npos) << report.message;
-  EXPECT_NE(report.message.find("2 more removed off the pedestal"), std::string::npos) << report.message;
+  EXPECT_NE(report.message.find("2 more removed on purpose"), std::string::npos) << report.message;
   CaseFolder torn(k_clean_log, dump_text(6, 6));  // a settling file the measurement would refuse
   write_file(torn.tmp / "pile_settling.txt", "criterion 5\nremoved\n");
   const FailureReport bad = classify_case(clean_exit(), torn.tmp.path(), pile_options());
@@ -203,8 +217,7 @@ TEST(Failure, ParticlesRemovedOffThePedestalAreNotLost) {
 
 TEST(Failure, PlateNotConvergedAndMissingPlateStates) {
   FailureOptions options;
-  options.experiment = Experiment::oedometer;
-  options.load_steps = 3;
+  options.config = &study_of("oedometer");
   test::TempDir tmp;
   write_file(tmp / "log.liggghts", k_clean_log);
   write_file(tmp / "oedometer_final.dump", dump_text(10, 10));
@@ -278,8 +291,7 @@ TEST(Failure, DumpTheMeasurementWouldRefuseIsMissingDump) {
 
 TEST(Failure, TornOrMalformedPlateStatesIsMissingDump) {
   FailureOptions options;
-  options.experiment = Experiment::oedometer;
-  options.load_steps = 3;
+  options.config = &study_of("oedometer");
   test::TempDir tmp;
   write_file(tmp / "log.liggghts", k_clean_log);
   write_file(tmp / "oedometer_final.dump", dump_text(10, 10));
@@ -300,7 +312,6 @@ TEST(Failure, TornOrMalformedPlateStatesIsMissingDump) {
   EXPECT_EQ(classify_case(clean_exit(), tmp.path(), options).failure, FailureClass::missing_dump);
   // A file with no row at all has reached no load, whatever the number of loads asked for.
   write_file(tmp / "plate_states.txt", "# load_N plate_z_m force_N converged\n");
-  options.load_steps = 0;
   report = classify_case(clean_exit(), tmp.path(), options);
   EXPECT_EQ(report.failure, FailureClass::plate_not_converged);
   EXPECT_EQ(report.message, "plate_states.txt has no load step");
@@ -351,11 +362,15 @@ TEST(Failure, NamesRoundTripAndUnknownListsValidNames) {
 }
 
 TEST(Failure, OptionsAreValidated) {
-  FailureOptions options;
+  FailureOptions options = pile_options();
+  EXPECT_NO_THROW(options.validate());
   options.lost_fraction = 1.5;
   EXPECT_THROW(options.validate(), std::invalid_argument);
-  options = FailureOptions{};
+  options = pile_options();
   options.tail_lines = 0;
+  EXPECT_THROW(options.validate(), std::invalid_argument);
+  options = pile_options();
+  options.config = nullptr;
   EXPECT_THROW(options.validate(), std::invalid_argument);
 }
 

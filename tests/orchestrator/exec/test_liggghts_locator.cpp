@@ -1,5 +1,6 @@
 // Finding LIGGGHTS and reading its version: $DEMSA_LIGGGHTS, a path with a quote and spaces (run without a shell).
 #include "orchestrator/exec/liggghts_locator.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/util/errors.hpp"
 
@@ -97,7 +98,7 @@ TEST(LiggghtsLocator, ReadsTheRollingModelsOfTheHelp) {
 }
 
 study::StudyConfig rolling_study(const std::string& model, const std::string& liggghts) {
-  return study::parse_study(
+  return experiments::parse_study(
       "[study]\nname = \"t\"\nexperiment = \"pile\"\n[parameters]\n"
       "mu_r_pp = { low = 1e-6, high = 2e-6 }\n[contact]\nrolling_model = \"" +
           model + "\"\n[run]\nliggghts = \"" + liggghts + "\"\n",

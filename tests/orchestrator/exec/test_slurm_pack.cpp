@@ -2,6 +2,7 @@
 // bash with the fake srun of tests/data/slurm (it runs each job step here), and the executor following a pack
 // allocation through the fake sbatch/squeue/scancel, the test playing the cluster.
 #include "orchestrator/exec/slurm/executor.hpp"
+#include "orchestrator/experiments/registry.hpp"
 
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/settings.hpp"
@@ -28,6 +29,7 @@ namespace demsa {
 
 using namespace demsa::util;
 using namespace demsa::study;
+using namespace demsa::experiments;
 using namespace demsa::exec;
 namespace {
 namespace fs = std::filesystem;
@@ -526,7 +528,7 @@ TEST(SlurmPack, ModeSettingIsAnExecutionSetting) {
   // the cases do not depend on how SLURM runs them: same design hash, nothing reported changed
   EXPECT_EQ(design_hash(pack), design_hash(plain));
   EXPECT_EQ(design_hash(array), design_hash(plain));
-  EXPECT_TRUE(changed_settings(plain, pack).empty());
+  EXPECT_TRUE(settings_table().changed(plain, pack).empty());
   const std::string message =
       test::message_of<UserError>([&] { parse_study(base + "[run.slurm]\nmode = \"bulk\"\n", "study.toml"); });
   EXPECT_NE(message.find("study.toml:12"), std::string::npos) << message;

@@ -1,4 +1,5 @@
 // [contact]: the rolling model and its settings, the unit of the viscous μ_R, and the hash of a study at the default.
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -11,6 +12,7 @@
 namespace demsa {
 
 using namespace demsa::study;
+using namespace demsa::experiments;
 namespace {
 
 const std::string k_base =
@@ -21,7 +23,7 @@ TEST(ContactSettings, TheDefaultIsCdtAndKeepsTheHash) {
   EXPECT_EQ(plain.contact.rolling_model, RollingModel::cdt);
   const StudyConfig explicit_cdt = parse_study(k_base + "[contact]\nrolling_model = \"cdt\"\n", "study.toml");
   EXPECT_EQ(design_hash(plain), design_hash(explicit_cdt));
-  EXPECT_EQ(design_hash_text(plain).find("contact."), std::string::npos);
+  EXPECT_EQ(settings_table().hash_text(plain).find("contact."), std::string::npos);
 }
 
 TEST(ContactSettings, EveryModelIsReadAndChangesTheHash) {

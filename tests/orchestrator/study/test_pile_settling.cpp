@@ -1,5 +1,7 @@
 // The pile's settling and removal settings ([pile] settle_speed, settle_quantile, settle_window, remove_fallen), the
 // retired ke_stop, and the unsettled samples read back from the stored observables.
+#include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/observables.hpp"
 #include "orchestrator/study/settings.hpp"
@@ -13,6 +15,7 @@ namespace demsa {
 
 using namespace demsa::util;
 using namespace demsa::study;
+using namespace demsa::experiments;
 namespace {
 
 const char* k_minimal = R"(
@@ -38,22 +41,22 @@ std::string error_of(const std::string& text) {
 TEST(PileSettling, SettingsAreReadAndTheDefaultIsThePapersSchedule) {
   // Default: no criterion, nothing removed: settle for settle_time (paper §3.2), as before the criterion existed.
   const StudyConfig d = parse_study(k_minimal, "study.toml");
-  EXPECT_EQ(d.pile.settle_speed, 0.0);
-  EXPECT_FALSE(d.pile.remove_fallen);
+  EXPECT_EQ(pile::settings(d).settle_speed, 0.0);
+  EXPECT_FALSE(pile::settings(d).remove_fallen);
   const StudyConfig c = parse_study(std::string(k_minimal) +
                                         "[pile]\nsettle_speed = 0.02\nsettle_quantile = 1\nsettle_window = 0.1\n"
                                         "remove_fallen = true\n",
                                     "study.toml");
-  EXPECT_EQ(c.pile.settle_speed, 0.02);
-  EXPECT_EQ(c.pile.settle_quantile, 1.0);
-  EXPECT_EQ(c.pile.settle_window, 0.1);
-  EXPECT_TRUE(c.pile.remove_fallen);
+  EXPECT_EQ(pile::settings(c).settle_speed, 0.02);
+  EXPECT_EQ(pile::settings(c).settle_quantile, 1.0);
+  EXPECT_EQ(pile::settings(c).settle_window, 0.1);
+  EXPECT_TRUE(pile::settings(c).remove_fallen);
 }
 
 TEST(PileSettling, DefaultsKeepTheHashOfTheVersionWithKeStopAndEachSettingChangesIt) {
   // The version with `ke_stop` hashed `pile.ke_stop=0` between settle_time and settle_check_time.
   const StudyConfig d = parse_study(k_minimal, "study.toml");
-  const std::string text = design_hash_text(d);
+  const std::string text = settings_table().hash_text(d);
   EXPECT_NE(text.find("pile.settle_time=0.59999999999999998\npile.ke_stop=0\npile.settle_check_time="),
             std::string::npos)
       << text;

@@ -4,6 +4,7 @@
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cases/case_writer.hpp"
 #include "orchestrator/exec/runner.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/study/store.hpp"
@@ -22,6 +23,7 @@
 namespace demsa {
 
 using namespace demsa::study;
+using namespace demsa::experiments;
 namespace {
 
 const char* k_study = R"(
@@ -77,7 +79,7 @@ TEST(Replicates, HashIsUnchangedWithoutThemAndChangesWithThem) {
   const StudyConfig plain = parse_study(k_study, "study.toml");
   const StudyConfig with = parse_study(std::string(k_study) + "replicates = { points = 2, repeats = 3 }\n", "s.toml");
   const StudyConfig more = parse_study(std::string(k_study) + "replicates = { points = 2, repeats = 4 }\n", "s.toml");
-  EXPECT_EQ(design_hash_text(plain).find("replicates"), std::string::npos);
+  EXPECT_EQ(settings_table().hash_text(plain).find("replicates"), std::string::npos);
   EXPECT_NE(design_hash(plain), design_hash(with));
   EXPECT_NE(design_hash(with), design_hash(more));
 }

@@ -1,6 +1,7 @@
 // The table of study settings: every row is read by the parser into its own field, the design hash is that of the
 // previous version for unchanged measurement settings and sees [pile] levels and directions, and
 // docs/study-file.md holds the table's rendering.
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -22,6 +23,7 @@
 namespace demsa {
 
 using namespace demsa::study;
+using namespace demsa::experiments;
 namespace {
 
 namespace fs = std::filesystem;
@@ -32,7 +34,7 @@ using StudyMap = std::map<std::string, std::map<std::string, std::string>>;
 /// The study file of `values`, sections in the table's order.
 std::string study_text(const StudyMap& values) {
   std::string text;
-  for (const SettingSection& section : setting_sections()) {
+  for (const SettingSection& section : settings_table().sections()) {
     const auto it = values.find(section.name);
     if (it == values.end()) continue;
     text += "[" + section.name + "]\n";
@@ -49,7 +51,7 @@ StudyMap minimal_study() {
 /// Every row's value as shown.
 std::map<std::string, std::string> shown(const StudyConfig& c) {
   std::map<std::string, std::string> values;
-  for (const Setting& s : study_settings()) values[s.section + "." + s.key] = s.show(c);
+  for (const Setting& s : settings_table().rows()) values[s.section + "." + s.key] = s.show(c);
   return values;
 }
 
@@ -86,13 +88,13 @@ std::string other_value(const Setting& s, const StudyConfig& c) {
 }
 
 TEST(StudySettings, EveryRowIsReadIntoItsOwnField) {
-  // A row of [oedometer] is tried in an oedometer study (a pile study refuses the table).
-  StudyMap oedometer_study = minimal_study();
-  oedometer_study["study"]["experiment"] = "\"oedometer\"";
+  // A row of an experiment's section is tried in a study of that experiment (another's refuses the table).
   int checked = 0;
-  for (const Setting& s : study_settings()) {
+  for (const Setting& s : settings_table().rows()) {
     if (s.first) continue;  // presets set other rows (StudyConfig tests)
-    const StudyMap base = s.section == "oedometer" ? oedometer_study : minimal_study();
+    StudyMap base = minimal_study();
+    if (const ExperimentSchema* owner = settings_table().owner(s.section))
+      base["study"]["experiment"] = "\"" + owner->name + "\"";
     const StudyConfig defaults = parse_study(study_text(base), "study.toml");
     const std::map<std::string, std::string> before = shown(defaults);
     const std::string value = other_value(s, defaults);
@@ -123,23 +125,21 @@ TEST(StudySettings, EveryRowIsReadIntoItsOwnField) {
 }
 
 TEST(StudySettings, AFileOfEveryDefaultReadsAsTheDefaults) {
-  // Once per experiment: a study holds its own experiment's table only.
-  for (const Experiment experiment : {Experiment::pile, Experiment::oedometer}) {
+  // Once per experiment: a study holds its own experiment's table only. The presets are left out: they set other
+  // rows, whose defaults the file gives.
+  for (const Experiment* experiment : all()) {
     StudyConfig expected;
     expected.name = "s";
-    expected.experiment = experiment;
-    const std::string other = experiment == Experiment::pile ? "oedometer" : "pile";
-    if (experiment == Experiment::pile)
-      expected.pile.preset = "set1";  // the defaults of [pile] are set 1
-    else
-      expected.oedometer.preset = "paper";  // and those of [oedometer] the paper's assembly
-    expected.timestep.value = 1e-6;         // 0 = not given, which the file cannot say
+    expected.experiment = std::string(experiment->name);
+    expected.timestep.value = 1e-6;  // 0 = not given, which the file cannot say
     expected.parameters.push_back({"E", sobol::Bounds{1e8, 1e9, sobol::Scale::log_uniform}, 0});
     StudyMap study;
-    for (const Setting& s : study_settings()) {
+    for (const Setting& s : settings_table().rows()) {
+      const ExperimentSchema* owner = settings_table().owner(s.section);
+      if (s.first || (owner && owner->name != experiment->name)) continue;
       const std::string value = s.show(expected);
       // "none": [design] replicates off, which the file says by leaving it out.
-      if (value != "not varied" && value != "none" && s.section != other) study[s.section][s.key] = value;
+      if (value != "not varied" && value != "none") study[s.section][s.key] = value;
     }
     const std::string text = study_text(study);
     StudyConfig c;
@@ -149,7 +149,7 @@ TEST(StudySettings, AFileOfEveryDefaultReadsAsTheDefaults) {
       FAIL() << e.what() << "\n" << text;
     }
     EXPECT_EQ(shown(c), shown(expected)) << text;
-    EXPECT_EQ(design_hash_text(c), design_hash_text(expected));
+    EXPECT_EQ(settings_table().hash_text(c), settings_table().hash_text(expected));
   }
 }
 
@@ -165,7 +165,7 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
        "preset, particles, r_min, r_max, r_mean, r_sd, disc_radius, fill_height, pedestal_radius, "
        "pedestal_height, settle_time, settle_speed, settle_quantile, settle_window, settle_check_time, "
        "remove_fallen, domain_half_width, target_angle, directions, "
-       "levels, angle_estimator"},
+       "levels, angle_estimator, base"},
       {"oedometer",
        "preset, particles, r_min, r_max, r_mean, r_sd, box_side, box_height, fill_time, loads, "
        "measured_settlements, plate_mode, plate_gap, load_tolerance, servo_vel_max, servo_kp, servo_ki, "
@@ -183,12 +183,12 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
     std::set<std::string> expected;
     std::istringstream in(list);
     for (std::string key; std::getline(in, key, ',');) expected.insert(key.substr(key.find_first_not_of(' ')));
-    const std::vector<std::string> actual = setting_keys(section);
+    const std::vector<std::string> actual = settings_table().keys(section);
     EXPECT_EQ(std::set<std::string>(actual.begin(), actual.end()), expected) << section;
-    for (const std::string& key : actual) rows += find_setting(section, key) ? 1 : 0;
+    for (const std::string& key : actual) rows += settings_table().find(section, key) ? 1 : 0;
   }
-  EXPECT_EQ(rows, study_settings().size());
-  for (const Setting& s : study_settings()) {
+  EXPECT_EQ(rows, settings_table().rows().size());
+  for (const Setting& s : settings_table().rows()) {
     EXPECT_FALSE(s.doc.empty()) << s.key;
     EXPECT_FALSE(s.default_text.empty()) << s.key;
     EXPECT_TRUE(s.canonical && s.show) << s.key;
@@ -213,8 +213,8 @@ TEST(StudySettings, RangesComeFromTheTable) {
   EXPECT_EQ(error_of("[timestep]\nfraction = 0.5\n"),
             "study.toml:7: [timestep] fraction: must lie in (0, 0.3], got 0.5: a time step above 0.3 Rayleigh times "
             "is unstable for Hertz contacts");
-  EXPECT_EQ(find_setting("pile", "levels")->range_text, "[2, 100000]");
-  EXPECT_EQ(find_setting("parameters", "nu")->bounds.text(), "(0, 0.5)");
+  EXPECT_EQ(settings_table().find("pile", "levels")->range_text, "[2, 100000]");
+  EXPECT_EQ(settings_table().find("parameters", "nu")->bounds.text(), "(0, 0.5)");
 }
 
 TEST(StudySettings, UnknownKeySuggestsTheNearestKey) {
@@ -230,15 +230,15 @@ TEST(StudySettings, UnknownKeySuggestsTheNearestKey) {
             std::string::npos)
       << e;
   EXPECT_NE(e.find("mpirun, slurm)"), std::string::npos) << e;
-  EXPECT_EQ(unknown_key_hint("parameters.E", "hi"), " (did you mean 'high'? valid: low, high, scale)");
-  EXPECT_EQ(unknown_key_hint("run.slurm", "zzz"),
+  EXPECT_EQ(settings_table().unknown_key_hint("parameters.E", "hi"), " (did you mean 'high'? valid: low, high, scale)");
+  EXPECT_EQ(settings_table().unknown_key_hint("run.slurm", "zzz"),
             " (valid: mode, partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval)");
 }
 
 TEST(StudySettings, DesignMethodsAreSobolsNames) {
   const StudyConfig centred = parse_study(study_text(minimal_study()) + "[design]\nmethod = \"lhs-centered\"\n", "s");
   EXPECT_EQ(centred.design, "lhs-centred");  // sobol's alias, kept as the canonical name
-  EXPECT_EQ(find_setting("design", "method")->choices, sobol::design_kind_names());
+  EXPECT_EQ(settings_table().find("design", "method")->choices, sobol::design_kind_names());
   try {
     parse_study(study_text(minimal_study()) + "[design]\nmethod = \"halton\"\n", "study.toml");
     FAIL() << "halton accepted";
@@ -319,17 +319,17 @@ TEST(StudySettings, HashSeesMeasurementButNotRunSettings) {
             design_hash(parse_study(oed, "s")));
   // ... and [pile] cannot be part of an oedometer study at all.
   EXPECT_THROW(parse_study(oed + "[pile]\nlevels = 12\n", "s"), util::UserError);
-  EXPECT_EQ(find_setting("pile", "levels")->effect, SettingEffect::measurement);
-  EXPECT_EQ(find_setting("run", "ranks")->effect, SettingEffect::cases);
-  EXPECT_EQ(find_setting("run", "parallel")->effect, SettingEffect::none);
+  EXPECT_EQ(settings_table().find("pile", "levels")->effect, SettingEffect::measurement);
+  EXPECT_EQ(settings_table().find("run", "ranks")->effect, SettingEffect::cases);
+  EXPECT_EQ(settings_table().find("run", "parallel")->effect, SettingEffect::none);
 }
 
 TEST(StudySettings, ChangedSettingsNameTheKeys) {
   const std::string base = study_text(minimal_study());
   const StudyConfig a = parse_study(base, "study.toml");
   const StudyConfig b = parse_study(base + "[pile]\nlevels = 12\n[run]\nparallel = 3\n", "study.toml");
-  EXPECT_EQ(changed_settings(a, b), std::vector<std::string>{"[pile] levels: 10 -> 12"});
-  EXPECT_TRUE(changed_settings(a, a).empty());
+  EXPECT_EQ(settings_table().changed(a, b), std::vector<std::string>{"[pile] levels: 10 -> 12"});
+  EXPECT_TRUE(settings_table().changed(a, a).empty());
 }
 
 // ------------------------------------------------------------------------------------------------ docs
@@ -347,7 +347,7 @@ TEST(StudySettings, DocsHoldTheTable) {
   const std::size_t e = file.find(end);
   ASSERT_NE(b, std::string::npos) << docs << " has no " << begin;
   ASSERT_NE(e, std::string::npos) << docs << " has no " << end;
-  const std::string expected_file = file.substr(0, b + begin.size()) + settings_markdown() + file.substr(e);
+  const std::string expected_file = file.substr(0, b + begin.size()) + settings_table().markdown() + file.substr(e);
   if (expected_file != file) {
     // The build folder: DEMSA_BINARY is BUILD/orchestrator/demsa.
     const fs::path out = fs::path(DEMSA_BINARY).parent_path().parent_path() / "study-file.expected.md";

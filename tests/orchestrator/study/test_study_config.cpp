@@ -1,4 +1,7 @@
 // The study file parser: values, defaults, presets, and a message naming file, line and value for every mistake.
+#include "orchestrator/experiments/oedometer/oedometer.hpp"
+#include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/util/errors.hpp"
 
@@ -10,6 +13,7 @@ namespace demsa {
 
 using namespace demsa::util;
 using namespace demsa::study;
+using namespace demsa::experiments;
 namespace {
 
 const char* k_minimal = R"(
@@ -34,7 +38,7 @@ std::string error_of(const std::string& text) {
 TEST(StudyConfig, MinimalFileTakesDefaultsAndPaperOrder) {
   const StudyConfig c = parse_study(k_minimal, "dir/study.toml");
   EXPECT_EQ(c.name, "s");
-  EXPECT_EQ(c.experiment, Experiment::pile);
+  EXPECT_EQ(c.experiment, "pile");
   ASSERT_EQ(c.parameters.size(), 2u);
   EXPECT_EQ(c.parameters[0].name, "E");  // paper eq. (1) order, not file order
   EXPECT_EQ(c.parameters[1].name, "mu_r_pp");
@@ -42,22 +46,22 @@ TEST(StudyConfig, MinimalFileTakesDefaultsAndPaperOrder) {
   EXPECT_DOUBLE_EQ(c.parameters[1].bounds.high, 4.5);
   EXPECT_EQ(c.parameters[1].line, 7);
   EXPECT_DOUBLE_EQ(c.timestep.fraction, 0.15);
-  EXPECT_DOUBLE_EQ(c.pile.settle_time, 0.6);
-  EXPECT_EQ(c.oedometer.trial_steps, 15000);
-  EXPECT_EQ(c.oedometer.relax_steps, 80000);
-  EXPECT_DOUBLE_EQ(c.oedometer.trial_step0, 0.0075e-3);
+  EXPECT_DOUBLE_EQ(pile::settings(c).settle_time, 0.6);
+  EXPECT_EQ(oedometer::settings(c).trial_steps, 15000);
+  EXPECT_EQ(oedometer::settings(c).relax_steps, 80000);
+  EXPECT_DOUBLE_EQ(oedometer::settings(c).trial_step0, 0.0075e-3);
 }
 
 TEST(StudyConfig, PilePresetsFillTable2AndExplicitKeysOverride) {
   StudyConfig c = parse_study(std::string(k_minimal) + "[pile]\npreset = \"set2\"\n", "study.toml");
-  EXPECT_EQ(c.pile.particles, 8000);
-  EXPECT_DOUBLE_EQ(c.pile.radii.r_min, 0.8e-3);
-  EXPECT_DOUBLE_EQ(c.pile.radii.r_max, 2.5e-3);
-  EXPECT_DOUBLE_EQ(c.pile.radii.mean, 1.5e-3);
-  EXPECT_DOUBLE_EQ(c.pile.radii.sd, 0.35e-3);
+  EXPECT_EQ(pile::settings(c).particles, 8000);
+  EXPECT_DOUBLE_EQ(pile::settings(c).radii.r_min, 0.8e-3);
+  EXPECT_DOUBLE_EQ(pile::settings(c).radii.r_max, 2.5e-3);
+  EXPECT_DOUBLE_EQ(pile::settings(c).radii.mean, 1.5e-3);
+  EXPECT_DOUBLE_EQ(pile::settings(c).radii.sd, 0.35e-3);
   c = parse_study(std::string(k_minimal) + "[pile]\nparticles = 300\npreset = \"set1\"\n", "study.toml");
-  EXPECT_EQ(c.pile.particles, 300);
-  EXPECT_DOUBLE_EQ(c.pile.radii.r_max, 3.5e-3);
+  EXPECT_EQ(pile::settings(c).particles, 300);
+  EXPECT_DOUBLE_EQ(pile::settings(c).radii.r_max, 3.5e-3);
 }
 
 TEST(StudyConfig, OedometerSectionIsRead) {
@@ -72,11 +76,11 @@ plate_mode = "trial-step"
 trial_steps = 100
 )",
                                     "study.toml");
-  EXPECT_EQ(c.oedometer.particles, 4642);
-  EXPECT_EQ(c.oedometer.plate_mode, PlateMode::trial_step);
-  ASSERT_EQ(c.oedometer.loads.size(), 4u);
-  EXPECT_DOUBLE_EQ(c.oedometer.loads[2], 1100.0);
-  EXPECT_EQ(c.oedometer.trial_steps, 100);
+  EXPECT_EQ(oedometer::settings(c).particles, 4642);
+  EXPECT_EQ(oedometer::settings(c).plate_mode, oedometer::PlateMode::trial_step);
+  ASSERT_EQ(oedometer::settings(c).loads.size(), 4u);
+  EXPECT_DOUBLE_EQ(oedometer::settings(c).loads[2], 1100.0);
+  EXPECT_EQ(oedometer::settings(c).trial_steps, 100);
 }
 
 TEST(StudyConfig, UnknownKeyNamesLineAndValidKeys) {

@@ -2,6 +2,7 @@
 // integer the field cannot hold (it used to be narrowed), a size the machine cannot hold, an empty command, the
 // table of the other experiment, a folder or an endless file given as the study file; and what it corrects with a
 // warning (a base sample count that is not a power of two).
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -17,6 +18,7 @@
 namespace demsa {
 
 using namespace demsa::study;
+using namespace demsa::experiments;
 namespace {
 
 namespace fs = std::filesystem;
@@ -45,7 +47,7 @@ std::string with_value(const Setting& s, const std::string& value) {
 TEST(StudyInputs, EveryIntegerBeyondItsFieldIsRefusedNotNarrowed) {
   // 4294967304 = 2^32 + 8 was read into an int as 8; 9223372036854775807 as -1.
   int rows = 0;
-  for (const Setting& s : study_settings()) {
+  for (const Setting& s : settings_table().rows()) {
     if (s.type != SettingType::integer) continue;
     ++rows;
     for (const std::string value : {"4294967304", "9223372036854775807", "-4294967295"}) {
@@ -61,7 +63,7 @@ TEST(StudyInputs, EveryIntegerBeyondItsFieldIsRefusedNotNarrowed) {
 }
 
 TEST(StudyInputs, EveryIntegerRowHasAnUpperBound) {
-  for (const Setting& s : study_settings()) {
+  for (const Setting& s : settings_table().rows()) {
     if (s.type != SettingType::integer || s.key == "seed") continue;
     EXPECT_TRUE(s.bounds.high.has_value()) << s.section << "." << s.key;
     EXPECT_EQ(s.range_text.find("e+"), std::string::npos) << s.key << ": " << s.range_text;  // 100000, not 1e+05
@@ -90,7 +92,7 @@ TEST(StudyInputs, SizesTheMachineCannotHoldAreRefusedNamingTheKey) {
   EXPECT_NO_THROW(parse_study(k_pile + "[design]\nsamples = 4096\n", "study.toml"));
   EXPECT_NO_THROW(parse_study(k_pile + "[design]\nsamples = 50000\nmethod = \"lhs\"\n", "study.toml"));
   // The reasons are in the docs' rows.
-  EXPECT_NE(find_setting("pile", "particles")->doc.find("bounds: the case writer"), std::string::npos);
+  EXPECT_NE(settings_table().find("pile", "particles")->doc.find("bounds: the case writer"), std::string::npos);
 }
 
 TEST(StudyInputs, OneSampleIsRefusedForEveryDesignAsTheDocsSay) {
@@ -100,7 +102,7 @@ TEST(StudyInputs, OneSampleIsRefusedForEveryDesignAsTheDocsSay) {
     EXPECT_NE(e.find("study.toml:7: [design] samples: must lie in [2, 100000], got 1"), std::string::npos) << e;
     EXPECT_NE(e.find("`demsa case`"), std::string::npos) << e;
   }
-  EXPECT_EQ(find_setting("design", "samples")->range_text.rfind("[2, 100000]", 0), 0u);
+  EXPECT_EQ(settings_table().find("design", "samples")->range_text.rfind("[2, 100000]", 0), 0u);
   EXPECT_NO_THROW(parse_study(k_pile + "[design]\nsamples = 2\n", "study.toml"));
 }
 
@@ -119,7 +121,7 @@ TEST(StudyInputs, BaseSamplesAreRoundedUpToAPowerOfTwoWithAWarning) {
 TEST(StudyInputs, EmptyCommandsAreRefused) {
   EXPECT_EQ(error_of(k_pile + "[run]\nliggghts = \"\"\n"), "study.toml:7: [run] liggghts: must not be empty");
   EXPECT_EQ(error_of(k_pile + "[run]\nmpirun = \"  \"\n"), "study.toml:7: [run] mpirun: must not be blank");
-  EXPECT_EQ(find_setting("run", "liggghts")->range_text, "non-empty");
+  EXPECT_EQ(settings_table().find("run", "liggghts")->range_text, "non-empty");
 }
 
 TEST(StudyInputs, TheOtherExperimentsTableIsRefusedAtItsLine) {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace demsa::driver {
+namespace demsa::experiments::oedometer {
 
 /// The trial-step settings of a case, as its case.json records them (paper §4 constants by default).
 struct TrialStepOptions {
@@ -41,4 +41,4 @@ double reduced_trial_step(const TrialStepOptions& options, double step, double l
 /// Returns 0 when every load converged, 1 otherwise.
 int drive_oedometer(const std::filesystem::path& case_dir);
 
-}  // namespace demsa::driver
+}  // namespace demsa::experiments::oedometer

@@ -1,4 +1,4 @@
-#include "orchestrator/cases/physics.hpp"
+#include "orchestrator/experiments/physics.hpp"
 
 #include <fmt/core.h>
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-namespace demsa::cases {
+namespace demsa::experiments {
 
 using namespace demsa::study;
 
@@ -29,8 +29,7 @@ TimestepChoice choose_timestep(const TimestepSettings& settings, const Material&
   return choice;
 }
 
-std::vector<std::string> liggghts_limit_violations(const StudyConfig& config, const Material& material,
-                                                   const TimestepChoice& timestep) {
+std::vector<std::string> liggghts_limit_violations(const Material& material, const TimestepChoice& timestep) {
   std::vector<std::string> problems;
   const double ratio = timestep.fraction_of_rayleigh();
   if (ratio > k_max_rayleigh_fraction) {
@@ -53,20 +52,8 @@ std::vector<std::string> liggghts_limit_violations(const StudyConfig& config, co
                     "[material] hard_particles = true to allow it",
                     material.E, k_liggghts_max_E));
   }
-  if (config.experiment == Experiment::oedometer && config.oedometer.plate_mode == PlateMode::servo) {
-    const double limit = config.timestep.skin / (2.0 * timestep.dt);
-    if (config.oedometer.servo_vel_max >= limit) {
-      problems.push_back(fmt::format(
-          "[oedometer] servo_vel_max = {:.4g} m/s reaches skin/(2 dt) = {:.4g} m/s (skin {:.4g} m, dt {:.4g} s): "
-          "a mesh moving more than half the neighbor skin per step misses contacts; lower servo_vel_max or raise "
-          "[timestep] skin",
-          config.oedometer.servo_vel_max, limit, config.timestep.skin, timestep.dt));
-    }
-  }
   return problems;
 }
-
-double disc_append_interval(double r_upper, double gravity) { return std::sqrt(4.0 * r_upper / gravity); }
 
 long steps_for(double duration, double dt) {
   assert(dt > 0);
@@ -135,4 +122,4 @@ std::optional<std::filesystem::path> liggghts_library_dir(const std::string& exe
   return prefix / "lib";
 }
 
-}  // namespace demsa::cases
+}  // namespace demsa::experiments

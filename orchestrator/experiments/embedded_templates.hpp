@@ -4,9 +4,9 @@
 #include <map>
 #include <string>
 
-namespace demsa::cases {
+namespace demsa::experiments {
 
 /// File name (e.g. "pile.liggghts") -> text.
 const std::map<std::string, std::string>& embedded_templates();
 
-}  // namespace demsa::cases
+}  // namespace demsa::experiments

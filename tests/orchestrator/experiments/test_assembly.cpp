@@ -1,6 +1,9 @@
 // Particle assemblies: radii, disc filling without overlaps, the pile schedule, the oedometer lattice, and the
 // paper-size presets (generated, not run).
-#include "orchestrator/cases/assembly.hpp"
+#include "orchestrator/experiments/assembly.hpp"
+#include "orchestrator/experiments/oedometer/oedometer.hpp"
+#include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 
 #include <gtest/gtest.h>
@@ -12,7 +15,10 @@
 namespace demsa {
 
 using namespace demsa::study;
-using namespace demsa::cases;
+using namespace demsa::experiments;
+using namespace demsa::experiments::pile;
+using oedometer::OedometerAssembly;
+using oedometer::OedometerSettings;
 namespace {
 
 TEST(Assembly, TruncatedNormalRadiiAreSeededAndInRange) {
@@ -54,7 +60,7 @@ TEST(Assembly, MinPairGapFindsOverlap) {
 /// Checks a pile: counts, radii, inside the disc radius, no overlaps within the column or within any disc, and
 /// the heights of the schedule.
 void check_pile(const PileSettings& s, std::uint64_t seed) {
-  const PileAssembly a = build_pile_assembly(s, seed);
+  const PileAssembly a = pile::build_assembly(s, seed);
   EXPECT_EQ(a.particles(), s.particles);
   std::vector<Particle> column;
   for (std::size_t k = 0; k < a.discs.size(); ++k) {
@@ -89,7 +95,7 @@ TEST(Assembly, PaperPileSet1HasSixThousandValidParticles) {
   s.particles = 6000;
   s.radii = {1e-3, 3.5e-3, 2e-3, 0.5e-3};
   check_pile(s, 12345);
-  const PileAssembly a = build_pile_assembly(s, 12345);
+  const PileAssembly a = pile::build_assembly(s, 12345);
   EXPECT_EQ(a.column_discs, 14);  // z = 5 + 3.5 + 7k mm <= 105 mm -> k = 0..13
 }
 
@@ -98,14 +104,14 @@ TEST(Assembly, PaperPileSet2HasEightThousandValidParticles) {
   s.particles = 8000;
   s.radii = {0.8e-3, 2.5e-3, 1.5e-3, 0.35e-3};
   check_pile(s, 12345);
-  const PileAssembly a = build_pile_assembly(s, 12345);
+  const PileAssembly a = pile::build_assembly(s, 12345);
   EXPECT_EQ(a.column_discs, 20);  // z = 5 + 2.5 + 5k mm <= 105 mm -> k = 0..19
 }
 
 TEST(Assembly, PileIsIdenticalForTheSameSeed) {
   PileSettings s;
   s.particles = 500;
-  const PileAssembly a = build_pile_assembly(s, 3), b = build_pile_assembly(s, 3);
+  const PileAssembly a = pile::build_assembly(s, 3), b = pile::build_assembly(s, 3);
   ASSERT_EQ(a.discs.size(), b.discs.size());
   for (std::size_t k = 0; k < a.discs.size(); ++k)
     for (std::size_t i = 0; i < a.discs[k].size(); ++i) {
@@ -115,11 +121,10 @@ TEST(Assembly, PileIsIdenticalForTheSameSeed) {
 }
 
 TEST(Assembly, PaperOedometerHas4642ValidParticles) {
-  const OedometerSettings s = parse_study(
-                                  "[study]\nname = \"p\"\nexperiment = \"oedometer\"\n[parameters]\n"
-                                  "E = { low = 1e8, high = 1e9 }\n[oedometer]\npreset = \"paper\"\n",
-                                  "study.toml")
-                                  .oedometer;
+  const OedometerSettings s =
+      oedometer::settings(parse_study("[study]\nname = \"p\"\nexperiment = \"oedometer\"\n[parameters]\n"
+                                      "E = { low = 1e8, high = 1e9 }\n[oedometer]\npreset = \"paper\"\n",
+                                      "study.toml"));
   ASSERT_EQ(s.particles, 4642);
   // Paper §4, assembly one: e = V_P / V_S = 0.66 with V_P = 10 x 10 x 5 cm^3 - V_S, so V_S = 301.2 cm^3 and
   // E[r^3] = 15.49 mm^3. The preset's truncated normal has E[r^3] = 15.496 mm^3 (study_config.cpp): the sampler
@@ -128,7 +133,7 @@ TEST(Assembly, PaperOedometerHas4642ValidParticles) {
   double cube_mean = 0;
   for (const double r : many) cube_mean += r * r * r / static_cast<double>(many.size());
   EXPECT_NEAR(cube_mean, 15.496e-9, 0.045e-9);
-  const OedometerAssembly a = build_oedometer_assembly(s, 12345);
+  const OedometerAssembly a = oedometer::build_assembly(s, 12345);
   // ... and the 4642 particles of a study fit in the 500 cm^3 with the paper's void ratio (4 standard errors:
   // 4 x 1.66 x 4.6 / (15.5 sqrt(4642)) = 0.03).
   const double void_ratio = (0.1 * 0.1 * 0.05 - a.solid_volume) / a.solid_volume;

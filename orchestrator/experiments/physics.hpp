@@ -1,6 +1,7 @@
 #pragma once
-// Physics of a case that demsa decides before LIGGGHTS runs (docs/study-file.md; paper §2–4): the Rayleigh time and the
-// time step, the pile's disc schedule, and the limits LIGGGHTS 3.8.0 enforces or silently needs.
+// Physics of a case that demsa decides before LIGGGHTS runs, shared by every experiment (docs/study-file.md; paper
+// §2): the Rayleigh time and the time step, the contact model's LIGGGHTS words, and the limits LIGGGHTS 3.8.0 enforces
+// or silently needs.
 #include "orchestrator/study/config.hpp"
 
 #include <filesystem>
@@ -8,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace demsa::cases {
+namespace demsa::experiments {
 
 /// G = E / (2 (1 + ν)) [Pa].
 double shear_modulus(double E, double nu);
@@ -32,15 +33,10 @@ TimestepChoice choose_timestep(const study::TimestepSettings& settings, const st
 /// in fewer than about ten steps and energy blows up.
 inline constexpr double k_max_rayleigh_fraction = 0.3;
 
-/// Every LIGGGHTS limit the sample breaks, each as one sentence that says which limit and why; empty when the
-/// case is runnable. Checks: dt ≤ 0.3 T_R; the Young's modulus range without the matching flag; for a servo
-/// plate, vel_max < skin / (2 dt) (a mesh that moves more than half the skin per step misses contacts).
-std::vector<std::string> liggghts_limit_violations(const study::StudyConfig& config, const study::Material& material,
-                                                   const TimestepChoice& timestep);
-
-/// Pile (paper §3.2): a new disc is appended every t = sqrt(4 r_U / |g|) — the time in which a disc released at
-/// rest falls 2 r_U, the vertical disc spacing.
-double disc_append_interval(double r_upper, double gravity);
+/// Every LIGGGHTS limit the sample breaks whatever its experiment, each as one sentence that says which limit and
+/// why; empty when the case is runnable. Checks: dt ≤ 0.3 T_R; the Young's modulus range without the matching flag.
+/// An experiment adds its own (Experiment::limit_violations).
+std::vector<std::string> liggghts_limit_violations(const study::Material& material, const TimestepChoice& timestep);
 
 /// The contact model's words after `model hertz tangential history` in `pair_style gran` and every `fix wall/gran`:
 /// "rolling_friction cdt", ..., "rolling_friction viscous".
@@ -68,4 +64,4 @@ std::optional<std::filesystem::path> liggghts_library_dir(const std::string& exe
 /// Number of steps of `duration` seconds at time step dt (at least 1).
 long steps_for(double duration, double dt);
 
-}  // namespace demsa::cases
+}  // namespace demsa::experiments

@@ -1,7 +1,8 @@
-#include "orchestrator/driver/oedometer_driver.hpp"
+#include "orchestrator/experiments/oedometer/driver.hpp"
 
-#include "orchestrator/cases/case_writer.hpp"
 #include "orchestrator/driver/liggghts_library.hpp"
+#include "orchestrator/experiments/oedometer/oedometer.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
@@ -12,11 +13,11 @@
 #include <cstdlib>
 #include <fstream>
 
-namespace demsa::driver {
+namespace demsa::experiments::oedometer {
 
 using namespace demsa::util;
 using namespace demsa::study;
-using namespace demsa::cases;
+using namespace demsa::driver;
 
 namespace {
 
@@ -206,9 +207,9 @@ int drive_oedometer(const std::filesystem::path& case_dir) {
   lmp.command(
       fmt::format("write_dump all custom {} id type x y z radius vx vy vz modify sort id format "
                   "\"%d %d %.10g %.10g %.10g %.10g %.10g %.10g %.10g\"",
-                  k_oedometer_final_dump));
+                  k_final_dump));
   if (writer) std::filesystem::remove("backup.restart");
   return all_converged ? 0 : 1;
 }
 
-}  // namespace demsa::driver
+}  // namespace demsa::experiments::oedometer

@@ -1,5 +1,8 @@
 // Rayleigh time, time step choice and the LIGGGHTS limits that demsa refuses before a run.
-#include "orchestrator/cases/physics.hpp"
+#include "orchestrator/experiments/oedometer/oedometer.hpp"
+#include "orchestrator/experiments/physics.hpp"
+#include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 
 #include <gtest/gtest.h>
@@ -9,7 +12,7 @@
 namespace demsa {
 
 using namespace demsa::study;
-using namespace demsa::cases;
+using namespace demsa::experiments;
 namespace {
 
 TEST(Physics, RayleighTimeMatchesHandValue) {
@@ -35,7 +38,7 @@ TEST(Physics, TimestepIsFractionOfRayleighOrFixed) {
 }
 
 TEST(Physics, AppendIntervalIsFallTimeOfTwoUpperRadii) {
-  const double t = disc_append_interval(3.5e-3, 9.81);
+  const double t = pile::disc_append_interval(3.5e-3, 9.81);
   EXPECT_NEAR(t, 0.037777178144788405, 1e-15);
   EXPECT_NEAR(0.5 * 9.81 * t * t, 2 * 3.5e-3, 1e-15);  // a disc released at rest falls 2 r_U
   EXPECT_EQ(steps_for(t, 1e-5), 3778);
@@ -45,7 +48,7 @@ TEST(Physics, AppendIntervalIsFallTimeOfTwoUpperRadii) {
 TEST(Physics, ValidSettingsHaveNoViolations) {
   StudyConfig c;
   const TimestepChoice ts = choose_timestep(c.timestep, c.material, 1e-3);
-  EXPECT_TRUE(liggghts_limit_violations(c, c.material, ts).empty());
+  EXPECT_TRUE(liggghts_limit_violations(c.material, ts).empty());
 }
 
 TEST(Physics, TooLargeTimestepIsRefusedWithReason) {
@@ -53,7 +56,7 @@ TEST(Physics, TooLargeTimestepIsRefusedWithReason) {
   c.timestep.mode = TimestepMode::fixed;
   c.timestep.value = 1e-5;  // 0.365 T_R at r = 1 mm
   const TimestepChoice ts = choose_timestep(c.timestep, c.material, 1e-3);
-  const auto v = liggghts_limit_violations(c, c.material, ts);
+  const auto v = liggghts_limit_violations(c.material, ts);
   ASSERT_EQ(v.size(), 1u);
   EXPECT_NE(v[0].find("0.365 Rayleigh times"), std::string::npos) << v[0];
   EXPECT_NE(v[0].find("above 0.3 T_R"), std::string::npos) << v[0];
@@ -63,35 +66,35 @@ TEST(Physics, YoungsModulusOutsideLiggghtsRangeNeedsFlag) {
   StudyConfig c;
   Material m = c.material;
   m.E = 2e6;
-  auto v = liggghts_limit_violations(c, m, choose_timestep(c.timestep, m, 1e-3));
+  auto v = liggghts_limit_violations(m, choose_timestep(c.timestep, m, 1e-3));
   ASSERT_EQ(v.size(), 1u);
   EXPECT_NE(v[0].find("soft_particles = true"), std::string::npos) << v[0];
   m.soft_particles = true;
-  EXPECT_TRUE(liggghts_limit_violations(c, m, choose_timestep(c.timestep, m, 1e-3)).empty());
+  EXPECT_TRUE(liggghts_limit_violations(m, choose_timestep(c.timestep, m, 1e-3)).empty());
   m.E = 2e9;
-  v = liggghts_limit_violations(c, m, choose_timestep(c.timestep, m, 1e-3));
+  v = liggghts_limit_violations(m, choose_timestep(c.timestep, m, 1e-3));
   ASSERT_EQ(v.size(), 1u);
   EXPECT_NE(v[0].find("hard_particles = true"), std::string::npos) << v[0];
   m.E = 1e9;  // the bound itself is accepted by LIGGGHTS
-  EXPECT_TRUE(liggghts_limit_violations(c, m, choose_timestep(c.timestep, m, 1e-3)).empty());
+  EXPECT_TRUE(liggghts_limit_violations(m, choose_timestep(c.timestep, m, 1e-3)).empty());
 }
 
 TEST(Physics, ServoSpeedAboveHalfSkinPerStepIsRefused) {
   StudyConfig c;
-  c.experiment = Experiment::oedometer;
+  c.experiment = "oedometer";
   c.timestep.mode = TimestepMode::fixed;
   c.timestep.value = 1e-5;
   c.timestep.skin = 1e-3;  // skin / (2 dt) = 50 m/s
   Material m = c.material;
   const TimestepChoice ts = choose_timestep(c.timestep, m, 3e-3);
-  c.oedometer.servo_vel_max = 49.0;
-  EXPECT_TRUE(liggghts_limit_violations(c, m, ts).empty());
-  c.oedometer.servo_vel_max = 50.0;
-  const auto v = liggghts_limit_violations(c, m, ts);
+  oedometer::settings(c).servo_vel_max = 49.0;
+  EXPECT_TRUE(oedometer::experiment().limit_violations(c, m, ts).empty());
+  oedometer::settings(c).servo_vel_max = 50.0;
+  const auto v = oedometer::experiment().limit_violations(c, m, ts);
   ASSERT_EQ(v.size(), 1u);
   EXPECT_NE(v[0].find("skin/(2 dt) = 50 m/s"), std::string::npos) << v[0];
-  c.oedometer.plate_mode = PlateMode::trial_step;  // no servo, no servo limit
-  EXPECT_TRUE(liggghts_limit_violations(c, m, ts).empty());
+  oedometer::settings(c).plate_mode = oedometer::PlateMode::trial_step;  // no servo, no servo limit
+  EXPECT_TRUE(oedometer::experiment().limit_violations(c, m, ts).empty());
 }
 
 }  // namespace

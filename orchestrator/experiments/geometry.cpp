@@ -1,4 +1,4 @@
-#include "orchestrator/cases/geometry.hpp"
+#include "orchestrator/experiments/geometry.hpp"
 
 #include <fmt/core.h>
 
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-namespace demsa::cases {
+namespace demsa::experiments {
 
 std::vector<Triangle> pedestal_mesh(double radius, double height, double element) {
   assert(radius > 0 && height > 0 && element > 0);
@@ -84,4 +84,4 @@ std::string to_ascii_stl(const std::vector<Triangle>& triangles, const std::stri
   return out;
 }
 
-}  // namespace demsa::cases
+}  // namespace demsa::experiments

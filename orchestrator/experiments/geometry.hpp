@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace demsa::cases {
+namespace demsa::experiments {
 
 using Vertex = std::array<double, 3>;
 using Triangle = std::array<Vertex, 3>;
@@ -22,4 +22,4 @@ std::vector<Triangle> plate_mesh(double side);
 /// ASCII STL with fixed formatting (byte-identical for identical triangles); normals from the vertex order.
 std::string to_ascii_stl(const std::vector<Triangle>& triangles, const std::string& solid_name);
 
-}  // namespace demsa::cases
+}  // namespace demsa::experiments

@@ -1,0 +1,163 @@
+#pragma once
+// An experiment is a plug-in, as a LAMMPS pair or fix style is: one descriptor (this struct) says everything demsa
+// needs to know of it — its settings rows, how it writes a case, how it measures a finished case, its observables
+// and their units, what it leaves in the case folder, its figures in the report and its ParaView surfaces — and one
+// list (registry.hpp) holds the descriptors. The rest of demsa asks the registry; no code outside
+// orchestrator/experiments/ switches on an experiment's name. ARCHITECTURE.md, "Adding an experiment", is the
+// recipe.
+#include "orchestrator/experiments/case_files.hpp"
+#include "orchestrator/experiments/case_report.hpp"
+#include "orchestrator/experiments/physics.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/failure_class.hpp"
+#include "orchestrator/study/parameters.hpp"
+#include "orchestrator/study/settings.hpp"
+#include "postprocess/dump.hpp"
+#include "postprocess/vtk.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace demsa::experiments {
+
+/// What an experiment's case writer adds to case.json and tells the runner.
+struct CaseWritten {
+  long particles = 0;                 ///< atoms the case creates (the lost-particle check counts against it)
+  nlohmann::ordered_json assembly;    ///< case.json "assembly": how the particles were drawn
+  nlohmann::ordered_json experiment;  ///< case.json under the experiment's name: its schedule and measurement
+};
+
+/// One case of an experiment between drawing its particles and writing its files: the common writer
+/// (cases/case_writer.hpp) draws it first, since its smallest particle sets the time step, checks the LIGGGHTS limits,
+/// and only then lets it write.
+class CaseDraft {
+ public:
+  virtual ~CaseDraft() = default;
+  /// The smallest particle radius of the case [m] (its Rayleigh time sets the time step).
+  virtual double smallest_radius() const = 0;
+  /// Writes the experiment's files into `dir` (in.liggghts, its includes, particle data, geometry) and its variables
+  /// into `params` (written as params.liggghts after the common ones); the folder exists.
+  virtual CaseWritten write(const study::Material& material, const TimestepChoice& timestep, Params& params,
+                            const std::filesystem::path& dir) const = 0;
+};
+
+/// A case output the runner judges a failure (beyond a missing final dump and lost particles).
+struct OutputProblem {
+  study::FailureClass failure = study::FailureClass::missing_dump;
+  std::string message;
+};
+
+/// A figure of one case in the report: its caption, the file stem of its plot, and the plot's data.
+struct CaseFigure {
+  std::string caption;
+  std::string stem;  ///< file name without extension inside report/
+  CaseFigureData data;
+};
+
+/// The report's section on one case (the sample closest to the experiment's target).
+struct CaseReport {
+  std::string heading;
+  std::vector<std::string> paragraphs;
+  std::vector<CaseTable> tables;
+  std::vector<CaseFigure> figures;
+  std::vector<std::string> notes;  ///< what could not be shown, and why
+};
+
+/// Where the report looks first: the observable whose value picks the case shown, and the value aimed at (none: the
+/// median of the study's values).
+struct ReportFocus {
+  std::string observable;
+  std::optional<double> value;
+};
+
+/// A named surface of a case for ParaView (exec/case_vtk.hpp writes NAME.vtp).
+struct CaseSurface {
+  std::string name;  ///< "pedestal", "box"
+  /// None: the case has no such surface yet (an oedometer's plate before its first load), and a NAME.vtp of an earlier
+  /// state is removed.
+  std::optional<postprocess::Surface> surface;
+};
+
+/// A hidden demsa command that runs a case of the experiment in-process (Experiment::drivers).
+struct Driver {
+  std::string_view command;      ///< "drive-oedometer"
+  std::string_view description;  ///< for `demsa --help` of developers
+  int (*run)(const std::filesystem::path& case_dir);
+};
+
+/// The descriptor of one experiment. Every hook is a plain function of the experiment's folder; none may be null
+/// unless its comment says so.
+struct Experiment {
+  std::string_view name;     ///< the value of `[study] experiment`, the key of its section in case.json: "pile"
+  std::string_view summary;  ///< for the docs of `[study] experiment`: "angle of repose of a pile, paper §3"
+
+  // ---------------------------------------------------------------- the study file
+  /// Its sections (docs order) with their prose for docs/study-file.md.
+  std::vector<study::SettingSection> (*sections)();
+  /// Its rows (settings.hpp, built with setting_row.hpp).
+  std::vector<study::Setting> (*settings)();
+  /// The rules that tie its keys together, checked when one of its sections is read; may be null.
+  void (*check)(const study::StudyConfig& config, const study::SectionCheck& at);
+  /// Keys an earlier demsa read in its sections, each with its hint.
+  std::map<std::string, std::string> (*retired_keys)();
+
+  // ---------------------------------------------------------------- the case
+  /// Draws the case's particles (identical for every sample: they depend only on the settings and `assembly_seed`).
+  std::unique_ptr<CaseDraft> (*draft)(const study::StudyConfig& config, std::uint64_t assembly_seed);
+  /// The LIGGGHTS limits of the experiment that the sample breaks, one sentence each (beyond the common ones of
+  /// physics.hpp); may be null.
+  std::vector<std::string> (*limit_violations)(const study::StudyConfig& config, const study::Material& material,
+                                               const TimestepChoice& timestep);
+  /// The hidden demsa command that runs the case in-process instead of LIGGGHTS on in.liggghts ("" for LIGGGHTS),
+  /// e.g. the trial-step oedometer's `drive-oedometer`: one of `drivers`.
+  std::string (*driver_command)(const study::StudyConfig& config);
+  /// The hidden commands of its in-process drivers (`demsa NAME CASE_DIR`, started by run.sh under mpirun), each with
+  /// its one-line description and the function that runs a case folder and returns the exit status.
+  std::vector<Driver> (*drivers)();
+  /// The particle count and the largest radius the settings give (a study's lost-particle and kinetic-energy
+  /// limits before any case is written) [m].
+  long (*particles)(const study::StudyConfig& config);
+  double (*largest_radius)(const study::StudyConfig& config);
+
+  // ---------------------------------------------------------------- the measurement
+  /// The final dump of a finished case (file name in the case folder).
+  std::string_view final_dump;
+  /// The observables of a finished case folder, from its files and its case.json (`case_json`, already read):
+  /// the analysed ones of observables() and any recorded ones. Throws postprocess::ParseError / InputError on a file
+  /// that cannot be measured and util::UserError on a case.json that lacks what it needs.
+  std::map<std::string, double> (*measure)(const std::filesystem::path& folder, const nlohmann::json& case_json);
+  /// The observables the analysis fits, in table order, as the settings give them.
+  std::vector<study::Observable> (*observables)(const study::StudyConfig& config);
+  /// Every observable name it may store (analysed or recorded only), with label and unit: the catalogue of
+  /// describe_observable(). A name may be a pattern's instance (settlement_K): `describe` answers for any name.
+  std::optional<study::Observable> (*describe)(std::string_view name);
+  /// Particles a finished case removed on purpose (not lost), from its folder; 0 when it removes none.
+  long (*removed_particles)(const std::filesystem::path& folder);
+  /// A problem with the outputs of a case that ran cleanly (an oedometer load not reached), or none; may be null.
+  std::optional<OutputProblem> (*check_outputs)(const std::filesystem::path& folder, const study::StudyConfig& config);
+
+  // ---------------------------------------------------------------- calibration, report, ParaView
+  /// The targets of `demsa calibrate` when none are given: (observable, value) pairs from the settings. Throws
+  /// util::UserError naming the file and the option to give when the settings have none.
+  std::vector<std::pair<std::string, double>> (*default_targets)(const study::StudyConfig& config);
+  /// The observable (and value) by which the report chooses the case it shows.
+  ReportFocus (*report_focus)(const study::StudyConfig& config);
+  /// The report's section on one finished case `folder` (of sample `sample`; `relative` is its path as the report
+  /// names it). Throws on files it cannot read (the report notes it and goes on).
+  CaseReport (*case_report)(const std::filesystem::path& folder, const std::string& relative, int sample,
+                            const study::StudyConfig& config);
+  /// The geometry of a finished case for ParaView, from its folder, case.json and final frame.
+  std::vector<CaseSurface> (*vtk_surfaces)(const std::filesystem::path& folder, const nlohmann::json& case_json,
+                                           const postprocess::DumpFrame& final_frame);
+};
+
+}  // namespace demsa::experiments

@@ -1,0 +1,154 @@
+#pragma once
+// The angle-of-repose pile (paper §3): particles poured in discs onto a pedestal cylinder, settled, measured by the
+// angle of its flanks (§3.3). Its settings ([pile]), its assembly and case, its measurement and report.
+#include "orchestrator/experiments/assembly.hpp"
+#include "orchestrator/experiments/experiment.hpp"
+#include "postprocess/pile_angle.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace demsa::experiments::pile {
+
+/// What the pile stands on: the pedestal's wall material, or a fixed layer of the material's own particles glued to
+/// the pedestal top (every contact of the pile's base is then particle-particle).
+enum class PileBase { wall, particles };
+
+/// [pile] (paper §3). Defaults: particle set 1 of Table 2 scaled to `particles`.
+struct PileSettings {
+  std::string preset;    ///< "", "set1" or "set2" (paper Table 2); fills radii and particles
+  int particles = 6000;  ///< number of particles
+  study::RadiusDistribution radii;
+  double disc_radius = 0.020;       ///< r_fu: radius of the filling discs [m]
+  double fill_height = 0.100;       ///< h_fu: discs below it are present at start [m]
+  double pedestal_radius = 0.050;   ///< r_cy [m]
+  double pedestal_height = 0.005;   ///< h_cy [m]
+  double settle_time = 0.6;         ///< settling after the last disc: the cap [s]
+  double settle_speed = 0.0;        ///< settled: particles on the pedestal slower than this x sqrt(|g| r_min); 0 = off
+  double settle_quantile = 0.95;    ///< ... this share of them at least (1 = every one)
+  double settle_window = 0.05;      ///< ... at every check for this long [s]
+  bool remove_fallen = false;       ///< delete particles below the pedestal top and outside its radius
+  double target_angle = 33.5;       ///< φ̂ for E_φ [deg]
+  int directions = 180;             ///< φ_N (paper §3.3)
+  int levels = 10;                  ///< height levels between 0.2 h_P and 0.75 h_P
+  double settle_check_time = 0.02;  ///< the settling criterion and the removal are checked every this long [s]
+  double domain_half_width = 0.15;  ///< simulation box half width in x and y [m]; particles leaving it are lost
+
+  /// "paper" (§3.3) or "robust": the angle estimator of the measurement (postprocess::AngleEstimator)
+  std::string angle_estimator = "paper";
+  PileBase base = PileBase::wall;  ///< the pedestal top: its wall, or a frozen layer of the material's particles
+};
+
+/// The [pile] settings of a study.
+const PileSettings& settings(const study::StudyConfig& config);
+PileSettings& settings(study::StudyConfig& config);
+
+/// The pile's descriptor (registry.hpp lists it).
+const Experiment& experiment();
+
+// ---------------------------------------------------------------- observables (paper §3.3)
+inline constexpr std::string_view k_angle = "angle";              ///< angle of repose φ [deg]
+inline constexpr std::string_view k_angle_sd = "angle_sd";        ///< spread of φ over the directions [deg]
+inline constexpr std::string_view k_pile_height = "pile_height";  ///< h_P [m]
+inline constexpr std::string_view k_particles_on_pedestal = "particles_on_pedestal";
+/// Particles removed off the pedestal during the run ([pile] remove_fallen); recorded, not analysed.
+inline constexpr std::string_view k_removed_off_pedestal = "removed_off_pedestal";
+
+// ---------------------------------------------------------------- files of a pile case
+inline constexpr const char* k_final_dump = "pile_final.dump";  ///< id type x y z radius vx vy vz
+inline constexpr const char* k_settling = "pile_settling.txt";  ///< how settling ended, particles removed
+inline constexpr const char* k_pedestal_stl = "pedestal.stl";   ///< the pedestal mesh
+
+// ---------------------------------------------------------------- assembly (paper §3.1)
+/// One horizontal disc of the pile: particle centres in the plane z = 0 (the height is set by the schedule).
+using Disc = std::vector<Particle>;
+
+/// Fills one disc of radius `disc_radius` by concentric annuli (paper §3.1, Fig. 1a): ring k has radius 2 r_U k
+/// (k = 0 is the centre particle) and is used while 2 r_U k + r_U ≤ disc_radius; along a ring, consecutive
+/// particles are spaced by the chord r_a + r_b + gap, and a ring closes when the next particle would overlap its
+/// first. Consumes radii from `radii` starting at `next`, advancing it; returns an empty disc when none are left.
+Disc fill_disc(const std::vector<double>& radii, std::size_t& next, double r_upper, double disc_radius, double gap);
+
+/// The pile's initial column and its appended discs (paper §3.1–3.2).
+struct PileAssembly {
+  std::vector<Disc> discs;       ///< every disc in order; particle z is its height at insertion
+  int column_discs = 0;          ///< discs 0..column_discs-1 are present at the start
+  double append_height = 0.0;    ///< z of every later disc: pedestal top + h_fu [m]
+  double r_upper = 0.0;          ///< r_U: the upper radius bound [m]
+  std::vector<double> radii;     ///< all radii in insertion order
+  int particles() const;         ///< total count
+  int column_particles() const;  ///< particles present at the start
+};
+
+/// Disc k of the column sits at z = pedestal_height + r_U + 2 r_U k while that is ≤ pedestal_height + h_fu; the
+/// rest are appended at pedestal_height + h_fu, one every sqrt(4 r_U/|g|) (heights from the pedestal top: a disc
+/// at r_U above the ground would cut the pedestal).
+PileAssembly build_assembly(const PileSettings& settings, std::uint64_t seed);
+
+/// The frozen layer of `base = "particles"`: the material's particles (radii from [pile]'s distribution, drawn with
+/// their own seed derived from `seed`, so that the pile's own radii are those of a wall-base pile) on a hexagonal
+/// lattice of pitch k_base_pitch × r_mean over the pedestal top, each resting on it (centre at top + r) and inside
+/// its rim. Identical for every sample of a study.
+std::vector<Particle> build_base_layer(const PileSettings& settings, std::uint64_t seed);
+
+/// The lattice pitch of the base layer in units of the mean radius: neighbours of mean size touch (pitch 2 r_mean),
+/// so that a pile particle finds no gap down to the pedestal's wall between them (docs/experiments.md measures how
+/// often one still touches it).
+inline constexpr double k_base_pitch = 2.0;
+
+/// Paper §3.2: a new disc is appended every t = sqrt(4 r_U / |g|) — the time in which a disc released at rest falls
+/// 2 r_U, the vertical disc spacing.
+double disc_append_interval(double r_upper, double gravity);
+
+// ---------------------------------------------------------------- measurement
+/// How the settling of a pile ended, as pile.liggghts writes it to pile_settling.txt (`key value` lines).
+struct PileSettling {
+  bool criterion = false;     ///< the settling criterion was on ([pile] settle_speed > 0)
+  bool settled = false;       ///< ... and met before settle_time
+  long end_step = 0;          ///< step at which settling ended
+  double fastest = 0.0;       ///< fastest particle on the pedestal then [m/s]
+  double speed_limit = 0.0;   ///< the criterion's speed [m/s]
+  long on_pedestal = 0;       ///< particles on the pedestal then
+  long fast_on_pedestal = 0;  ///< ... of them faster than speed_limit
+  long removed = 0;           ///< particles removed off the pedestal during the run
+};
+
+/// Reads FOLDER/pile_settling.txt; nothing when the file does not exist. Throws postprocess::ParseError (file:line)
+/// on a line that is not `key number` or a missing key.
+std::optional<PileSettling> read_settling(const std::filesystem::path& folder);
+
+/// The pedestal (pedestal_radius, its top at pedestal_height), directions, levels, target angle and estimator of
+/// [pile]; the band of levels is left unset, so each estimator measures on its own (postprocess::PileAngleOptions).
+postprocess::PileAngleOptions angle_options(const PileSettings& settings);
+
+/// What a pile case's case.json records of its measurement (its "pile" object): the pedestal and the
+/// angle_measurement. A key a case does not record (a case of an older demsa) is unset.
+struct CaseAngleSettings {
+  std::optional<double> pedestal_radius;                 ///< pile.pedestal_radius_m
+  std::optional<double> pedestal_top;                    ///< pile.pedestal_height_m (the ground is at z = 0)
+  std::optional<int> directions;                         ///< pile.angle_measurement.directions
+  std::optional<int> levels;                             ///< pile.angle_measurement.levels
+  std::optional<postprocess::AngleEstimator> estimator;  ///< pile.angle_measurement.estimator
+  std::optional<long> base_particles;  ///< pile.base.particles: atoms 1..N are the frozen base layer, not the pile
+  std::optional<double> base_top;      ///< pile.base.top_m: the plane the pile stands on, z of the layer's mean top
+};
+
+/// Reads them from case.json (`file` names it in messages). Throws util::UserError "FILE: pile.KEY = VALUE: ..." on a
+/// value of the wrong type or outside the range of its [pile] row.
+CaseAngleSettings read_case_angle_settings(const nlohmann::json& case_json, const std::filesystem::path& file);
+
+/// The angle options of a pile case, as its study measured it: the pedestal and measurement its case.json records
+/// (on a base layer, heights start at the layer's mean top). Throws util::UserError naming case.json when it records
+/// no pedestal.
+postprocess::PileAngleOptions case_angle_options(const nlohmann::json& case_json, const std::filesystem::path& file);
+
+/// The particles of `particles` but the base layer's (ids 1..base_particles; all of them when it is 0).
+postprocess::Particles without_base(const postprocess::Particles& particles, long base_particles);
+
+}  // namespace demsa::experiments::pile
