@@ -111,6 +111,14 @@ std::string particles_vtp(const DumpFrame& frame) {
   return out;
 }
 
+Surface mesh_surface(const TriangleMesh& mesh, double dz) {
+  Surface s;
+  s.points = mesh.points;
+  for (std::array<double, 3>& p : s.points) p[2] += dz;
+  for (const std::array<std::size_t, 3>& t : mesh.triangles) s.polygons.push_back({t[0], t[1], t[2]});
+  return s;
+}
+
 std::string surface_vtp(const Surface& surface) {
   std::string out = k_header;
   out += fmt::format(

@@ -10,6 +10,7 @@
 // VTK documentation (XML PolyData: Piece, PointData, Points, Verts, Polys; each cell's point indices in `connectivity`
 // and its end in `offsets`).
 #include "postprocess/dump.hpp"
+#include "postprocess/stl.hpp"
 
 #include <array>
 #include <cstddef>
@@ -30,6 +31,9 @@ struct Surface {
 /// frame has vx vy vz, `velocity` (Float64, 3 components). Throws ParseError (file, line) as particles_from_frame
 /// does, and when the frame has only some of vx vy vz.
 std::string particles_vtp(const DumpFrame& frame);
+
+/// A triangle mesh (an STL file read) as a surface, shifted by `dz` in z (a mesh LIGGGHTS moved, such as a plate).
+Surface mesh_surface(const TriangleMesh& mesh, double dz = 0.0);
 
 /// The .vtp text of a surface (polygons, no point data). Asserts that every index lies inside points.
 std::string surface_vtp(const Surface& surface);
