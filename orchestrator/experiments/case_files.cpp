@@ -44,10 +44,15 @@ const std::string& template_text(const std::string& name) {
 }
 
 std::string data_header(const std::string& title, long atoms, double half_x, double zlo, double zhi) {
+  return data_header(title, atoms, -half_x, half_x, -half_x, half_x, zlo, zhi);
+}
+
+std::string data_header(const std::string& title, long atoms, double xlo, double xhi, double ylo, double yhi,
+                        double zlo, double zhi) {
   return fmt::format(
       "{} (atom_style sphere: id type diameter density x y z)\n\n{} atoms\n2 atom types\n\n"
       "{:.10g} {:.10g} xlo xhi\n{:.10g} {:.10g} ylo yhi\n{:.10g} {:.10g} zlo zhi\n\nAtoms\n\n",
-      title, atoms, -half_x, half_x, -half_x, half_x, zlo, zhi);
+      title, atoms, xlo, xhi, ylo, yhi, zlo, zhi);
 }
 
 std::string atom_line(long id, const Particle& p, double density) {

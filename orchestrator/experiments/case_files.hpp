@@ -34,6 +34,10 @@ const std::string& template_text(const std::string& name);
 /// [−half_x, half_x]² × [zlo, zhi], up to its `Atoms` line.
 std::string data_header(const std::string& title, long atoms, double half_x, double zlo, double zhi);
 
+/// The same for the box [xlo, xhi] × [ylo, yhi] × [zlo, zhi].
+std::string data_header(const std::string& title, long atoms, double xlo, double xhi, double ylo, double yhi,
+                        double zlo, double zhi);
+
 /// One `Atoms` line of atom_style sphere: `id type diameter density x y z` (type 1, the particles).
 std::string atom_line(long id, const Particle& p, double density);
 

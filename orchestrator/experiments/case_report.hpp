@@ -59,7 +59,23 @@ struct PlateHistoryPlot {
   std::vector<double> force;    ///< particle force on the plate [N]
   std::vector<double> plate_z;  ///< plate height [m]
 };
+/// Curves of y against x (an incline's probe displacements against the tilt, a draw-down's discharged mass against
+/// time): one line per series, with an optional horizontal reference line.
+struct LinePlot {
+  struct Series {
+    std::string name;  ///< legend entry ("" keeps it out of the legend)
+    std::vector<double> x, y;
+    std::string colour;  ///< "#rrggbb"; "" picks one
+  };
+  std::string title;
+  std::string x_label;
+  std::string y_label;
+  std::vector<Series> series;
+  double y_reference = 0.0;  ///< a dashed horizontal line at this y when y_reference_label is not empty
+  std::string y_reference_label;
+};
+
 /// The data of one figure of a case.
-using CaseFigureData = std::variant<PileSideView, SettlementCurve, PlateHistoryPlot>;
+using CaseFigureData = std::variant<PileSideView, SettlementCurve, PlateHistoryPlot, LinePlot>;
 
 }  // namespace demsa::experiments

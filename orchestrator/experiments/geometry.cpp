@@ -9,7 +9,7 @@
 
 namespace demsa::experiments {
 
-std::vector<Triangle> pedestal_mesh(double radius, double height, double element) {
+std::vector<Triangle> pedestal_mesh(double radius, double height, double element, bool with_top) {
   assert(radius > 0 && height > 0 && element > 0);
   using Point = std::array<double, 2>;
   const double two_pi = 2.0 * std::numbers::pi;
@@ -24,7 +24,7 @@ std::vector<Triangle> pedestal_mesh(double radius, double height, double element
   }
   std::vector<Triangle> tris;
   const auto top = [height](const Point& p) { return Vertex{p[0], p[1], height}; };
-  for (std::size_t k = 1; k < rings.size(); ++k) {
+  for (std::size_t k = 1; with_top && k < rings.size(); ++k) {
     const std::vector<Point>& a = rings[k - 1];
     const std::vector<Point>& b = rings[k];
     const std::size_t na = a.size(), nb = b.size();

@@ -1,6 +1,8 @@
 #include "orchestrator/experiments/registry.hpp"
 
 #include "orchestrator/experiments/case_record.hpp"
+#include "orchestrator/experiments/drawdown/drawdown.hpp"
+#include "orchestrator/experiments/incline/incline.hpp"
 #include "orchestrator/experiments/oedometer/oedometer.hpp"
 #include "orchestrator/experiments/pile/pile.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -17,6 +19,8 @@ const std::vector<const Experiment*>& all() {
   static const std::vector<const Experiment*> experiments{
       &pile::experiment(),
       &oedometer::experiment(),
+      &incline::experiment(),
+      &drawdown::experiment(),
   };
   return experiments;
 }

@@ -493,6 +493,37 @@ PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& h, 
   return plotter.render(stem, h.title, data, body);
 }
 
+PlotFiles plot_lines(const Plotter& plotter, const LinePlot& p, const fs::path& stem) {
+  static const char* const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
+                                        "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  std::string data;
+  for (size_t k = 0; k < p.series.size(); ++k) {
+    const LinePlot::Series& s = p.series[k];
+    assert(s.x.size() == s.y.size());
+    data += fmt::format("$series{} << EOD\n", k);
+    for (size_t i = 0; i < s.x.size(); ++i) data += fmt::format("{} {}\n", num(s.x[i]), num(s.y[i]));
+    data += "EOD\n";
+  }
+  std::string body;
+  body += fmt::format("  set title {} noenhanced\n", gnuplot_quote(p.title));
+  body += fmt::format("  set xlabel {} noenhanced\n  set ylabel {} noenhanced\n", gnuplot_quote(p.x_label),
+                      gnuplot_quote(p.y_label));
+  body += "  set grid lc rgb '#dddddd'\n  set key outside top center horizontal noenhanced\n";
+  std::string plots;
+  for (size_t k = 0; k < p.series.size(); ++k) {
+    const LinePlot::Series& s = p.series[k];
+    const std::string colour = s.colour.empty() ? colours[k % std::size(colours)] : s.colour;
+    plots += fmt::format("{}$series{} using 1:2 with lines lw 1.5 lc rgb '{}' {}", plots.empty() ? "" : ", \\\n       ",
+                         k, colour, s.name.empty() ? "notitle" : "title " + gnuplot_quote(s.name));
+  }
+  if (!p.y_reference_label.empty())
+    plots += fmt::format("{}{} with lines dt 2 lw 1.5 lc rgb 'black' title {}", plots.empty() ? "" : ", \\\n       ",
+                         num(p.y_reference), gnuplot_quote(p.y_reference_label));
+  if (plots.empty()) plots = "NaN notitle";
+  body += "  plot " + plots + "\n";
+  return plotter.render(stem, p.title, data, body);
+}
+
 // -------------------------------------------------------------------------------------------- calibration
 
 PlotFiles plot_calibration(const Plotter& plotter, const CalibrationPlot& c, const fs::path& stem) {

@@ -17,6 +17,7 @@
 namespace demsa::report {
 
 // The figure data of a case, as the experiments hand it to the report.
+using experiments::LinePlot;
 using experiments::PileLine;
 using experiments::PileParticle;
 using experiments::PileSideView;
@@ -129,6 +130,7 @@ PlotFiles plot_pile_side(const Plotter& plotter, const PileSideView& view, const
 PlotFiles plot_settlement_curve(const Plotter& plotter, const SettlementCurve& curve,
                                 const std::filesystem::path& stem);
 
+PlotFiles plot_lines(const Plotter& plotter, const LinePlot& plot, const std::filesystem::path& stem);
 PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& history,
                              const std::filesystem::path& stem);
 

@@ -22,6 +22,7 @@ using namespace demsa::study;
 namespace {
 
 namespace fs = std::filesystem;
+using test::starts_per_sample;
 
 /// TMP/study, a copy of the fixture folder.
 fs::path copy_previous_version_study(const test::TempDir& tmp) {
@@ -30,15 +31,6 @@ fs::path copy_previous_version_study(const test::TempDir& tmp) {
   for (const char* name : {"study.toml", "study.db", "design.csv"})
     fs::copy_file(test::data_path("previous_version") / name, dir / name);
   return dir;
-}
-
-std::map<int, int> starts_per_sample(const fs::path& state) {
-  std::map<int, int> starts;
-  if (!fs::exists(state / "starts.log")) return starts;
-  std::istringstream in(test::read_file(state / "starts.log"));
-  int sample = 0;
-  while (in >> sample) ++starts[sample];
-  return starts;
 }
 
 TEST(PreviousVersion, StatusReadsTheStudyWithoutWritingToIt) {

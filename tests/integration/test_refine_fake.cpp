@@ -25,6 +25,7 @@ using namespace demsa::study;
 namespace {
 
 namespace fs = std::filesystem;
+using test::starts_per_sample;
 
 std::string study_text(int samples, const std::string& method = "lhs-maximin") {
   return test::StudyToml{.name = "fake-refine",
@@ -41,14 +42,6 @@ std::string study_text(int samples, const std::string& method = "lhs-maximin") {
                              "metamodels = [\"rsm2\", \"gp\"]\nbootstrap = 20\nbase_samples = 256\n"
                              "second_order = false\n"}
       .text();
-}
-
-std::map<int, int> starts_per_sample(const fs::path& state) {
-  std::map<int, int> starts;
-  std::ifstream in(state / "starts.log");
-  int sample = 0;
-  while (in >> sample) ++starts[sample];
-  return starts;
 }
 
 /// Every sample of the store has exactly one done run and the last run of each is the done one; every unit value is

@@ -26,6 +26,7 @@ using namespace demsa::study;
 namespace {
 
 namespace fs = std::filesystem;
+using test::starts_per_sample;
 using namespace std::chrono_literals;
 using test::spawn_demsa;
 using test::wait_exit;
@@ -83,14 +84,6 @@ int processes_in(const fs::path& dir) {
     if (cwd.string().rfind(dir.string(), 0) == 0) ++count;
   }
   return count;
-}
-
-std::map<int, int> starts_per_sample(const fs::path& state) {
-  std::map<int, int> starts;
-  std::istringstream in(read_if_exists(state / "starts.log"));
-  int sample = 0;
-  while (in >> sample) ++starts[sample];
-  return starts;
 }
 
 /// The store's invariants after any sequence of runs and kills: one done run per sample, nothing after it, no

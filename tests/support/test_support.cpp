@@ -128,6 +128,14 @@ std::vector<std::string> run_args(const TempDir& tmp, const std::vector<std::str
   return args;
 }
 
+std::map<int, int> starts_per_sample(const fs::path& state) {
+  std::map<int, int> starts;
+  std::ifstream in(state / "starts.log");
+  int sample = 0;
+  while (in >> sample) ++starts[sample];
+  return starts;
+}
+
 std::string fake_liggghts_run_lines() {
   const fs::path dir = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts";
   return fmt::format("liggghts = \"{}\"\nmpirun = \"{}\"\n", (dir / "liggghts").string(), (dir / "mpirun").string());

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the tests: a temporary directory per test, running the demsa binary, reading files.
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,9 @@ struct FakeLiggghtsEnvironment {
   FakeLiggghtsEnvironment(const FakeLiggghtsEnvironment&) = delete;
   FakeLiggghtsEnvironment& operator=(const FakeLiggghtsEnvironment&) = delete;
 };
+
+/// How often the fake LIGGGHTS started each sample: the lines of STATE/starts.log (none when it does not exist).
+std::map<int, int> starts_per_sample(const std::filesystem::path& state);
 
 /// `demsa run TMP/study.toml --dir TMP/study` followed by `more`.
 std::vector<std::string> run_args(const TempDir& tmp, const std::vector<std::string>& more);

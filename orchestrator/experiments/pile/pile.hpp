@@ -93,8 +93,9 @@ PileAssembly build_assembly(const PileSettings& settings, std::uint64_t seed);
 
 /// The frozen layer of `base = "particles"`: the material's particles (radii from [pile]'s distribution, drawn with
 /// their own seed derived from `seed`, so that the pile's own radii are those of a wall-base pile) on a hexagonal
-/// lattice of pitch k_base_pitch × r_mean over the pedestal top, each resting on it (centre at top + r) and inside
-/// its rim. Identical for every sample of a study.
+/// lattice of pitch k_base_pitch × r_mean over the pedestal top, each resting on it (centre at top + r, on the top:
+/// a particle of the rim may overhang it). Identical for every sample of a study. The pedestal mesh of such a case is
+/// its side band only: the layer covers the top.
 std::vector<Particle> build_base_layer(const PileSettings& settings, std::uint64_t seed);
 
 /// The lattice pitch of the base layer in units of the mean radius: neighbours of mean size touch (pitch 2 r_mean),

@@ -171,6 +171,12 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
        "measured_settlements, plate_mode, plate_gap, load_tolerance, servo_vel_max, servo_kp, servo_ki, "
        "servo_kd, servo_max_steps, servo_check_steps, rest_velocity, trial_steps, relax_steps, "
        "trial_reduction, trial_step0, trial_floor, max_trials"},
+      {"incline",
+       "preset, r_min, r_max, r_mean, r_sd, rolling_probes, sliding_probes, lane_spacing, settle_time, tilt_rate, "
+       "max_angle, record_angle, onset_distance, speed_angle, stop_distance"},
+      {"drawdown",
+       "preset, particles, r_min, r_max, r_mean, r_sd, slot_width, side_width, depth, fill_height, floor, fill_time, "
+       "check_time, window, stop_share, min_time, time_cap, removal_depth, slices, bin_width, edge_skip, wall_skip"},
       {"timestep", "mode, fraction, value, skin"},
       {"contact", "rolling_model, rolling_damping, rolling_stiffness, viscous_unit"},
       {"run", "executor, ranks, parallel, oversubscribe, timeout, retries, lost_fraction, liggghts, mpirun, slurm"},

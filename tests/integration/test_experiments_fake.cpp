@@ -1,0 +1,120 @@
+// The new experiments end to end against the fake LIGGGHTS (tests/integration/fake_liggghts): `demsa run` measures
+// their cases into the observables their descriptors name, and a study killed with SIGKILL resumes without repeating a
+// finished case.
+#include "orchestrator/study/store.hpp"
+
+#include "support/process.hpp"
+#include "support/test_support.hpp"
+
+#include <signal.h>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+
+namespace demsa {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+/// A study of `experiment` over μ_PW and μ_R,PW (the fake's first two unit-cube coordinates), run by the fake.
+std::string study(const std::string& experiment, int samples, const std::string& tables = "") {
+  return test::StudyToml{
+      .name = "fake-" + experiment,
+      .experiment = experiment,
+      .samples = samples,
+      .parameters = "mu_pw = { low = 0.4, high = 1.9 }\nmu_r_pw = { low = 0.05, high = 0.5 }\n",
+      .tables = tables,
+      .run = test::fake_liggghts_run_lines() + "parallel = 2\noversubscribe = true\n",
+      .analysis = "metamodels = [\"rsm1\"]\nbootstrap = 0\nbase_samples = 64\nsecond_order = false\n"}
+      .text();
+}
+
+TEST(ExperimentsFake, InclineOnsetsAreMeasuredFromTheProbes) {
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", study("incline", 6));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
+  std::map<int, std::vector<double>> units;
+  for (const study::SampleRow& s : store.samples()) units[s.sample] = s.unit;
+  for (const auto& [sample, values] : store.observables()) {
+    SCOPED_TRACE(fmt::format("sample {}", sample));
+    // The fake starts its free probes at 5 + 20 u0 degrees and its locked ones at 20 + 30 u1.
+    EXPECT_NEAR(values.at("roll_angle"), 5 + 20 * units.at(sample)[0], 0.05);
+    EXPECT_NEAR(values.at("slide_angle"), 20 + 30 * units.at(sample)[1], 0.05);
+    EXPECT_EQ(values.at("probes_rolled"), 12);
+  }
+  EXPECT_EQ(store.observables().size(), 6u);
+}
+
+TEST(ExperimentsFake, DrawdownSlopeAndDischargeAreMeasured) {
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", study("drawdown", 4, "[drawdown]\nparticles = 300\n"));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
+  std::map<int, std::vector<double>> units;
+  for (const study::SampleRow& s : store.samples()) units[s.sample] = s.unit;
+  for (const auto& [sample, values] : store.observables()) {
+    SCOPED_TRACE(fmt::format("sample {}", sample));
+    EXPECT_NEAR(values.at("slope_angle"), 25 + 15 * units.at(sample)[0], 1.5);  // the fake's surface
+    EXPECT_NEAR(values.at("discharge_rate"), 0.2 + 0.2 * units.at(sample)[1], 1e-9);
+    EXPECT_NEAR(values.at("discharged_mass"), 0.5 * (0.2 + 0.2 * units.at(sample)[1]), 1e-9);
+    EXPECT_EQ(values.at("settled"), 1.0);
+  }
+  EXPECT_EQ(store.observables().size(), 4u);
+}
+
+class ExperimentResume : public testing::TestWithParam<std::string> {};
+
+TEST_P(ExperimentResume, AStudyKilledWithSigkillResumesWithoutRepeatingAFinishedCase) {
+  test::TempDir tmp;
+  const int samples = 6;
+  test::write_file(tmp / "study.toml", study(GetParam(), samples));
+  const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
+  std::set<int> finished;
+  {
+    test::FakeLiggghtsEnvironment env("", tmp.path(), 0.4);
+    const pid_t pid = test::spawn_demsa(args, tmp / "demsa.log");
+    // Killed once two cases are done and others run.
+    test::wait_until(
+        [&] {
+          int done = 0;
+          for (int k = 0; k < samples; ++k)
+            done += fs::exists(tmp / "study" / "cases" / fmt::format("{:06d}", k) / "result.json");
+          return done >= 2;
+        },
+        30s);
+    ::kill(pid, SIGKILL);
+    test::wait_exit(pid);
+    const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
+    for (const auto& [sample, values] : store.observables()) finished.insert(sample);
+  }
+  ASSERT_GE(finished.size(), 1u);
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult resumed = test::run_demsa(args);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+  const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
+  EXPECT_EQ(store.observables().size(), static_cast<std::size_t>(samples));
+  const std::map<int, int> starts = test::starts_per_sample(tmp.path());
+  for (const int sample : finished) EXPECT_EQ(starts.at(sample), 1) << "sample " << sample << " ran again";
+  ASSERT_EQ(test::run_demsa({"analyze", (tmp / "study").string()}).exit_code, 0);
+  const test::CommandResult report = test::run_demsa({"report", (tmp / "study").string()});
+  EXPECT_EQ(report.exit_code, 0) << report.out << report.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(NewExperiments, ExperimentResume, testing::Values("incline", "drawdown"));
+
+}  // namespace
+}  // namespace demsa
