@@ -149,9 +149,10 @@ std::vector<std::string> folder_entries(const fs::path& dir) {
   for (const fs::directory_entry& entry : fs::directory_iterator(dir))
     names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
-  // What a run writes: the log and screen, and the final dump of every experiment.
+  // What a run writes: the log and screen, and the outputs of every experiment.
   std::vector<std::string> outputs{k_case_log, k_case_screen};
-  for (const Experiment* e : experiments::all()) outputs.emplace_back(e->final_dump);
+  for (const Experiment* e : experiments::all())
+    for (std::string& name : e->run_outputs()) outputs.push_back(std::move(name));
   std::stable_partition(names.begin(), names.end(), [&](const std::string& n) {
     return std::find(outputs.begin(), outputs.end(), n) != outputs.end();
   });

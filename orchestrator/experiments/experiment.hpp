@@ -131,6 +131,9 @@ struct Experiment {
   // ---------------------------------------------------------------- the measurement
   /// The final dump of a finished case (file name in the case folder).
   std::string_view final_dump;
+  /// Every file a run writes besides log.liggghts and screen.txt (the final dump among them), for the messages that
+  /// name a case folder's outputs.
+  std::vector<std::string> (*run_outputs)();
   /// The observables of a finished case folder, from its files and its case.json (`case_json`, already read):
   /// the analysed ones of observables() and any recorded ones. Throws postprocess::ParseError / InputError on a file
   /// that cannot be measured and util::UserError on a case.json that lacks what it needs.

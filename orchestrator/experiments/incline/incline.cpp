@@ -194,6 +194,10 @@ const Experiment& experiment() {
       .particles = particles,
       .largest_radius = largest_radius,
       .final_dump = k_final_dump,
+      .run_outputs =
+          [] {
+            return std::vector<std::string>{k_final_dump, k_probes_dump, k_end};
+          },
       .measure = measure,
       .observables = observables,
       .describe = describe,

@@ -65,7 +65,8 @@ PileAssembly build_assembly(const PileSettings& s, std::uint64_t seed) {
   a.radii = truncated_normal_radii(s.radii, s.particles, seed);
   // Placement gap along a ring: 1 % of the smallest radius keeps neighbours apart without loosening the disc.
   const double gap = 0.01 * s.radii.r_min;
-  const double base = s.pedestal_height;
+  // Heights from the pedestal top, or from the top of a base layer (its particles reach 2 r_max above the top).
+  const double base = s.pedestal_height + (s.base == PileBase::particles ? 2.0 * s.radii.r_max : 0.0);
   a.append_height = base + s.fill_height;
   std::size_t next = 0;
   bool in_column = true;

@@ -54,7 +54,8 @@ std::vector<Setting> pile_settings() {
           .number(PILE(fill_height), k_positive)
           .unit("m")
           .cases("pile.fill_height")
-          .doc("h_fu above the pedestal top: discs below are present at start, later ones are appended there; a case "
+          .doc("h_fu above the pedestal top (above the top of the base layer with `base = \"particles\"`): discs "
+               "below are present at start, later ones are appended there; a case "
                "whose pile grows into the layer of a new disc (a particle centre above h_fu − r_U) stops with an "
                "error naming this key"));
   add(Row("pile", "pedestal_radius")

@@ -28,7 +28,7 @@ TEST(Registry, EveryDescriptorIsCompleteAndOwnsItsSections) {
     EXPECT_FALSE(e->final_dump.empty()) << name;
     // The hooks every experiment must have (the optional ones may be null).
     EXPECT_TRUE(e->sections && e->settings && e->retired_keys && e->draft && e->driver_command && e->drivers &&
-                e->particles && e->largest_radius && e->measure && e->observables && e->describe &&
+                e->particles && e->largest_radius && e->run_outputs && e->measure && e->observables && e->describe &&
                 e->removed_particles && e->default_targets && e->report_focus && e->case_report && e->vtk_surfaces)
         << name;
     const auto own = e->sections();
