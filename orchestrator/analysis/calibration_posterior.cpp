@@ -167,6 +167,70 @@ void PosteriorOptions::validate() const {
   }
 }
 
+namespace {
+
+/// A target's name, "NAME" or "STUDY:NAME" (STUDY: a study's `[study] name`).
+struct QualifiedName {
+  std::string study;  // empty: any study that measures NAME
+  std::string name;
+};
+
+QualifiedName qualified_name(const std::string& text) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) return {"", text};
+  QualifiedName q{trim(text.substr(0, colon)), trim(text.substr(colon + 1))};
+  if (q.study.empty() || q.name.empty())
+    throw UserError(fmt::format("--target {}: expected STUDY:NAME (STUDY: a study's [study] name)", text));
+  return q;
+}
+
+/// The studies a target is matched to: the one named by its STUDY: prefix, else the only study that measures its
+/// name. A bare name that several studies measure (two piles both have `angle`) is refused: the measured value of
+/// one lab test belongs to one experiment.
+std::vector<const Study*> studies_measuring(const std::vector<Study>& studies, const QualifiedName& target,
+                                            const std::string& text) {
+  const auto measures = [&](const Study& s) {
+    return std::find(s.available.begin(), s.available.end(), target.name) != s.available.end();
+  };
+  std::vector<const Study*> named, measuring;
+  for (const Study& s : studies) {
+    if (!target.study.empty() && s.config.name != target.study) continue;
+    named.push_back(&s);
+    if (measures(s)) measuring.push_back(&s);
+  }
+  if (!target.study.empty() && named.empty()) {
+    std::string names;
+    for (const Study& s : studies) names += fmt::format("{}{}", names.empty() ? "" : ", ", s.config.name);
+    throw UserError(fmt::format("--target {}: no study is named '{}' (the studies: {})", text, target.study, names));
+  }
+  if (!target.study.empty() && named.size() > 1) {
+    std::string dirs;
+    for (const Study* s : named) dirs += fmt::format("{}{}", dirs.empty() ? "" : ", ", s->dir.string());
+    throw UserError(
+        fmt::format("--target {}: the studies {} share the name '{}', so STUDY:NAME cannot tell them "
+                    "apart; give them different [study] names",
+                    text, dirs, target.study));
+  }
+  if (measuring.empty()) {
+    std::string all;
+    for (const Study* s : named)
+      all += fmt::format("\n  {} ({}): {}", s->config.name, s->dir.string(), join(s->available));
+    throw UserError(fmt::format("--target {}: no study {}has this observable (observables:{})", text,
+                                target.study.empty() ? "" : "named '" + target.study + "' ", all));
+  }
+  if (measuring.size() > 1) {
+    std::string names;
+    for (const Study* s : measuring) names += fmt::format("{}{}", names.empty() ? "" : ", ", s->config.name);
+    throw UserError(
+        fmt::format("--target {}: ambiguous: the studies {} all measure '{}'; say which with "
+                    "--target STUDY:{}=... (one per study)",
+                    text, names, target.name, target.name));
+  }
+  return measuring;
+}
+
+}  // namespace
+
 PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   options.validate();
   std::vector<Study> studies;
@@ -241,15 +305,18 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
 
   std::vector<std::unique_ptr<sobol::Metamodel>> models;
   std::vector<sobol::GaussianTarget> gaussian;
+  std::set<std::pair<std::string, std::string>> matched;  // (study folder, observable): one target each
   for (const ResolvedTarget& t : measured) {
-    bool found = false;
-    for (const Study& s : studies) {
-      if (std::find(s.available.begin(), s.available.end(), t.measured.name) == s.available.end()) continue;
-      found = true;
-      const TrainingData data = training_data(s.config, s.samples, s.observables, t.measured.name);
+    const QualifiedName target = qualified_name(t.measured.name);
+    for (const Study* study : studies_measuring(studies, target, t.measured.name)) {
+      const Study& s = *study;
+      if (!matched.insert({s.dir.string(), target.name}).second)
+        throw UserError(
+            fmt::format("--target {}: {} of {} is given a value twice", t.measured.name, target.name, s.dir.string()));
+      const TrainingData data = training_data(s.config, s.samples, s.observables, target.name);
       if (data.size() < 2)
         throw UserError(fmt::format("{}: {} done samples measure {}; calibration needs more", s.dir.string(),
-                                    data.size(), t.measured.name));
+                                    data.size(), target.name));
       const std::vector<std::string> candidates =
           options.model.empty() ? s.config.analysis.metamodels : std::vector<std::string>{options.model};
       std::vector<FittedMetamodel> fits =
@@ -258,11 +325,10 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
       if (!best) {
         std::string errors;
         for (const FittedMetamodel& f : fits) errors += fmt::format("\n  {}: {}", f.name(), f.error);
-        throw UserError(
-            fmt::format("{}: no metamodel could be fitted to {}:{}", s.dir.string(), t.measured.name, errors));
+        throw UserError(fmt::format("{}: no metamodel could be fitted to {}:{}", s.dir.string(), target.name, errors));
       }
       PosteriorTarget pt;
-      pt.name = t.measured.name;
+      pt.name = target.name;
       pt.study = s.config.name;
       pt.model = fits[*best].name();
       pt.q2 = fits[*best].quality.q2;
@@ -282,11 +348,6 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
         g.inputs.push_back({column, at_low, at_high - at_low});
       }
       gaussian.push_back(g);
-    }
-    if (!found) {
-      std::string all;
-      for (const Study& s : studies) all += fmt::format("\n  {}: {}", s.dir.string(), join(s.available));
-      throw UserError(fmt::format("--target {}: no study has this observable (observables:{})", t.measured.name, all));
     }
   }
   std::optional<sobol::GaussianPosterior> posterior;

@@ -146,6 +146,45 @@ TEST(CalibratePosteriorCli, TwoStudiesShareTheIntersectionOfTheirRanges) {
   EXPECT_EQ(j.at("studies").size(), 2u);
 }
 
+/// A second pile whose angle follows mu_r_pw instead (a rough base would follow the particle-particle parameters).
+double angle_of_rolling(double u1, double u2) { return 25.0 + 0.3 * u1 + 10.0 * u2; }
+
+TEST(CalibratePosteriorCli, TwoStudiesMeasuringOneNameTakeATargetEach) {
+  TempDir dir;
+  write_pile(dir / "wall", k_ranges, "pile-wall");
+  write_pile(dir / "rough", k_ranges, "pile-rough", angle_of_rolling);
+  const std::string wall = (dir / "wall").string(), rough = (dir / "rough").string();
+  // A bare name both studies measure is refused, naming it and the studies.
+  const CommandResult bare = run_demsa({"calibrate", wall, rough, "--target", "angle=30±0.5"});
+  EXPECT_EQ(bare.exit_code, 2);
+  EXPECT_NE(bare.err.find("--target angle: ambiguous: the studies pile-wall, pile-rough all measure 'angle'; say "
+                          "which with --target STUDY:angle=..."),
+            std::string::npos)
+      << bare.err;
+  const CommandResult unknown = run_demsa({"calibrate", wall, rough, "--target", "pile:angle=30±0.5"});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("--target pile:angle: no study is named 'pile' (the studies: pile-wall, pile-rough)"),
+            std::string::npos)
+      << unknown.err;
+  const CommandResult twice =
+      run_demsa({"calibrate", wall, rough, "--target", "pile-wall:angle=30±0.5", "--target", "pile-wall:angle=31±0.5"});
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("is given twice"), std::string::npos) << twice.err;
+  // One target per study: angle 30 on the wall pins u1 = 0.75 (mu_pw 1.525), angle 30 on the rough base u2 = 0.5
+  // (mu_r_pw 0.3); either alone leaves the other parameter free.
+  const CommandResult r = run_demsa({"calibrate", wall, rough, "--target", "pile-wall:angle=29.1±0.3", "--target",
+                                     "pile-rough:angle=30.2±0.3", "--steps", "800", "--json", "--no-plots"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("targets").size(), 2u);
+  EXPECT_EQ(j.at("targets").at(0).at("name").get<std::string>(), "angle");
+  EXPECT_EQ(j.at("targets").at(0).at("study").get<std::string>(), "pile-wall");
+  EXPECT_EQ(j.at("targets").at(1).at("study").get<std::string>(), "pile-rough");
+  // 29.1 = 21 + 12 u1 + 0.3 u2 and 30.2 = 25 + 0.3 u1 + 10 u2: u1 = 0.65, u2 = 0.5.
+  EXPECT_NEAR(j.at("parameters").at(0).at("q50").get<double>(), 0.4 + 1.5 * 0.6625, 0.05);
+  EXPECT_NEAR(j.at("parameters").at(1).at("q50").get<double>(), 0.1 + 0.4 * 0.5, 0.03);
+}
+
 TEST(CalibratePosteriorCli, DisjointRangesNameTheParameterAndBothStudies) {
   TempDir dir;
   write_pile(dir / "pile", k_ranges);

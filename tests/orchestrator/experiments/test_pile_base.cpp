@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 namespace demsa {
@@ -74,13 +75,24 @@ TEST(PileBase, TheCaseGluesTheLayerAndKeepsThePilesOwnParticles) {
   EXPECT_NE(
       test::read_file(tmp / "rough" / "params.liggghts").find(fmt::format("base_particles       equal {}", layer)),
       std::string::npos);
-  // The data file: the layer first, then the same column as on a wall (same radii and positions, ids shifted).
+  // The data file: the layer first, then the same column as on a wall (same radii and horizontal positions, ids
+  // shifted), lifted as a whole so that its lowest disc clears the layer.
   const std::string wall_data = test::read_file(tmp / "wall" / "pile_particles.data");
   const std::string rough_data = test::read_file(tmp / "rough" / "pile_particles.data");
-  const std::string wall_first = wall_data.substr(wall_data.find("\nAtoms\n\n") + 8);
-  const std::string first_column_atom =
-      wall_first.substr(wall_first.find(' '), wall_first.find('\n') - wall_first.find(' '));
-  EXPECT_NE(rough_data.find(fmt::format("\n{}{}\n", layer + 1, first_column_atom)), std::string::npos);
+  const auto atom_fields = [](const std::string& data, long id) {
+    const std::size_t at = data.find(fmt::format("\n{} ", id), data.find("\nAtoms\n\n"));
+    EXPECT_NE(at, std::string::npos) << "no atom " << id;
+    std::istringstream line(data.substr(at + 1, data.find('\n', at + 1) - at - 1));
+    std::vector<double> fields;
+    for (double v = 0; line >> v;) fields.push_back(v);
+    return fields;
+  };
+  const std::vector<double> on_wall = atom_fields(wall_data, 1);
+  const std::vector<double> on_layer = atom_fields(rough_data, layer + 1);
+  ASSERT_EQ(on_wall.size(), 7U);
+  ASSERT_EQ(on_layer.size(), 7U);
+  for (std::size_t k = 1; k < 6; ++k) EXPECT_EQ(on_layer[k], on_wall[k]) << "field " << k;
+  EXPECT_GT(on_layer[6], on_wall[6]);
   const nlohmann::json doc = nlohmann::json::parse(test::read_file(tmp / "rough" / "case.json"));
   EXPECT_EQ(doc["pile"]["base"]["particles"].get<long>(), layer);
   EXPECT_GT(doc["pile"]["base"]["top_m"].get<double>(), 0.005 + 2 * 0.001);
