@@ -25,6 +25,26 @@ void EnsembleOptions::validate(int dimension) const {
         fmt::format("walkers {}: must be even and >= 2d + 2 = {} (or 0 for the default)", walkers, 2 * dimension + 2));
   if (steps < 10) throw InputError(fmt::format("steps {}: must be >= 10", steps));
   if (burn_in < 0) throw InputError(fmt::format("burn-in {}: must be >= 0", burn_in));
+  // Sizes are bounded before anything is allocated or run: burn_in + steps and the evaluation count are ints, and
+  // an overflow would run no step at all and report the starting ensemble as the posterior.
+  const std::int64_t w = walkers_for(dimension);
+  const double values = static_cast<double>(steps) * static_cast<double>(w) * (dimension + 1.0);
+  if (values > k_max_draw_values)
+    throw InputError(fmt::format(
+        "steps {}: {} walkers × {} steps × {} values per draw = {:.3g} values ({:.1f} GB), more than the {:.3g} "
+        "({:.1f} GB) the sampler keeps in memory: at most {} steps",
+        steps, w, steps, dimension + 1, values, values * 8e-9, k_max_draw_values, k_max_draw_values * 8e-9,
+        static_cast<std::int64_t>(k_max_draw_values / (static_cast<double>(w) * (dimension + 1)))));
+  const std::int64_t total = static_cast<std::int64_t>(burn_in) + steps;
+  const std::int64_t int_max = std::numeric_limits<int>::max();
+  if ((total + 100) * w > int_max) {  // the starting ensemble may take up to 100 draws per walker
+    const bool burn = burn_in > steps;
+    throw InputError(
+        fmt::format("{} {}: {} walkers × ({} burn-in + {} steps + 100 to start) = {} density "
+                    "evaluations, more than {} (at most {} steps per walker in all)",
+                    burn ? "burn-in" : "steps", burn ? burn_in : steps, w, burn_in, steps, (total + 100) * w, int_max,
+                    int_max / w - 100));
+  }
   if (!(stretch > 1.0) || !std::isfinite(stretch))
     throw InputError(fmt::format("stretch {}: must be a finite number > 1", stretch));
 }

@@ -24,6 +24,10 @@ namespace demsa::sobol {
 /// Log-density (up to a constant) at each row of x (m × d); -inf where the density is zero.
 using BatchLogDensity = std::function<Eigen::VectorXd(const Eigen::MatrixXd& x)>;
 
+/// The most values the kept draws may hold in memory (steps × walkers × (d + 1) doubles, the log-density included):
+/// 1.5e8, 1.2 GB. EnsembleOptions::validate refuses a run that would need more, before any allocation.
+inline constexpr double k_max_draw_values = 1.5e8;
+
 struct EnsembleOptions {
   int walkers = 0;       ///< ensemble size, even and >= 2d + 2; 0: max(32, 4d) rounded up to even
   int steps = 3000;      ///< kept steps per walker (after burn-in), >= 10
@@ -31,7 +35,9 @@ struct EnsembleOptions {
   double stretch = 2.0;  ///< the stretch-move scale a > 1 (Goodman & Weare's a = 2)
   std::uint64_t seed = 12345;
   int walkers_for(int dimension) const;  ///< the ensemble size used for this dimension
-  void validate(int dimension) const;    ///< throws InputError naming the field, value and rule
+  /// Throws InputError naming the field, value and rule; also when burn_in + steps, or the density evaluations
+  /// (walkers × (burn_in + steps)), overflow an int, or the kept draws exceed k_max_draw_values.
+  void validate(int dimension) const;
 };
 
 /// Plain data. Draws are ordered step-major: row s * walkers + w is walker w at kept step s.

@@ -110,7 +110,12 @@ double GaussianProcess::concentrated_log_likelihood(const Eigen::VectorXd& lengt
 void GaussianProcess::fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   const Eigen::Index d = x.cols();
   const int trend_terms = m_options.trend == GpTrend::constant ? 1 : static_cast<int>(d) + 1;
-  store_training_data(x, y, trend_terms + 2);
+  // Maximum likelihood estimates d length scales, the process variance and the trend coefficients from the n points
+  // (Rasmussen & Williams 2006, §5.4): with fewer points than that and one more, some length scale is not
+  // determined and its optimum sits at a bound, so the indices (which the length scales alone rank) would say
+  // nothing. Floor: n >= d + trend terms + 2 (d + 3 with a constant trend), the same order as rbf's d + 2 and
+  // rsm1's d + 1. A refit with given hyperparameters (fit_with) estimates none of them and keeps the smaller floor.
+  store_training_data(x, y, static_cast<int>(d) + trend_terms + 2);
   if (!m_options.nugget) check_no_duplicates(x);
   const double mean = y.mean();
   const double sd = std::sqrt((y.array() - mean).square().mean());

@@ -21,7 +21,8 @@ class GaussianProcess final : public Metamodel {
   explicit GaussianProcess(const GpOptions& options = {});
 
   MetamodelKind kind() const override { return MetamodelKind::gp; }
-  /// Needs at least (trend terms + 2) samples and no duplicated points unless a nugget is estimated.
+  /// Needs at least d + trend terms + 2 samples (d + 3 with a constant trend: the hyperparameters it estimates and one
+  /// more) and no duplicated points unless a nugget is estimated.
   void fit(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) override;
   /// Fits with fixed hyperparameters (length scales, nugget ratio) instead of a likelihood search.
   void fit_with(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& lengths, double nugget);

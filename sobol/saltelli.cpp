@@ -497,7 +497,35 @@ bool negligible_variance(double mean, double variance) {
   return !(variance > 0.0) || std::sqrt(variance) <= 1e-12 * std::abs(mean);
 }
 
+namespace {
+SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options);
+}
+
 SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& options) {
+  // Outputs of large magnitude (finite, but their squares or sums beyond double's range: 1e308 x) are divided by
+  // their largest magnitude first; the indices are ratios of variances and do not change, the mean and variance are
+  // scaled back (the variance may then be +inf, which says what it is).
+  double largest = y.a.size() > 0 ? y.a.cwiseAbs().maxCoeff() : 0.0;
+  if (y.b.size() > 0) largest = std::max(largest, y.b.cwiseAbs().maxCoeff());
+  for (const Eigen::VectorXd& v : y.ab)
+    if (v.size() > 0) largest = std::max(largest, v.cwiseAbs().maxCoeff());
+  for (const Eigen::VectorXd& v : y.ba)
+    if (v.size() > 0) largest = std::max(largest, v.cwiseAbs().maxCoeff());
+  if (!(largest > k_large_output) || !std::isfinite(largest)) return sobol_indices_of(y, options);
+  SaltelliResponses scaled = y;
+  scaled.a /= largest;
+  scaled.b /= largest;
+  for (Eigen::VectorXd& v : scaled.ab) v /= largest;
+  for (Eigen::VectorXd& v : scaled.ba) v /= largest;
+  SobolResult r = sobol_indices_of(scaled, options);
+  r.mean *= largest;
+  r.variance *= largest * largest;
+  return r;
+}
+
+namespace {
+
+SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options) {
   options.validate();
   const int d = y.dimension;
   const int n = y.base();
@@ -602,6 +630,8 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
     for (int j = i + 1; j < d; ++j, ++k) result.second.push_back({i, j, interval_of(full.second[k], rep_second[k])});
   return result;
 }
+
+}  // namespace
 
 SobolResult sobol_indices(const BatchModel& model, const SaltelliDesign& design, const SobolOptions& options) {
   // Block by block, so that a stop request is seen between evaluations of N rows.

@@ -164,10 +164,15 @@ struct SobolResult {
 /// (about 5000 units in the last place; zero for an exactly constant output). Sobol' indices are then undefined.
 bool negligible_variance(double mean, double variance);
 
+/// Outputs beyond this magnitude are divided by their largest magnitude before any moment is taken (sobol_indices),
+/// or refused where a metamodel would be fitted to them: their squares and sums leave double's range.
+inline constexpr double k_large_output = 1e100;
+
 /// Indices from outputs on a Saltelli design. Intervals: with responses.replicate (R >= 2 replicates), the pooled
 /// estimate +- t_{R-1} s / sqrt(R), s the standard deviation of the R replicate estimates; else the percentile
 /// bootstrap of options.bootstrap resamples, with a note saying what it assumes. Throws NumericalError when the
-/// output is constant up to round-off (negligible_variance), Stopped when options.stop says so.
+/// output is constant up to round-off (negligible_variance), Stopped when options.stop says so. Outputs beyond
+/// k_large_output in magnitude are scaled first (the indices do not change).
 SobolResult sobol_indices(const SaltelliResponses& responses, const SobolOptions& options);
 
 /// A model evaluated in batches: rows of x (on [0,1]^d) -> outputs.

@@ -197,6 +197,10 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
     t.target = spec.value;
     t.weight = spec.weight;
     t.scale = spec.value != 0.0 ? std::abs(spec.value) : (best_summary.sd > 0 ? best_summary.sd : 1.0);
+    t.rmse_loo = best_summary.rmse_loo;
+    t.observed_low = data.y.minCoeff();
+    t.observed_high = data.y.maxCoeff();
+    t.samples = static_cast<int>(data.size());
     outcome.targets.push_back(t);
     models.push_back(std::move(best));
     targets.push_back({t.name, models.back().get(), t.target, t.weight, t.scale});
@@ -212,7 +216,24 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
   outcome.unit = result.x;
   for (size_t j = 0; j < d; ++j)
     outcome.physical.push_back(sobol::to_physical(result.x[j], config.parameters[j].bounds));
-  for (size_t k = 0; k < outcome.targets.size(); ++k) outcome.targets[k].predicted = result.predictions[k];
+  for (size_t k = 0; k < outcome.targets.size(); ++k) {
+    CalibratedTarget& t = outcome.targets[k];
+    t.predicted = result.predictions[k];
+    // A target outside what the samples produced, and missed by the optimum by more than the metamodel's error:
+    // the optimum sits where the metamodel comes closest, not where the measurement would be (docs/checks.md).
+    const double tolerance = std::max(k_miss_rmse * t.rmse_loo, k_miss_span * (t.observed_high - t.observed_low));
+    const bool outside = t.target < t.observed_low || t.target > t.observed_high;
+    t.contradicted = t.weight > 0 && outside && std::abs(t.predicted - t.target) > tolerance;
+    if (t.contradicted) {
+      const study::Observable l = experiments::describe_observable(t.name);
+      const std::string unit = l.unit.empty() ? "" : " " + l.unit;
+      outcome.problems.push_back(fmt::format(
+          "{} = {:.5g}{}: the optimum predicts {:.5g}{} (the metamodel's leave-one-out error is {:.3g}{}); {}: "
+          "the measurement contradicts the study (no parameters in its ranges produce it)",
+          t.name, t.target * l.factor, unit, t.predicted * l.factor, unit, t.rmse_loo * l.factor, unit,
+          observed_span_text(config.name, t.name, t.observed_low, t.observed_high, t.samples, t.target)));
+    }
+  }
   outcome.misfit = result.misfit;
   outcome.evaluations = result.evaluations;
   outcome.global_algorithm = result.global_algorithm;
@@ -256,6 +277,11 @@ std::string calibration_to_json(const CalibrationOutcome& o) {
     json e{{"name", t.name},     {"model", t.model},   {"q2", finite(t.q2)}, {"r2", finite(t.r2)},
            {"target", t.target}, {"weight", t.weight}, {"scale", t.scale},   {"predicted", t.predicted}};
     e["measured"] = t.measured ? json(*t.measured) : json(nullptr);
+    e["rmse_loo"] = finite(t.rmse_loo);
+    e["observed_low"] = t.observed_low;
+    e["observed_high"] = t.observed_high;
+    e["samples"] = t.samples;
+    e["contradicted"] = t.contradicted;
     targets.push_back(e);
   }
   j["targets"] = targets;
@@ -269,6 +295,7 @@ std::string calibration_to_json(const CalibrationOutcome& o) {
                            {"dir", o.verify_dir.string()},
                            {"error", o.verify_error},
                            {"seconds", o.verify_seconds}};
+  j["checks"] = json{{"passed", o.problems.empty()}, {"problems", o.problems}};
   return j.dump(2) + "\n";
 }
 
@@ -297,6 +324,12 @@ CalibrationOutcome read_calibration(const fs::path& file) {
       t.scale = e.at("scale").get<double>();
       t.predicted = e.at("predicted").get<double>();
       if (!e.at("measured").is_null()) t.measured = e.at("measured").get<double>();
+      // Written since the checks (docs/checks.md); an older file has none.
+      if (e.contains("rmse_loo") && e.at("rmse_loo").is_number()) t.rmse_loo = e.at("rmse_loo").get<double>();
+      t.observed_low = e.value("observed_low", 0.0);
+      t.observed_high = e.value("observed_high", 0.0);
+      t.contradicted = e.value("contradicted", false);
+      t.samples = e.value("samples", 0);
       o.targets.push_back(t);
     }
     o.misfit = j.at("misfit").get<double>();
@@ -310,6 +343,7 @@ CalibrationOutcome read_calibration(const fs::path& file) {
     o.verify_dir = v.at("dir").get<std::string>();
     o.verify_error = v.at("error").get<std::string>();
     o.verify_seconds = v.at("seconds").get<double>();
+    if (j.contains("checks")) o.problems = j.at("checks").at("problems").get<std::vector<std::string>>();
   } catch (const json::exception& e) {
     throw UserError(fmt::format("{}: not a calibration file: {}", file.string(), e.what()));
   }
@@ -334,6 +368,21 @@ std::string calibration_text(const CalibrationOutcome& o) {
                 ? fmt::format("verified by a real run in {} ({:.1f} s)\n", o.verify_dir.string(), o.verify_seconds)
                 : fmt::format("verification failed: {}\n", o.verify_error);
   }
+  if (!o.problems.empty()) {
+    text += "CHECK FAILED: the targets contradict what the study can produce; this optimum is not an answer:\n";
+    for (const std::string& p : o.problems) text += fmt::format("  {}\n", p);
+  }
+  return text;
+}
+
+std::string observed_span_text(const std::string& study, const std::string& observable, double low, double high,
+                               int samples, double value) {
+  const study::Observable l = experiments::describe_observable(observable);
+  const std::string unit = l.unit.empty() ? "" : " " + l.unit;
+  std::string text = fmt::format("in study {}, {} spans {:.4g} to {:.4g}{} over its {} done samples", study, l.label,
+                                 low * l.factor, high * l.factor, unit, samples);
+  if (value < low || value > high)
+    text += fmt::format("; {:.4g}{} is {} it", value * l.factor, unit, value < low ? "below" : "above");
   return text;
 }
 

@@ -58,7 +58,19 @@ struct CalibratedTarget {
   double scale = 1.0;              ///< s_k
   double predicted = 0.0;          ///< m_k at the optimum
   std::optional<double> measured;  ///< from the verification run
+  double rmse_loo = 0.0;           ///< the metamodel's leave-one-out RMS error
+  /// The observable's range over the done samples (what the study can produce).
+  double observed_low = 0.0, observed_high = 0.0;
+  int samples = 0;  ///< done samples that measure it
+  /// The target lies outside that range and the optimum misses it by more than k_miss_rmse leave-one-out errors:
+  /// no parameters in the study's ranges produce it.
+  bool contradicted = false;
 };
+
+/// How far (in the metamodel's leave-one-out RMS errors, and at least k_miss_span of the observed range) an optimum's
+/// prediction may miss a target outside the observed range before the calibration fails its check.
+inline constexpr double k_miss_rmse = 3.0;
+inline constexpr double k_miss_span = 0.01;
 
 /// Plain data; written to DIR/analysis/calibration.json.
 struct CalibrationOutcome {
@@ -78,6 +90,8 @@ struct CalibrationOutcome {
   std::filesystem::path verify_dir;  ///< its case folder
   std::string verify_error;          ///< why the run or its measurement failed ("" when verified)
   double verify_seconds = 0.0;       ///< wall time of the run [s]
+  /// Failed checks, in words (a target the study cannot produce): `demsa calibrate` exits 1.
+  std::vector<std::string> problems;
 };
 
 /// Runs the calibration (and the verification when asked) and writes DIR/analysis/calibration.json. Throws
@@ -88,6 +102,12 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options);
 /// calibration.json text of an outcome, and back. read_calibration throws util::UserError naming the file.
 std::string calibration_to_json(const CalibrationOutcome& outcome);
 CalibrationOutcome read_calibration(const std::filesystem::path& file);
+
+/// What a study can produce of one observable, in words, against a measured value (stored units; shown in the
+/// observable's unit): "study pile: angle of repose spans 21.2 to 33.2 ° over its 30 done samples; 60 ° is above
+/// it". The "is above/below it" part only when the value lies outside the span.
+std::string observed_span_text(const std::string& study, const std::string& observable, double low, double high,
+                               int samples, double value);
 
 /// A human-readable summary (optimum, predictions against targets, misfit, verification).
 std::string calibration_text(const CalibrationOutcome& outcome);

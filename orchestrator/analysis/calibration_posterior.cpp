@@ -1,5 +1,6 @@
 #include "orchestrator/analysis/calibration_posterior.hpp"
 
+#include "orchestrator/analysis/calibration.hpp"
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/training_data.hpp"
 #include "orchestrator/experiments/registry.hpp"
@@ -102,7 +103,13 @@ std::vector<MeasuredValue> parse_measured(const std::string& option, const std::
                                   e.size(), values.size()));
     for (size_t i = 0; i < values.size(); ++i) {
       errors[i] = e.size() == 1 ? e[0] : e[i];
-      if (errors[i] < 0) throw UserError(fmt::format("{} '{}': uncertainty {} must be >= 0", option, text, errors[i]));
+      // An explicit ± 0 claims an exact measurement: the likelihood then rests on the metamodel's error alone, which
+      // is near 0 where the metamodel interpolates, and the posterior collapses onto whatever point it picks.
+      if (!(errors[i] > 0))
+        throw UserError(
+            fmt::format("{} '{}': uncertainty {:g} must be > 0 (the measurement's standard deviation; "
+                        "without ± the value is matched by --method optimize)",
+                        option, text, errors[i]));
     }
   }
   std::vector<MeasuredValue> out;
@@ -141,7 +148,10 @@ std::vector<MeasuredValue> read_curve(const std::string& text) {
       throw UserError(fmt::format("{}: needs a column 'sd', or the columns 'low', 'high' and 'tests' (columns: {})",
                                   file.string(), join(table.columns)));
     }
-    if (sd < 0) throw UserError(fmt::format("{}: column 'sd': {} must be >= 0", where, sd));
+    if (!(sd > 0))
+      throw UserError(
+          fmt::format("{}: {} {:g} must be > 0 (a measurement's spread)", where,
+                      table.has_column("sd") ? "column 'sd':" : "the spread (high - low) / d2(tests) =", sd));
     out.push_back({table.rows() == 1 ? name : point_name(name, static_cast<size_t>(r) + 1), table.values(r, mean), sd});
   }
   return out;
@@ -234,8 +244,20 @@ std::vector<const Study*> studies_measuring(const std::vector<Study>& studies, c
 PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   options.validate();
   std::vector<Study> studies;
+  // One folder given twice (or by two spellings of its path) would count its measurements twice and narrow the
+  // posterior as if they had been measured twice: refused, compared by canonical path.
+  std::vector<fs::path> canonical;
+  for (size_t i = 0; i < options.dirs.size(); ++i) {
+    require_study_folder(options.dirs[i]);
+    canonical.push_back(fs::canonical(options.dirs[i]));
+    for (size_t k = 0; k < i; ++k)
+      if (canonical[k] == canonical[i])
+        throw UserError(
+            fmt::format("calibrate: study folders '{}' and '{}' are the same study ({}); give each study "
+                        "once, or its measurements count twice",
+                        options.dirs[k].string(), options.dirs[i].string(), canonical[i].string()));
+  }
   for (const fs::path& dir : options.dirs) {
-    require_study_folder(dir);
     Study s;
     s.dir = dir;
     s.config = experiments::load_study(dir / k_frozen_study);
@@ -335,6 +357,9 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
       pt.value = t.measured.value;
       pt.sd = t.measured.sd;
       pt.weight = t.weight;
+      pt.observed_low = data.y.minCoeff();
+      pt.observed_high = data.y.maxCoeff();
+      pt.samples = static_cast<int>(data.size());
       outcome.targets.push_back(pt);
       models.push_back(std::move(fits[*best].model));
       sobol::GaussianTarget g{pt.name, models.back().get(), {}, pt.value, pt.sd, pt.weight};
@@ -418,6 +443,23 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
     p.q95 = sobol::to_physical(m.q95, b);
     p.width_ratio = m.width_ratio;
     p.identified = identified_label(m.width_ratio);
+    // Draws piled on an end of the prior range: the measurements ask for values beyond the study's range, and a
+    // narrow marginal there says nothing about the parameter inside it.
+    const Eigen::Index n_draws = r.draws.rows();
+    const double at_low = static_cast<double>((r.draws.col(j).array() < k_bound_band).count()) /
+                          static_cast<double>(std::max<Eigen::Index>(1, n_draws));
+    const double at_high = static_cast<double>((r.draws.col(j).array() > 1.0 - k_bound_band).count()) /
+                           static_cast<double>(std::max<Eigen::Index>(1, n_draws));
+    p.bound_share = std::max(at_low, at_high);
+    if (p.bound_share > k_bound_share) {
+      p.at_bound = at_low >= at_high ? "low" : "high";
+      p.identified = "at bound";
+      outcome.warnings.push_back(
+          fmt::format("{}: {:.0f} % of the posterior draws lie in the {} {:.0f} % of its range [{:g}, {:g}]: the "
+                      "measurements ask for values {} the study's range",
+                      p.name, 100.0 * p.bound_share, p.at_bound == "low" ? "lowest" : "highest", 100.0 * k_bound_band,
+                      b.low, b.high, p.at_bound == "low" ? "below" : "above"));
+    }
     p.tau = diag.tau[static_cast<size_t>(j)];
     p.rhat = diag.rhat[static_cast<size_t>(j)];
     p.ess = diag.ess[static_cast<size_t>(j)];
@@ -445,6 +487,36 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
     t.predictive_q95 = sobol::quantile(y, 0.95);
     t.predicted_map = map_mean(0, c);
     t.model_sd = std::sqrt(std::max(0.0, map_sd(0, c) * map_sd(0, c) - t.sd * t.sd));
+    // The measured value against the posterior predictive (a Gaussian mixture over the draws): its two-sided tail
+    // probability, each tail summed on its own so that a far value keeps its small probability instead of 1 - 1.
+    double below = 0.0, above = 0.0;
+    for (Eigen::Index i = 0; i < subset.rows(); ++i) {
+      const double s_i = sd(i, c), m_i = mean(i, c);
+      if (s_i > 0) {
+        const double z = (t.value - m_i) / s_i;
+        below += 0.5 * std::erfc(-z / std::sqrt(2.0));
+        above += 0.5 * std::erfc(z / std::sqrt(2.0));
+      } else {
+        below += t.value >= m_i ? 1.0 : 0.0;
+        above += t.value <= m_i ? 1.0 : 0.0;
+      }
+    }
+    const double n_sub = static_cast<double>(std::max<Eigen::Index>(1, subset.rows()));
+    t.tail_probability = std::min(1.0, 2.0 * std::min(below, above) / n_sub);
+    // A target of weight 0 does not enter the likelihood: it is not held against the posterior.
+    t.contradicted = t.weight > 0 && t.tail_probability < k_predictive_tail;
+    if (t.contradicted) {
+      const study::Observable l = experiments::describe_observable(t.name);
+      outcome.problems.push_back(fmt::format(
+          "{} = {:.5g}{} ± {:.3g}: the posterior predicts 5–95 % [{:.5g}, {:.5g}]{}; the measured value's tail "
+          "probability is {:.2g} (< {:g}); {}",
+          t.name, t.value * l.factor, l.unit.empty() ? "" : " " + l.unit, t.sd * l.factor, t.predictive_q05 * l.factor,
+          t.predictive_q95 * l.factor, l.unit.empty() ? "" : " " + l.unit, t.tail_probability, k_predictive_tail,
+          t.value < t.observed_low || t.value > t.observed_high
+              ? observed_span_text(t.study, t.name, t.observed_low, t.observed_high, t.samples, t.value) +
+                    ": the measurement contradicts the study (no parameters in its ranges produce it)"
+              : "the targets contradict one another or the metamodels"));
+    }
   }
 
   outcome.out = options.out.empty() ? options.dirs.front() / "calibration" : options.out;
@@ -545,6 +617,8 @@ std::string posterior_to_json(const PosteriorOutcome& o) {
                               {"q95", p.q95},
                               {"width_ratio", p.width_ratio},
                               {"identified", p.identified},
+                              {"at_bound", p.at_bound},
+                              {"bound_share", p.bound_share},
                               {"tau", p.tau},
                               {"rhat", p.rhat},
                               {"ess", p.ess}});
@@ -563,7 +637,12 @@ std::string posterior_to_json(const PosteriorOutcome& o) {
                            {"predicted_map", t.predicted_map},
                            {"predictive_q05", t.predictive_q05},
                            {"predictive_q50", t.predictive_q50},
-                           {"predictive_q95", t.predictive_q95}});
+                           {"predictive_q95", t.predictive_q95},
+                           {"tail_probability", t.tail_probability},
+                           {"contradicted", t.contradicted},
+                           {"observed_low", t.observed_low},
+                           {"observed_high", t.observed_high},
+                           {"samples", t.samples}});
   j["targets"] = targets;
   j["sampler"] = json{{"walkers", o.walkers}, {"steps", o.steps},
                       {"burn_in", o.burn_in}, {"draws", o.draws},
@@ -585,6 +664,7 @@ std::string posterior_to_json(const PosteriorOutcome& o) {
         json{{"label", v.label}, {"physical", v.physical}, {"measured", measured}, {"errors", v.errors}});
   }
   j["verification"] = verification;
+  j["checks"] = json{{"passed", o.problems.empty()}, {"problems", o.problems}, {"warnings", o.warnings}};
   return j.dump(2) + "\n";
 }
 
@@ -611,6 +691,8 @@ PosteriorOutcome read_posterior(const fs::path& file) {
       p.tau = e.at("tau");
       p.rhat = e.at("rhat");
       p.ess = e.at("ess");
+      p.at_bound = e.value("at_bound", std::string());
+      p.bound_share = e.value("bound_share", 0.0);
       o.parameters.push_back(p);
     }
     o.correlation = j.at("correlation").get<std::vector<std::vector<double>>>();
@@ -628,6 +710,12 @@ PosteriorOutcome read_posterior(const fs::path& file) {
       t.predictive_q05 = e.at("predictive_q05");
       t.predictive_q50 = e.at("predictive_q50");
       t.predictive_q95 = e.at("predictive_q95");
+      // Written since the checks (docs/checks.md); an older file has none.
+      t.tail_probability = e.value("tail_probability", 1.0);
+      t.contradicted = e.value("contradicted", false);
+      t.observed_low = e.value("observed_low", 0.0);
+      t.observed_high = e.value("observed_high", 0.0);
+      t.samples = e.value("samples", 0);
       o.targets.push_back(t);
     }
     const json& s = j.at("sampler");
@@ -659,6 +747,10 @@ PosteriorOutcome read_posterior(const fs::path& file) {
       }
       o.verification.push_back(v);
     }
+    if (j.contains("checks")) {
+      o.problems = j.at("checks").at("problems").get<std::vector<std::string>>();
+      o.warnings = j.at("checks").at("warnings").get<std::vector<std::string>>();
+    }
   } catch (const json::exception& e) {
     throw UserError(fmt::format("{}: not a posterior file: {}", file.string(), e.what()));
   }
@@ -682,17 +774,28 @@ std::string posterior_text(const PosteriorOutcome& o) {
         p.name, p.mean, p.map, p.q05, p.q50, p.q95, p.width_ratio, p.identified, p.tau, p.rhat, p.ess);
   text += "  (width: 90 % posterior width over the prior's width on the design scale; ~0.9 = not determined)\n";
   if (o.parameters.size() > 1) {
-    text += "correlations:\n";
+    // The pairs that matter: |r| >= k_print_correlation; the full matrix is in posterior.json.
+    std::string pairs;
+    int weak = 0;
     for (size_t i = 0; i < o.parameters.size(); ++i)
-      for (size_t k = i + 1; k < o.parameters.size(); ++k)
-        text += fmt::format("  {} ~ {}: {:+.3f}\n", o.parameters[i].name, o.parameters[k].name, o.correlation[i][k]);
+      for (size_t k = i + 1; k < o.parameters.size(); ++k) {
+        if (std::abs(o.correlation[i][k]) >= k_print_correlation)
+          pairs += fmt::format("  {} ~ {}: {:+.3f}\n", o.parameters[i].name, o.parameters[k].name, o.correlation[i][k]);
+        else
+          ++weak;
+      }
+    text += fmt::format(
+        "correlations with |r| >= {:g}{}:\n{}", k_print_correlation,
+        weak > 0 ? fmt::format(" ({} other pair{} below, all in posterior.json)", weak, weak == 1 ? "" : "s") : "",
+        pairs.empty() ? "  none\n" : pairs);
   }
-  text += fmt::format("  {:<14} {:<12} {:<10} {:>12} {:>10} {:>12} {:>12} {:>12} {:>12}\n", "target", "study", "model",
-                      "measured", "sd", "at MAP", "pred. 5 %", "pred. 95 %", "model sd");
+  text += fmt::format("  {:<14} {:<12} {:<10} {:>12} {:>10} {:>12} {:>12} {:>12} {:>12} {:>9}\n", "target", "study",
+                      "model", "measured", "sd", "at MAP", "pred. 5 %", "pred. 95 %", "model sd", "tail p");
   for (const PosteriorTarget& t : o.targets)
     text +=
-        fmt::format("  {:<14} {:<12} {:<10} {:>12.6g} {:>10.4g} {:>12.6g} {:>12.6g} {:>12.6g} {:>12.4g}\n", t.name,
-                    t.study, t.model, t.value, t.sd, t.predicted_map, t.predictive_q05, t.predictive_q95, t.model_sd);
+        fmt::format("  {:<14} {:<12} {:<10} {:>12.6g} {:>10.4g} {:>12.6g} {:>12.6g} {:>12.6g} {:>12.4g} {:>9.2g}{}\n",
+                    t.name, t.study, t.model, t.value, t.sd, t.predicted_map, t.predictive_q05, t.predictive_q95,
+                    t.model_sd, t.tail_probability, t.contradicted ? "  CONTRADICTED" : "");
   text += fmt::format("diagnostics: acceptance {:.2f}; {}\n", o.acceptance,
                       o.converged ? "converged (steps >= 50 τ, every R̂ < 1.05)" : "NOT CONVERGED: " + o.advice);
   for (const VerifyPoint& v : o.verification) {
@@ -702,6 +805,12 @@ std::string posterior_text(const PosteriorOutcome& o) {
                           m.study, m.value ? fmt::format("{:.6g}", *m.value) : "-", m.predicted, m.low, m.high,
                           m.value && (*m.value < m.low || *m.value > m.high) ? "  outside" : "");
     for (const std::string& e : v.errors) text += fmt::format("  failed: {}\n", e);
+  }
+  for (const std::string& w : o.warnings) text += fmt::format("warning: {}\n", w);
+  if (!o.problems.empty()) {
+    text +=
+        "CHECK FAILED: the measurements contradict what the studies can produce; this posterior is not an answer:\n";
+    for (const std::string& p : o.problems) text += fmt::format("  {}\n", p);
   }
   text += fmt::format("written to {}\n", o.out.string());
   return text;

@@ -56,6 +56,15 @@ inline constexpr int k_auto_first_steps = 3000;
 inline constexpr int k_auto_max_runs = 3;
 inline constexpr double k_max_auto_draws = 2.5e7;
 
+/// The checks of a posterior against its measurements (docs/checks.md). A target fails when its measured value lies
+/// in a tail of the posterior predictive holding less than k_predictive_tail (two-sided); a parameter is "at bound"
+/// when more than k_bound_share of its draws lie in the outer k_bound_band of its prior range at one end.
+inline constexpr double k_predictive_tail = 1e-3;
+inline constexpr double k_bound_band = 0.02;
+inline constexpr double k_bound_share = 0.5;
+/// The printed posterior lists the pairs of parameters with |correlation| at least this (posterior.json all).
+inline constexpr double k_print_correlation = 0.3;
+
 struct PosteriorParameter {
   std::string name;
   double low = 0.0, high = 1.0;                                   ///< prior range (physical)
@@ -63,7 +72,10 @@ struct PosteriorParameter {
   double mean = 0.0, map = 0.0, q05 = 0.0, q50 = 0.0, q95 = 0.0;  ///< physical
   double width_ratio = 0.0;  ///< 90 % posterior width / prior width, on the design scale
   double tau = 0.0, rhat = 0.0, ess = 0.0;
-  std::string identified;  ///< "yes" (< 0.5), "partly" (< 0.8), "no"
+  /// "yes" (< 0.5), "partly" (< 0.8), "no"; "at bound" when the draws pile on an end of the prior range
+  std::string identified;
+  std::string at_bound;      ///< "", "low" or "high": the end of the prior range the draws pile on
+  double bound_share = 0.0;  ///< share of the draws in the outer k_bound_band of the range at that end
 };
 
 struct PosteriorTarget {
@@ -75,6 +87,13 @@ struct PosteriorTarget {
   double model_sd = 0.0;                                                    ///< metamodel standard deviation at the MAP
   double predicted_map = 0.0;                                               ///< metamodel prediction at the MAP
   double predictive_q05 = 0.0, predictive_q50 = 0.0, predictive_q95 = 0.0;  ///< posterior predictive
+  /// Two-sided tail probability of the measured value under the posterior predictive (Gelman et al., Bayesian Data
+  /// Analysis, 3rd ed., §6.3: a posterior predictive p-value); below k_predictive_tail the target fails its check.
+  double tail_probability = 1.0;
+  bool contradicted = false;  ///< the check failed
+  /// The observable's range over the study's done samples (what the study can produce), and their number.
+  double observed_low = 0.0, observed_high = 0.0;
+  int samples = 0;
 };
 
 /// One verification point: the MAP or a posterior draw, run in every study.
@@ -109,6 +128,10 @@ struct PosteriorOutcome {
   double seconds = 0.0;  ///< sampling wall time, every run
   std::vector<VerifyPoint> verification;
   std::filesystem::path out;
+  /// Failed checks, in words (a measured value the posterior cannot produce): `demsa calibrate` exits 1.
+  std::vector<std::string> problems;
+  /// Warnings that do not fail the calibration (draws piled on a bound of the prior).
+  std::vector<std::string> warnings;
 };
 
 PosteriorOutcome calibrate_posterior(const PosteriorOptions& options);

@@ -179,6 +179,23 @@ sobol::MetamodelSummary read_model_quality(const std::filesystem::path& file) {
   }
 }
 
+std::string bad_name_reason(const std::string& name) {
+  // The names become CSV headers (`demsa predict`) and file names: a safe character set, so that no cell starts with
+  // = + - @ (a spreadsheet formula: OWASP, "CSV Injection") and none needs RFC 4180 quoting.
+  if (name.empty()) return "empty";
+  if (name.size() > k_max_name_length)
+    return fmt::format("'{}...' is longer than {} characters", name.substr(0, 20), k_max_name_length);
+  const auto letter = [](char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_'; };
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  bool ok = letter(name.front());
+  for (const char c : name) ok = ok && (letter(c) || digit(c) || c == '.' || c == '-');
+  if (ok) return "";
+  std::string shown;
+  for (const char c : name.substr(0, 40))
+    shown += (c >= 0x20 && c < 0x7f) ? std::string(1, c) : fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
+  return fmt::format("'{}' is not a name: a letter or '_' first, then letters, digits, '_', '.' or '-'", shown);
+}
+
 SavedModel parse_model_json(const std::string& text, const std::string& file) {
   const json j = parse_json(text, file);
   const Reader r(file);
@@ -217,6 +234,20 @@ SavedModel parse_model_json(const std::string& text, const std::string& file) {
     saved.bounds.push_back(b);
   }
   const std::size_t d = saved.inputs.size();
+  for (std::size_t k = 0; k < d; ++k) {
+    if (const std::string why = bad_name_reason(saved.inputs[k]); !why.empty())
+      r.fail(fmt::format("inputs[{}].name", k), why);
+    for (std::size_t i = 0; i < k; ++i)
+      if (saved.inputs[i] == saved.inputs[k])
+        r.fail(fmt::format("inputs[{}].name", k),
+               fmt::format("'{}' is also inputs[{}]: names must be unique", saved.inputs[k], i));
+  }
+  if (const std::string why = bad_name_reason(saved.output); !why.empty()) r.fail("output", why);
+  for (std::size_t k = 0; k < d; ++k)
+    if (saved.inputs[k] == saved.output || saved.inputs[k] == saved.output + "_sd")
+      r.fail("output", fmt::format("'{}' is also the name of inputs[{}] (a prediction's columns are the inputs, the "
+                                   "output and OUTPUT_sd)",
+                                   saved.output, k));
 
   const json& training = r.at(j, "", "training");
   const Eigen::VectorXd y = r.vector(r.at(training, "training", "outputs"), "training.outputs", 0);

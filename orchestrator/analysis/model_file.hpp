@@ -38,6 +38,13 @@ inline constexpr int k_model_format_version = 1;
 inline constexpr std::uintmax_t k_max_model_bytes = std::uintmax_t{256} << 20;  ///< largest model file read
 inline constexpr int k_max_model_rows = 20000;                                  ///< most training points read
 inline constexpr int k_max_model_inputs = 1000;                                 ///< most inputs read
+inline constexpr std::size_t k_max_name_length = 64;                            ///< longest input or output name
+
+/// Why `name` cannot name a model's input or output ("" when it can): it must start with a letter or '_' and hold
+/// only letters, digits, '_', '.' and '-' (at most k_max_name_length), so that it is a CSV header needing no
+/// quoting and never a formula (=, +, -, @ first). parse_model_json refuses such names, repeated input names and an
+/// output named like an input.
+std::string bad_name_reason(const std::string& name);
 
 /// A metamodel with the names and ranges of its inputs, in physical units.
 struct SavedModel {

@@ -62,8 +62,10 @@ int do_optimize(CalibrateArgs& args) {
     fmt::print("{}", calibration_to_json(outcome));
   else
     fmt::print("{}", calibration_text(outcome));
-  // A verification that was asked for and did not give measurements is a failed check.
-  return args.options.verify && !outcome.verified ? k_exit_check_failed : k_exit_ok;
+  for (const std::string& problem : outcome.problems) log::warn("check failed: {}", problem);
+  // A target the study cannot produce, or a verification that was asked for and did not give measurements, is a
+  // failed check.
+  return (args.options.verify && !outcome.verified) || !outcome.problems.empty() ? k_exit_check_failed : k_exit_ok;
 }
 
 int do_bayes(CalibrateArgs& args) {
@@ -92,7 +94,9 @@ int do_bayes(CalibrateArgs& args) {
   else
     fmt::print("{}{}", posterior_text(outcome), plot_note.empty() ? "" : plot_note + "\n");
   if (!outcome.converged) log::warn("the chains have not converged: {}", outcome.advice);
-  bool failed = false;
+  for (const std::string& problem : outcome.problems) log::warn("check failed: {}", problem);
+  // A measurement the posterior cannot produce, or a verification run that failed, is a failed check.
+  bool failed = !outcome.problems.empty();
   for (const VerifyPoint& v : outcome.verification) failed = failed || !v.errors.empty();
   return failed ? k_exit_check_failed : k_exit_ok;
 }

@@ -20,6 +20,7 @@
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
 #include "orchestrator/util/signals.hpp"
+#include "orchestrator/util/text.hpp"
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
 #include "sobol/metamodel_sobol.hpp"
@@ -72,8 +73,13 @@ struct SensitivityArgs {
   std::string gp_kernel = "squared-exponential";
   std::string gp_trend = "constant";
   bool gp_nugget = false;
-  std::string replicates;  ///< --data: CSV of repeated runs (column `point` + the responses) for the noise
+  std::string replicates;            ///< --data: CSV of repeated runs (column `point` + the responses) for the noise
+  bool allow_extrapolation = false;  ///< --data: proceed when the data cover less than k_min_coverage of --bounds
 };
+
+/// --data: the least share of an input's --bounds (on its scale) the samples must span. Below it the metamodels
+/// extrapolate over most of the box, and the indices, integrals over the whole box, describe the extrapolation.
+constexpr double k_min_coverage = 0.5;
 
 /// The numeric options, checked here so that a message names the option as the user typed it.
 void check_numeric_options(const SensitivityArgs& args) {
@@ -106,6 +112,22 @@ void print_indices(const sobol::SobolResult& r, const std::vector<std::string>& 
                r.replicates);
   if (r.bootstrap > 0) fmt::print("  ({:g}% intervals from {} bootstrap resamples)\n", 100 * r.confidence, r.bootstrap);
   if (!r.note.empty()) fmt::print("  ({})\n", r.note);
+}
+
+/// No NaN index leaves demsa as a result: a computation that gave one is refused (sobol::NumericalError) with what
+/// the indices were computed from.
+void require_finite_indices(const sobol::SobolResult& r, const std::vector<std::string>& names) {
+  const auto check = [&r](const sobol::IndexEstimate& e, const std::string& what) {
+    if (std::isnan(e.value) || std::isnan(e.lower) || std::isnan(e.upper))
+      throw sobol::NumericalError(
+          fmt::format("{} is not a number (output mean {:.4g}, variance {:.4g}): the "
+                      "indices cannot be computed from these outputs",
+                      what, r.mean, r.variance));
+  };
+  for (std::size_t k = 0; k < r.first.size(); ++k) check(r.first[k], "S1 of " + names[k]);
+  for (std::size_t k = 0; k < r.total.size(); ++k) check(r.total[k], "ST of " + names[k]);
+  for (const sobol::SecondOrderIndex& s : r.second)
+    check(s.s, fmt::format("S2 of {},{}", names[static_cast<std::size_t>(s.i)], names[static_cast<std::size_t>(s.j)]));
 }
 
 void write_json(const std::string& target, const nlohmann::json& j) {
@@ -245,17 +267,34 @@ void run_saltelli(const SensitivityArgs& args) {
     sobol::SobolResult r;
     try {
       r = sobol::sobol_indices(split, options);
+      require_finite_indices(r, names);
     } catch (const sobol::InputError& e) {
       throw UserError(args.saltelli, 0, e.what());
     } catch (const sobol::NumericalError& e) {
       throw UserError(args.responses, 0, fmt::format("column '{}': {}", name, e.what()));
     }
+    // An index whose whole interval lies outside [0, 1] is not estimator noise: the responses' rows most likely do
+    // not belong to the design's rows (shuffled, sorted, from another design or seed).
+    std::vector<std::string> outside;
+    for (std::size_t k = 0; k < names.size(); ++k)
+      for (const auto& [label, e] : {std::pair{"S1", r.first[k]}, std::pair{"ST", r.total[k]}})
+        if (e.upper < 0.0 || e.lower > 1.0)
+          outside.push_back(
+              fmt::format("{} of {} = {:.3f} [{:.3f}, {:.3f}]", label, names[k], e.value, e.lower, e.upper));
+    std::string warning;
+    if (!outside.empty())
+      warning = fmt::format(
+          "column '{}': {} lie{} wholly outside [0, 1]: the responses may not match the design's "
+          "rows (same order as {}, from this design and seed?)",
+          name, join(outside, "; "), outside.size() == 1 ? "s" : "", args.saltelli);
     if (args.json != "-") {
       fmt::print("{}: Sobol' indices from a Saltelli design, N = {}, {} evaluations\n", name, r.base, r.evaluations);
       print_indices(r, names);
     }
+    if (!warning.empty()) log::warn("{}", warning);
     nlohmann::json j = sobol_result_json(r, names);
     j["output"] = name;
+    if (!warning.empty()) j["warning"] = warning;
     results.push_back(j);
   }
   write_json(args.json, {{"design", args.saltelli},
@@ -381,6 +420,22 @@ void run_data(const SensitivityArgs& args) {
         data.fail(r, columns[k], fmt::format("{} is outside the bounds [{}, {}]", v, b.low, b.high));
       x(r, static_cast<Eigen::Index>(k)) = sobol::to_unit(v, b);
     }
+  // What share of each input's bounds the samples span (docs/checks.md).
+  std::vector<double> coverage(inputs.size(), 1.0);
+  for (std::size_t k = 0; k < inputs.size() && x.rows() > 0; ++k) {
+    const auto c = x.col(static_cast<Eigen::Index>(k));
+    coverage[k] = c.maxCoeff() - c.minCoeff();
+    if (coverage[k] >= k_min_coverage) continue;
+    const Eigen::VectorXd raw = data.values.col(columns[k]);
+    const std::string what = fmt::format(
+        "--bounds {}={:g}:{:g}: the data cover {} in [{:g}, {:g}], {:.1f} % of the bounds (less than {:g} %): the "
+        "metamodels would extrapolate over the rest, and the indices describe that extrapolation",
+        inputs[k], bounds[k].low, bounds[k].high, inputs[k], raw.minCoeff(), raw.maxCoeff(), 100.0 * coverage[k],
+        100.0 * k_min_coverage);
+    if (!args.allow_extrapolation)
+      throw UserError(what + "; narrow the bounds to the data, or give --allow-extrapolation");
+    log::warn("{} (--allow-extrapolation)", what);
+  }
 
   std::vector<sobol::MetamodelKind> kinds;
   for (const std::string& name : split_list(args.metamodels)) {
@@ -394,6 +449,14 @@ void run_data(const SensitivityArgs& args) {
   // --save-model: one model to a file, several into a folder (named <response>.<metamodel>.json).
   const std::size_t model_count = outputs.size() * kinds.size();
   const std::filesystem::path save_path(args.save_model);
+  if (!args.save_model.empty()) {
+    // A model file names its inputs and output; `demsa predict` would refuse one it cannot read back.
+    std::vector<std::string> names = inputs;
+    names.insert(names.end(), outputs.begin(), outputs.end());
+    for (const std::string& n : names)
+      if (const std::string why = bad_name_reason(n); !why.empty())
+        throw UserError(data.file, 0, fmt::format("--save-model: column {}", why));
+  }
   const bool save_to_file =
       model_count == 1 && save_path.extension() == ".json" && !std::filesystem::is_directory(save_path);
   if (!args.save_model.empty()) {
@@ -476,6 +539,18 @@ void run_data(const SensitivityArgs& args) {
       noise = n;
     }
     double best_q2 = -std::numeric_limits<double>::infinity();
+    if (const double largest = y.cwiseAbs().maxCoeff(); largest > sobol::k_large_output) {
+      // Sums of squares of such values leave double's range: R² and indices would be NaN, an RBF would take the
+      // output for constant and a GP blame duplicated points. The true cause, and the remedy:
+      const auto at = static_cast<std::size_t>(
+          std::distance(y.data(), std::max_element(y.data(), y.data() + y.size(),
+                                                   [](double a, double b) { return std::abs(a) < std::abs(b); })));
+      throw UserError(data.file, 0,
+                      fmt::format("output '{}': values reach {:.3g} in magnitude (line {}), beyond {:g}: the "
+                                  "metamodels' sums of squares would overflow double precision; divide the column "
+                                  "by a power of ten (Sobol' indices do not depend on the output's unit)",
+                                  output, y(static_cast<Eigen::Index>(at)), data.lines[at], sobol::k_large_output));
+    }
     {
       // A metamodel of a constant fits it exactly (R² NaN) and its indices are round-off: refuse.
       const double mean = y.mean();
@@ -497,6 +572,7 @@ void run_data(const SensitivityArgs& args) {
         // Unlike the study analysis, a model that does not fit is the user's to fix: its error names the line.
         if (!fit.ok()) std::rethrow_exception(fit.exception);
         indices = sobol::metamodel_sobol(*fit.model, options);
+        require_finite_indices(indices, inputs);
       } catch (const sobol::DataError& e) {
         const int column = e.column() >= 0 ? columns[static_cast<std::size_t>(e.column())] : -1;
         std::string other;
@@ -561,7 +637,9 @@ void run_data(const SensitivityArgs& args) {
     bounds_json.push_back({{"input", inputs[k]},
                            {"low", bounds[k].low},
                            {"high", bounds[k].high},
-                           {"scale", sobol::to_string(bounds[k].scale)}});
+                           {"scale", sobol::to_string(bounds[k].scale)},
+                           {"coverage", coverage[k]},
+                           {"extrapolated", coverage[k] < k_min_coverage}});
   for (const auto& [file, text] : model_files) {
     write_file_atomically(file, text);
     if (args.json != "-") fmt::print("metamodel written to {}\n", file.string());
@@ -591,6 +669,8 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
   sub->add_option("--metamodels", args->metamodels, "rsm1, rsm2, rsm3, rbf-cubic, rbf-tps, gp (comma-separated)")
       ->capture_default_str();
   sub->add_flag("--second-order", args->second_order, "Also compute second-order indices S2");
+  sub->add_flag("--allow-extrapolation", args->allow_extrapolation,
+                "--data: proceed (with a warning) when the samples span less than half of an input's --bounds");
   sub->add_option("--bootstrap", args->bootstrap,
                   "Bootstrap resamples (default 200 for --saltelli, 100 design refits for --data)");
   sub->add_option("--confidence", args->confidence, "Confidence level of the intervals")->capture_default_str();

@@ -646,6 +646,13 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
   }
   if (!any_measured) plot.measured.clear();
   section.tables.push_back(targets);
+  if (!c.problems.empty()) {
+    std::string text =
+        "**Check failed: the targets contradict what the study can produce; this optimum is not an "
+        "answer.**";
+    for (const std::string& problem : c.problems) text += " " + problem + ".";
+    section.paragraphs.push_back(text);
+  }
   if (!c.verify_dir.empty())
     section.paragraphs.push_back(
         c.verified ? fmt::format("Verified by a real run at the optimum ({:.0f} s).", c.verify_seconds)
@@ -680,13 +687,23 @@ ReportSection posterior_section(const PosteriorOutcome& p, const fs::path& sampl
   section.tables.push_back(parameters);
   ReportTable targets;
   targets.caption = "Targets: measured against the posterior predictive";
-  targets.header = {"observable", "study",  "metamodel",      "measured",
-                    "sd",         "at MAP", "predictive 5 %", "predictive 95 %"};
+  targets.header = {"observable", "study",          "metamodel",       "measured", "sd",
+                    "at MAP",     "predictive 5 %", "predictive 95 %", "tail p",   "study's range"};
   for (const PosteriorTarget& t : p.targets)
     targets.rows.push_back({t.name, t.study, t.model, fmt::format("{:.5g}", t.value), fmt::format("{:.3g}", t.sd),
                             fmt::format("{:.5g}", t.predicted_map), fmt::format("{:.5g}", t.predictive_q05),
-                            fmt::format("{:.5g}", t.predictive_q95)});
+                            fmt::format("{:.5g}", t.predictive_q95),
+                            fmt::format("{:.2g}{}", t.tail_probability, t.contradicted ? " (contradicted)" : ""),
+                            t.samples > 0 ? fmt::format("{:.5g} to {:.5g}", t.observed_low, t.observed_high) : ""});
   section.tables.push_back(targets);
+  if (!p.problems.empty()) {
+    std::string text =
+        "**Check failed: the measurements contradict what the studies can produce; this posterior is "
+        "not an answer.**";
+    for (const std::string& problem : p.problems) text += " " + problem + ".";
+    section.paragraphs.push_back(text);
+  }
+  for (const std::string& warning : p.warnings) section.paragraphs.push_back("Warning: " + warning + ".");
   for (const VerifyPoint& v : p.verification)
     for (const VerifyPoint::Measured& m : v.measured)
       section.paragraphs.push_back(

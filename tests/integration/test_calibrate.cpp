@@ -64,6 +64,25 @@ TEST(CalibrateCli, TextOutputNamesOptimumAndMisfit) {
   EXPECT_NE(r.out.find("misfit J = "), std::string::npos) << r.out;
 }
 
+TEST(CalibrateCli, ATargetTheStudyCannotProduceFailsTheCheck) {
+  TempDir dir;
+  write_study(dir / "study");
+  // The study's angles span about 21 to 39°.
+  const CommandResult r = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=60", "--json"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j.at("checks").at("passed").get<bool>());
+  EXPECT_TRUE(j.at("targets").at(0).at("contradicted").get<bool>());
+  EXPECT_NE(r.err.find("check failed: angle = 60 °: the optimum predicts"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("in study cli-synthetic, angle of repose spans"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("60 ° is above it"), std::string::npos) << r.err;
+  const nlohmann::json written = nlohmann::json::parse(read_file(dir / "study" / "analysis" / "calibration.json"));
+  EXPECT_FALSE(written.at("checks").at("passed").get<bool>());
+  const CommandResult text = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=60"});
+  EXPECT_EQ(text.exit_code, 1);
+  EXPECT_NE(text.out.find("CHECK FAILED"), std::string::npos) << text.out;
+}
+
 TEST(CalibrateCli, UnknownObservableExits2) {
   TempDir dir;
   write_study(dir / "study");

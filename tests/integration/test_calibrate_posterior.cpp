@@ -88,6 +88,40 @@ TEST(CalibratePosteriorCli, ATargetWithAnUncertaintyGivesThePosteriorAndItsFiles
   EXPECT_NE(read_file(dir / "study" / "report" / "report.md").find("Posterior calibration"), std::string::npos);
 }
 
+TEST(CalibratePosteriorCli, ATargetTheStudyCannotProduceFailsTheCheckInsteadOfBeingIdentified) {
+  TempDir dir;
+  write_pile(dir / "study", k_ranges);
+  // The study's angles span about 21 to 33°: 60 ± 0.5 pins the draws on the corner of the prior box.
+  const CommandResult r = run_demsa(
+      {"calibrate", (dir / "study").string(), "--target", "angle=60±0.5", "--steps", "300", "--json", "--no-plots"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j.at("checks").at("passed").get<bool>());
+  const nlohmann::json& t = j.at("targets").at(0);
+  EXPECT_TRUE(t.at("contradicted").get<bool>());
+  EXPECT_LT(t.at("tail_probability").get<double>(), 1e-3);
+  EXPECT_LT(t.at("observed_high").get<double>(), 33.5);
+  EXPECT_EQ(j.at("parameters").at(0).at("identified").get<std::string>(), "at bound");
+  EXPECT_EQ(j.at("parameters").at(0).at("at_bound").get<std::string>(), "high");
+  EXPECT_NE(r.err.find("check failed: angle = 60 ° ± 0.5"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("in study pile-synthetic, angle of repose spans "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("60 ° is above it: the measurement contradicts the study"), std::string::npos) << r.err;
+  // The text says it too, and the report marks the posterior.
+  const CommandResult text =
+      run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=60±0.5", "--steps", "300", "--no-plots"});
+  EXPECT_EQ(text.exit_code, 1);
+  EXPECT_NE(text.out.find("CHECK FAILED"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("CONTRADICTED"), std::string::npos) << text.out;
+  ASSERT_EQ(run_demsa({"report", (dir / "study").string()}).exit_code, 0);
+  EXPECT_NE(read_file(dir / "study" / "report" / "report.md").find("Check failed: the measurements contradict"),
+            std::string::npos);
+  // A target inside the study's range passes.
+  const CommandResult fine = run_demsa(
+      {"calibrate", (dir / "study").string(), "--target", "angle=30±0.5", "--steps", "300", "--json", "--no-plots"});
+  EXPECT_EQ(fine.exit_code, 0) << fine.err;
+  EXPECT_TRUE(nlohmann::json::parse(fine.out).at("checks").at("passed").get<bool>());
+}
+
 TEST(CalibratePosteriorCli, TextOutputPrintsTheTableAndAShortChainIsReportedUnconverged) {
   TempDir dir;
   write_pile(dir / "study", k_ranges);
@@ -97,6 +131,7 @@ TEST(CalibratePosteriorCli, TextOutputPrintsTheTableAndAShortChainIsReportedUnco
   EXPECT_NE(r.out.find("identified"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("NOT CONVERGED"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("raise --steps"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("correlations with |r| >= 0.3"), std::string::npos) << r.out;
 }
 
 /// The angle on a circle's arc: a target of it leaves a thin curved ridge, which the stretch move crosses slowly.
@@ -185,6 +220,46 @@ TEST(CalibratePosteriorCli, TwoStudiesMeasuringOneNameTakeATargetEach) {
   EXPECT_NEAR(j.at("parameters").at(1).at("q50").get<double>(), 0.1 + 0.4 * 0.5, 0.03);
 }
 
+TEST(CalibratePosteriorCli, AJointCalibrationNamesTheStudyThatCannotProduceItsTarget) {
+  TempDir dir;
+  write_pile(dir / "pile", k_ranges);
+  write_oedometer(dir / "oedometer", "mu_pw = { low = 1.0, high = 2.5 }\n");
+  const CommandResult r =
+      run_demsa({"calibrate", (dir / "pile").string(), (dir / "oedometer").string(), "--target", "angle=60±0.5",
+                 "--target", "settlement=1.3e-3,2.6e-3,3.9e-3±0.05e-3", "--steps", "300", "--json", "--no-plots"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j.at("checks").at("passed").get<bool>());
+  EXPECT_TRUE(j.at("targets").at(0).at("contradicted").get<bool>());
+  EXPECT_NE(r.err.find("in study pile-synthetic, angle of repose spans"), std::string::npos) << r.err;
+}
+
+TEST(CalibratePosteriorCli, TheSameStudyTwiceIsRefusedNamingBothArguments) {
+  TempDir dir;
+  write_pile(dir / "study", k_ranges);
+  const std::string same = (dir / "study").string();
+  const std::string other_spelling = (dir / "study" / ".." / "study" / "").string();
+  const CommandResult r = run_demsa({"calibrate", same, other_spelling, "--target", "angle=30±0.5"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("study folders '" + same + "' and '" + other_spelling + "' are the same study"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(CalibratePosteriorCli, SamplerSizesThatOverflowOrExceedMemoryNameTheOption) {
+  TempDir dir;
+  write_pile(dir / "study", k_ranges);
+  const CommandResult burn = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=30±0.5", "--burn-in",
+                                        "2147483548", "--steps", "100", "--no-plots"});
+  EXPECT_EQ(burn.exit_code, 2) << burn.out;
+  EXPECT_NE(burn.err.find("demsa: error: --burn-in 2147483548: 32 walkers"), std::string::npos) << burn.err;
+  const CommandResult steps = run_demsa(
+      {"calibrate", (dir / "study").string(), "--target", "angle=30±0.5", "--steps", "100000000", "--no-plots"});
+  EXPECT_EQ(steps.exit_code, 2) << steps.out;
+  EXPECT_NE(steps.err.find("demsa: error: --steps 100000000:"), std::string::npos) << steps.err;
+  EXPECT_NE(steps.err.find("the sampler keeps in memory"), std::string::npos) << steps.err;
+}
+
 TEST(CalibratePosteriorCli, DisjointRangesNameTheParameterAndBothStudies) {
   TempDir dir;
   write_pile(dir / "pile", k_ranges);
@@ -204,7 +279,9 @@ TEST(CalibratePosteriorCli, BadTargetsNameTheOptionAndTheValue) {
   const std::vector<std::pair<std::string, std::string>> cases{
       {"angle=30±x", "--target 'angle=30±x': 'x' is not a number"},
       {"angle=30±", "--target 'angle=30±': no uncertainty after '±'"},
-      {"angle=30±-1", "--target 'angle=30±-1': uncertainty -1 must be >= 0"},
+      {"angle=30±-1", "--target 'angle=30±-1': uncertainty -1 must be > 0"},
+      {"angle=30±0", "--target 'angle=30±0': uncertainty 0 must be > 0 (the measurement's standard deviation"},
+      {"angle=30+-0.0", "--target 'angle=30+-0.0': uncertainty 0 must be > 0"},
       {"settlement=1,2,3±1,2", "--target 'settlement=1,2,3±1,2': 2 uncertainties for 3 values"},
       {"slope=3±1", "--target slope: no study has this observable"}};
   for (const auto& [target, message] : cases) {
@@ -240,6 +317,11 @@ TEST(CalibratePosteriorCli, AMeasuredCurveFromACsvFile) {
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("bad.csv: needs a column 'sd', or the columns 'low', 'high' and 'tests'"), std::string::npos)
       << bad.err;
+  write_file(dir / "exact.csv", "mean,sd\n1.3e-3,0\n");
+  const CommandResult exact = run_demsa(
+      {"calibrate", (dir / "oedometer").string(), "--target-file", "settlement=" + (dir / "exact.csv").string()});
+  EXPECT_EQ(exact.exit_code, 2);
+  EXPECT_NE(exact.err.find("exact.csv:2: column 'sd': 0 must be > 0"), std::string::npos) << exact.err;
 }
 
 TEST(CalibratePosteriorCli, JointFakeRunsVerifyTheMapAndDrawsAndResume) {

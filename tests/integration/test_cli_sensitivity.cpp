@@ -111,6 +111,36 @@ TEST(CliSensitivity, MetamodelsOnUserData) {
   EXPECT_EQ(j["bounds"][0]["high"], 10.0);
 }
 
+TEST(CliSensitivity, BoundsFarWiderThanTheDataAreRefusedUnlessExtrapolationIsAllowed) {
+  TempDir dir;
+  write_file(dir / "data.csv", data_csv(60));  // a in [0, 9.9]
+  const std::vector<std::string> common{"sensitivity",
+                                        "--data",
+                                        (dir / "data.csv").string(),
+                                        "--inputs",
+                                        "a,b,c",
+                                        "--response",
+                                        "y",
+                                        "--bounds",
+                                        "a=0:100",
+                                        "--metamodels",
+                                        "rsm2"};
+  const CommandResult refused = run_demsa(common);
+  EXPECT_EQ(refused.exit_code, 2) << refused.out;
+  EXPECT_NE(refused.err.find("--bounds a=0:100: the data cover a in [0, 9."), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("% of the bounds (less than 50 %)"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("give --allow-extrapolation"), std::string::npos) << refused.err;
+  std::vector<std::string> allowed = common;
+  for (const char* a : {"--allow-extrapolation", "--json", "-"}) allowed.emplace_back(a);
+  const CommandResult r = run_demsa(allowed);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("demsa: warning: --bounds a=0:100: the data cover a"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_LT(j["bounds"][0]["coverage"].get<double>(), 0.1);
+  EXPECT_TRUE(j["bounds"][0]["extrapolated"].get<bool>());
+  EXPECT_FALSE(j["bounds"][1]["extrapolated"].get<bool>());
+}
+
 struct BadCase {
   std::string name;
   std::string data;                ///< content of data.csv
@@ -399,6 +429,69 @@ TEST(CliSensitivityErrors, ConstantOutputIsAnErrorOnBothPaths) {
       run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "y.csv").string()});
   EXPECT_EQ(s.exit_code, 2) << s.out;
   EXPECT_NE(s.err.find("column 'y': the output is constant"), std::string::npos) << s.err;
+}
+
+TEST(CliSensitivity, OutputsWhoseVarianceOverflowsAreScaledOrRefusedWithTheCause) {
+  TempDir dir;
+  // --data: y near 1e200 (finite; its squares are not): refused naming the magnitude and the remedy, no NaN printed.
+  std::string data = "a,b,c,y\n";
+  for (int i = 0; i < 30; ++i) {
+    const double a = std::fmod(0.618034 * i, 1.0), b = std::fmod(0.7548777 * i + 0.1, 1.0);
+    data += fmt::format("{},{},{},{:.17g}\n", a, b, std::fmod(0.5698403 * i + 0.3, 1.0), 1e200 * (1.0 + a + 0.5 * b));
+  }
+  write_file(dir / "big.csv", data);
+  for (const char* model : {"rsm2", "rbf-cubic", "gp"}) {
+    const CommandResult r = run_demsa({"sensitivity", "--data", (dir / "big.csv").string(), "--inputs", "a,b,c",
+                                       "--response", "y", "--metamodels", model});
+    EXPECT_EQ(r.exit_code, 2) << model << r.out;
+    EXPECT_NE(r.err.find("output 'y': values reach"), std::string::npos) << model << r.err;
+    EXPECT_NE(r.err.find("would overflow double precision"), std::string::npos) << model << r.err;
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << model << r.out;
+  }
+  // --saltelli: y = 1e308 x1 gives the indices of y = x1 (S1 of x1 = 1).
+  ishigami_files(dir, {"-N", "256"});
+  const CsvTable design = read_csv(dir / "design.csv");
+  const int first = design.column_index("x1");
+  std::ostringstream y;
+  y.precision(17);
+  y << "y\n";
+  for (int i = 0; i < design.rows(); ++i) y << 1e308 * (design.values(i, first) / 3.14159265358979323846) << "\n";
+  write_file(dir / "y.csv", y.str());
+  const CommandResult s = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                     (dir / "y.csv").string(), "--json", "-"});
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_EQ(s.out.find("nan"), std::string::npos) << s.out;
+  const nlohmann::json j = nlohmann::json::parse(s.out);
+  EXPECT_NEAR(j["outputs"][0]["S1"]["x1"]["value"].get<double>(), 1.0, 0.05) << s.out;
+  EXPECT_NEAR(j["outputs"][0]["ST"]["x2"]["value"].get<double>(), 0.0, 0.05) << s.out;
+}
+
+TEST(CliSensitivity, IndicesWhollyOutsideTheUnitIntervalPointAtMismatchedRows) {
+  TempDir dir;
+  ishigami_files(dir, {"-N", "256"});
+  // The responses sorted: no longer in the design's row order.
+  std::istringstream in(read_file(dir / "y.csv"));
+  std::string line;
+  std::getline(in, line);
+  std::vector<double> values;
+  while (std::getline(in, line)) values.push_back(std::stod(line));
+  std::sort(values.begin(), values.end());
+  std::ostringstream y;
+  y.precision(17);
+  y << "y\n";
+  for (const double v : values) y << v << "\n";
+  write_file(dir / "sorted.csv", y.str());
+  const CommandResult r = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                     (dir / "sorted.csv").string(), "--json", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("lie wholly outside [0, 1]: the responses may not match the design's rows"), std::string::npos)
+      << r.err;
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["outputs"][0].contains("warning")) << r.out;
+  // In the design's order, no such warning.
+  const CommandResult fine =
+      run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "y.csv").string()});
+  ASSERT_EQ(fine.exit_code, 0) << fine.err;
+  EXPECT_EQ(fine.err.find("wholly outside"), std::string::npos) << fine.err;
 }
 
 TEST(CliSensitivity, SigintStopsTheBootstrapAndWritesNoJson) {

@@ -272,6 +272,34 @@ TEST(MetamodelErrors, TooFewSamplesSaysHowManyAreNeeded) {
   }
 }
 
+TEST(MetamodelErrors, EveryMetamodelHasAFloorOfSamplesThatItNames) {
+  // 6 samples in 7 inputs: a GP used to fit them and rank the inputs by length scales no data determined.
+  const Eigen::MatrixXd x = latin_hypercube(6, 7, 1);
+  const std::vector<std::pair<std::string, std::string>> floors{{"rsm1", "rsm1 needs at least 8 samples for 7 inputs"},
+                                                                {"rbf-cubic", "needs at least 9 samples for 7 inputs"},
+                                                                {"gp", "gp needs at least 10 samples for 7 inputs"}};
+  for (const auto& [name, message] : floors) {
+    auto m = make_metamodel(name);
+    try {
+      m->fit(x, test::ishigami(x));
+      ADD_FAILURE() << name;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  GpOptions linear;
+  linear.trend = GpTrend::linear;
+  GaussianProcess gp(linear);
+  const Eigen::MatrixXd x16 = latin_hypercube(16, 7, 1);
+  try {
+    gp.fit(x16, test::ishigami(x16));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gp needs at least 17 samples for 7 inputs (got 16)"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(MetamodelErrors, ConstantColumnNamesTheColumn) {
   Eigen::MatrixXd x = latin_hypercube(20, 3, 1);
   x.col(1).setConstant(0.25);

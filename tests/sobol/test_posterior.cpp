@@ -171,5 +171,30 @@ TEST(Posterior, BadOptionsAndTargetsNameTheValue) {
   EXPECT_THROW(o.validate(2), InputError);
 }
 
+TEST(Posterior, SizesThatOverflowOrExceedMemoryAreRefusedBeforeRunning) {
+  const auto message = [](const EnsembleOptions& o, int d) {
+    try {
+      o.validate(d);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EnsembleOptions o;
+  o.burn_in = 2147483548;  // burn_in + steps overflows an int
+  o.steps = 100;
+  EXPECT_NE(message(o, 2).find("burn-in 2147483548: 32 walkers × (2147483548 burn-in + 100 steps"), std::string::npos)
+      << message(o, 2);
+  o = {};
+  o.burn_in = 0;
+  o.steps = 100000000;  // 32 walkers × 1e8 steps × 3 values
+  EXPECT_NE(message(o, 2).find("steps 100000000:"), std::string::npos) << message(o, 2);
+  o.steps = 1000000;  // 9.6e7 values: in memory
+  EXPECT_EQ(message(o, 2), "");
+  o.steps = 1600000;  // 1.5e8 values
+  EXPECT_NE(message(o, 2).find("the sampler keeps in memory: at most 1562500 steps"), std::string::npos)
+      << message(o, 2);
+}
+
 }  // namespace
 }  // namespace demsa::sobol

@@ -171,6 +171,27 @@ TEST(ModelFile, BadFilesNameTheFileAndTheField) {
   }
 }
 
+TEST(ModelFile, NamesAreUniqueAndFromASafeCharacterSet) {
+  EXPECT_EQ(error_of([](json& j) { j["inputs"][2]["name"] = "E"; }),
+            "model.json: field 'inputs[2].name': 'E' is also inputs[0]: names must be unique");
+  EXPECT_EQ(error_of([](json& j) {
+              j["output"] = "mu_pp";
+            }).rfind("model.json: field 'output': 'mu_pp' is also the name of inputs[1]", 0),
+            0u);
+  EXPECT_EQ(error_of([](json& j) { j["output"] = "e_r_sd"; }).rfind("model.json: field 'output'", 0),
+            std::string::npos);
+  for (const std::string bad : {"=cmd|' /C calc'!A0", "a,b", "two\nlines", "+1", "-x", "@sum", "", "x y"}) {
+    const std::string e = error_of([&](json& j) { j["inputs"][0]["name"] = bad; });
+    EXPECT_EQ(e.rfind("model.json: field 'inputs[0].name': ", 0), 0u) << bad << ": " << e;
+    const std::string o = error_of([&](json& j) { j["output"] = bad; });
+    EXPECT_EQ(o.rfind("model.json: field 'output': ", 0), 0u) << bad << ": " << o;
+  }
+  EXPECT_NE(error_of([](json& j) { j["output"] = "two\nlines"; }).find("'two\\x0alines' is not a name"),
+            std::string::npos);
+  EXPECT_EQ(bad_name_reason("settlement_1"), "");
+  EXPECT_EQ(bad_name_reason("x.1-b"), "");
+}
+
 TEST(ModelFile, TooManyTrainingRowsAreRefusedBeforeAnyFit) {
   json j = json::parse(model_to_json(fitted("rsm1", 30)));
   json& outputs = j["training"]["outputs"];
