@@ -65,7 +65,8 @@ struct LinePlot {
   struct Series {
     std::string name;  ///< legend entry ("" keeps it out of the legend)
     std::vector<double> x, y;
-    std::string colour;  ///< "#rrggbb"; "" picks one
+    std::string colour;   ///< "#rrggbb"; "" picks one
+    bool points = false;  ///< a cloud of points instead of a line
   };
   std::string title;
   std::string x_label;

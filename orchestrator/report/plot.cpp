@@ -513,8 +513,9 @@ PlotFiles plot_lines(const Plotter& plotter, const LinePlot& p, const fs::path& 
   for (size_t k = 0; k < p.series.size(); ++k) {
     const LinePlot::Series& s = p.series[k];
     const std::string colour = s.colour.empty() ? colours[k % std::size(colours)] : s.colour;
-    plots += fmt::format("{}$series{} using 1:2 with lines lw 1.5 lc rgb '{}' {}", plots.empty() ? "" : ", \\\n       ",
-                         k, colour, s.name.empty() ? "notitle" : "title " + gnuplot_quote(s.name));
+    plots += fmt::format("{}$series{} using 1:2 with {} lc rgb '{}' {}", plots.empty() ? "" : ", \\\n       ", k,
+                         s.points ? "points pt 7 ps 0.5" : "lines lw 1.5", colour,
+                         s.name.empty() ? "notitle" : "title " + gnuplot_quote(s.name));
   }
   if (!p.y_reference_label.empty())
     plots += fmt::format("{}{} with lines dt 2 lw 1.5 lc rgb 'black' title {}", plots.empty() ? "" : ", \\\n       ",

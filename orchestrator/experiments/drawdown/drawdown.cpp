@@ -9,7 +9,10 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 // The draw-down's descriptor: its measurement (postprocess/drawdown.hpp), observables, report and ParaView walls. Its
@@ -141,18 +144,34 @@ CaseReport case_report(const fs::path& folder, const std::string& relative, int 
   profile.title = fmt::format("sample {}: the surface left in the box", sample);
   profile.x_label = "x across the slot [mm]";
   profile.y_label = "surface height [mm]";
-  LinePlot::Series points{"surface points (every slice)", {}, {}, "#1f77b4"};
+  LinePlot::Series points{"surface points (every slice)", {}, {}, "#1f77b4", true};
   for (std::size_t i = 0; i < slope.profile_x.size(); ++i) {
     points.x.push_back(slope.profile_x[i] * 1e3);
     points.y.push_back(slope.profile_z[i] * 1e3);
   }
-  // Sorted along x, so that the line joins neighbours.
-  std::vector<std::size_t> order(points.x.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return points.x[a] < points.x[b]; });
-  LinePlot::Series sorted{points.name, {}, {}, points.colour};
-  for (const std::size_t i : order) sorted.x.push_back(points.x[i]), sorted.y.push_back(points.y[i]);
-  profile.series.push_back(std::move(sorted));
+  profile.series.push_back(points);
+  // Each side's measured angle drawn through the median of the points it fits (a check by eye of the fit).
+  const double inner = g.slope.slot_width / 2 + g.slope.edge_skip, outer = g.slope.width / 2 - g.slope.wall_skip;
+  for (const int side : {-1, 1}) {
+    std::vector<double> xs, zs;
+    for (std::size_t i = 0; i < slope.profile_x.size(); ++i) {
+      const double along = side * slope.profile_x[i];
+      if (along >= inner && along <= outer) xs.push_back(slope.profile_x[i]), zs.push_back(slope.profile_z[i]);
+    }
+    if (xs.empty()) continue;
+    const auto median = [](std::vector<double> v) {
+      std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+      return v[v.size() / 2];
+    };
+    const double x0 = median(xs), z0 = median(zs);
+    const double tangent = std::tan((side < 0 ? slope.angle_left : slope.angle_right) * std::numbers::pi / 180.0);
+    LinePlot::Series line{side < 0 ? "measured angle, left" : "measured angle, right", {}, {}, "#d62728"};
+    for (const double x : {side * inner, side * outer}) {
+      line.x.push_back(x * 1e3);
+      line.y.push_back((z0 + side * (x - x0) * tangent) * 1e3);
+    }
+    profile.series.push_back(std::move(line));
+  }
   report.figures.push_back({fmt::format("The surface of the material left in the box of sample {}: the highest "
                                         "particle top per bin of every slice across the slope",
                                         sample),
