@@ -33,6 +33,7 @@ void CompareOptions::validate() const {
   check("radius_tolerance", radius_tolerance);
   check("angle_tolerance", angle_tolerance);
   if (pile) pile_options.validate();
+  if (pile && pile_options_b) pile_options_b->validate();
 }
 
 DumpComparison compare_particles(const Particles& a, const Particles& b, const CompareOptions& options,
@@ -95,15 +96,15 @@ DumpComparison compare_particles(const Particles& a, const Particles& b, const C
 
   if (options.pile) {
     // The pile measure knows particles, not files: say which of the two it failed on.
-    auto measure = [&options](const Particles& p, const std::string& name) {
+    auto measure = [](const Particles& p, const PileAngleOptions& pile_options, const std::string& name) {
       try {
-        return measure_pile_angle(p, options.pile_options);
+        return measure_pile_angle(p, pile_options);
       } catch (const InputError& e) {
         throw InputError(fmt::format("{}: {}", name, e.what()));
       }
     };
-    const PileAngleResult pa = measure(a, name_a);
-    const PileAngleResult pb = measure(b, name_b);
+    const PileAngleResult pa = measure(a, options.pile_options, name_a);
+    const PileAngleResult pb = measure(b, options.pile_options_b.value_or(options.pile_options), name_b);
     PileDifference d;
     d.angle_a = pa.angle_mean;
     d.angle_b = pb.angle_mean;

@@ -16,8 +16,10 @@ struct CompareOptions {
   double radius_tolerance = 1e-9;    ///< |r_A − r_B| above this is a radius mismatch [m]; ≥ 0
   double angle_tolerance = 0.5;      ///< largest accepted |Δφ| for piles [deg]; ≥ 0
   bool pile = false;                 ///< also measure and compare the angle of repose and h_P of both
-  PileAngleOptions pile_options;     ///< how the pile angles are measured
-  std::size_t max_listed = 20;       ///< at most this many ids in each list of the result
+  PileAngleOptions pile_options;     ///< how the pile angles are measured (of A, and of B without pile_options_b)
+  /// How B's pile is measured when it stood on another pedestal (each case folder's own, from its case.json)
+  std::optional<PileAngleOptions> pile_options_b;
+  std::size_t max_listed = 20;  ///< at most this many ids in each list of the result
 
   /// Throws std::invalid_argument naming the field, its value and the rule.
   void validate() const;

@@ -2,6 +2,9 @@
 // for piles also the angle of repose and h_P. Exit 0 within tolerance, 1 beyond it (errors: cli.hpp).
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
+#include "orchestrator/experiments/case_record.hpp"
+#include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "postprocess/dump.hpp"
 #include "postprocess/dump_compare.hpp"
@@ -29,11 +32,32 @@ struct CompareArgs {
   std::string a, b;
   pp::CompareOptions options;
   bool json = false;
+  const CLI::Option* pedestal_radius = nullptr;  ///< given on the command line: overrides the cases' pedestals
+  const CLI::Option* pedestal_top = nullptr;
 };
+
+/// The pile options of the dump `dump`: its case's own pedestal and measurement when a case.json of a pile case lies
+/// beside it (as `demsa postprocess pile CASE` measures it), else the command line's; a pedestal given on the command
+/// line wins.
+pp::PileAngleOptions pile_options_of(const CompareArgs& args, const fs::path& dump) {
+  pp::PileAngleOptions options = args.options.pile_options;
+  const fs::path folder = dump.parent_path().empty() ? fs::path(".") : dump.parent_path();
+  std::error_code ec;
+  if (!fs::exists(folder / study::k_case_json, ec)) return options;
+  const nlohmann::json doc = experiments::read_case_json(folder);
+  const std::optional<std::string> name = experiments::case_string(doc, folder / study::k_case_json, "experiment");
+  if (name && *name != experiments::pile::experiment().name) return options;
+  pp::PileAngleOptions recorded = experiments::pile::case_angle_options(doc, folder / study::k_case_json);
+  if (args.pedestal_radius != nullptr && args.pedestal_radius->count() > 0)
+    recorded.pedestal_radius = options.pedestal_radius;
+  if (args.pedestal_top != nullptr && args.pedestal_top->count() > 0) recorded.pedestal_top = options.pedestal_top;
+  return recorded;
+}
 
 struct ComparedPair {
   fs::path a, b;
   pp::DumpComparison result;
+  pp::PileAngleOptions pile_a, pile_b;  ///< the pedestals the piles were measured on
 };
 
 nlohmann::json to_json(const ComparedPair& c) {
@@ -65,7 +89,9 @@ nlohmann::json to_json(const ComparedPair& c) {
                  {"angle_difference_deg", r.pile->angle_difference},
                  {"height_a_m", r.pile->height_a},
                  {"height_b_m", r.pile->height_b},
-                 {"height_difference_m", r.pile->height_difference}};
+                 {"height_difference_m", r.pile->height_difference},
+                 {"pedestal_a", {{"radius_m", c.pile_a.pedestal_radius}, {"top_m", c.pile_a.pedestal_top}}},
+                 {"pedestal_b", {{"radius_m", c.pile_b.pedestal_radius}, {"top_m", c.pile_b.pedestal_top}}}};
   else
     j["pile"] = nullptr;
   return j;
@@ -96,6 +122,8 @@ void print_text(const ComparedPair& c) {
                r.pile->angle_b, r.pile->angle_difference);
     fmt::print("  pile height h_P      {:.6g} m vs {:.6g} m (difference {:+.6g})\n", r.pile->height_a, r.pile->height_b,
                r.pile->height_difference);
+    fmt::print("  pedestals            radius {:g} m, top {:g} m vs radius {:g} m, top {:g} m\n",
+               c.pile_a.pedestal_radius, c.pile_a.pedestal_top, c.pile_b.pedestal_radius, c.pile_b.pedestal_top);
   }
   if (r.within_tolerance())
     fmt::print("  within tolerance\n");
@@ -129,6 +157,11 @@ int run_compare(const CompareArgs& args) {
   for (const auto& [pa, pb] : pairs) {
     pp::CompareOptions options = args.options;
     if (pa.filename() == "pile_final.dump") options.pile = true;
+    if (options.pile) {
+      // Each pile on its own case's pedestal: two cases of different studies stand on different ones.
+      options.pile_options = pile_options_of(args, pa);
+      options.pile_options_b = pile_options_of(args, pb);
+    }
     validate_command_line(options, {{"position_tolerance", "--tol-pos"},
                                     {"radius_tolerance", "--tol-radius"},
                                     {"angle_tolerance", "--tol-angle"},
@@ -136,7 +169,8 @@ int run_compare(const CompareArgs& args) {
                                     {"pedestal_top", "--pedestal-top"}});
     const pp::Particles particles_a = pp::read_particles(pa);
     const pp::Particles particles_b = pp::read_particles(pb);
-    compared.push_back({pa, pb, pp::compare_particles(particles_a, particles_b, options, pa.string(), pb.string())});
+    compared.push_back({pa, pb, pp::compare_particles(particles_a, particles_b, options, pa.string(), pb.string()),
+                        options.pile_options, options.pile_options_b.value_or(options.pile_options)});
   }
   bool within = true;
   for (const ComparedPair& c : compared) within = within && c.result.within_tolerance();
@@ -173,11 +207,14 @@ void register_compare_command(CLI::App& app, CliState& state) {
       ->capture_default_str();
   sub->add_flag("--pile", args->options.pile,
                 "Also compare the angle of repose and h_P (automatic for pile_final.dump)");
-  sub->add_option("--pedestal-radius", args->options.pile_options.pedestal_radius, "Pedestal radius for piles [m]")
-      ->check(positive_number())
-      ->capture_default_str();
-  sub->add_option("--pedestal-top", args->options.pile_options.pedestal_top, "z of the pedestal top for piles [m]")
-      ->capture_default_str();
+  args->pedestal_radius =
+      sub->add_option("--pedestal-radius", args->options.pile_options.pedestal_radius,
+                      "Pedestal radius for piles [m] (default: each case's own, from its case.json)")
+          ->check(positive_number())
+          ->capture_default_str();
+  args->pedestal_top = sub->add_option("--pedestal-top", args->options.pile_options.pedestal_top,
+                                       "z of the pedestal top for piles [m] (default: each case's own)")
+                           ->capture_default_str();
   sub->add_flag("--json", args->json, "Print the comparison as JSON");
   sub->callback([args, &state] { state.exit_code = run_compare(*args); });
 }

@@ -477,6 +477,15 @@ void run_data(const SensitivityArgs& args) {
 
   sobol::MetamodelSobolOptions options;
   options.base = args.base;
+  if (!std::has_single_bit(static_cast<unsigned>(args.base))) {
+    // As `analyze --base` and `design saltelli --base`: the QMC design on the metamodel is a scrambled Sobol'
+    // sequence, balanced only at powers of two (Owen 1997; docs/benchmarks.md).
+    options.base = static_cast<int>(std::bit_ceil(static_cast<unsigned>(args.base)));
+    log::warn(
+        "--base {} is not a power of two: rounded up to {} (a scrambled Sobol' sequence is balanced only at "
+        "powers of two; Saltelli 2010 takes N = 2^k)",
+        args.base, options.base);
+  }
   options.second_order = args.second_order;
   options.bootstrap = args.bootstrap == k_mode_default ? 100 : args.bootstrap;
   options.confidence = args.confidence;

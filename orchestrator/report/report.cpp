@@ -86,11 +86,18 @@ std::string short_number(double v) {
 }  // namespace
 
 std::string format_interval(double value, double low, double high) {
-  std::string text = short_number(value);
+  // One format for every cell of an index column: three decimals (an index of 3.7e-5 is 0.000 at the precision its
+  // interval has), no "-0.000" for round-off of a zero.
+  const auto fixed = [](double v) {
+    if (!std::isfinite(v)) return std::string("n/a");
+    return fmt::format("{:.3f}", std::abs(v) < 5e-4 ? 0.0 : v);
+  };
+  std::string text = fixed(value);
   // An interval that rounds onto the value (exact indices) is left out.
-  const bool has =
-      std::isfinite(low) && std::isfinite(high) && !(short_number(low) == text && short_number(high) == text);
-  if (has) text += fmt::format(" [{}, {}]", short_number(low), short_number(high));
+  const bool has = std::isfinite(low) && std::isfinite(high) && !(fixed(low) == text && fixed(high) == text);
+  // An index lies in [0, 1]: a lower bound below 0 (estimator noise) is shown clipped at 0 and marked; the raw bound
+  // stays in analysis.json.
+  if (has) text += fmt::format(" [{}, {}]", low <= -5e-4 ? std::string(k_clipped_low) : fixed(low), fixed(high));
   return text;
 }
 
@@ -461,6 +468,16 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
       row1.push_back(fmt::format("{:.3f} [{:.3f}, {:.3f}]{}", noise->share, noise->share_lower, noise->share_upper,
                                  noise->dominates ? " (dominates)" : ""));
     first.rows.push_back(row1);
+    bool clipped = false;
+    for (size_t k = 0; k < names.size(); ++k)
+      clipped = clipped || m.indices.first.at(k).lower <= -5e-4 || m.indices.total.at(k).lower <= -5e-4;
+    for (const sobol::SecondOrderIndex& e : m.indices.second) clipped = clipped || e.s.lower <= -5e-4;
+    clipped = clipped || m.indices.residual.lower <= -5e-4;
+    if (clipped)
+      section.paragraphs.push_back(
+          fmt::format("{}: {} marks an interval whose lower bound is below 0, shown clipped "
+                      "at 0 (an index lies in [0, 1]; the raw bound is in analysis.json).",
+                      model_title(m.model), k_clipped_low));
     if (!m.indices.note.empty())
       section.paragraphs.push_back(fmt::format("{}: {}.", model_title(m.model), m.indices.note));
     total.rows.push_back(rowt);

@@ -57,7 +57,11 @@ std::string render_html(const ReportDocument& document);
 /// RFC 4648 base64 of `bytes` (with padding).
 std::string base64_encode(const std::string& bytes);
 
-/// "0.530 [0.512, 0.551]"; the interval is left out when it is NaN or collapsed onto the value.
+/// A lower bound below 0, shown clipped at 0.
+inline constexpr const char* k_clipped_low = "0.000*";
+
+/// "0.530 [0.512, 0.551]", three decimals throughout; the interval is left out when it is NaN or collapsed onto the
+/// value; a lower bound below 0 is shown as k_clipped_low.
 std::string format_interval(double value, double low, double high);
 
 struct ReportOptions {

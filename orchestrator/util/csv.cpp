@@ -368,7 +368,10 @@ namespace {
 
 std::string header_line(const std::vector<std::string>& header) {
   std::string out;
-  for (std::size_t k = 0; k < header.size(); ++k) out += (k ? "," : "") + header[k];
+  for (std::size_t k = 0; k < header.size(); ++k) {
+    if (k) out += ',';
+    out += csv_header_cell(header[k]);
+  }
   out += '\n';
   return out;
 }
@@ -480,6 +483,24 @@ char* format_shortest(char* out, double value) {
   *out++ = '.';
   out = std::fill_n(out, -point, '0');
   return std::copy(first, digits_end, out);
+}
+
+std::string csv_header_cell(const std::string& name) {
+  // A name that a spreadsheet would run as a formula (= + - @ first, or a tab or carriage return: OWASP, "CSV
+  // Injection") is prefixed with a quote character; one with a comma, a double quote or a line break is quoted as
+  // RFC 4180 §2 (6, 7) says, inner quotes doubled.
+  const bool formula = !name.empty() && std::string_view("=+-@\t\r").find(name.front()) != std::string_view::npos;
+  const bool quote = name.find_first_of(",\"\r\n") != std::string::npos;
+  std::string cell;
+  cell.reserve(name.size() + 4);
+  if (quote) cell.push_back('"');
+  if (formula) cell.push_back('\'');
+  for (const char c : name) {
+    cell.push_back(c);
+    if (c == '"') cell.push_back('"');
+  }
+  if (quote) cell.push_back('"');
+  return cell;
 }
 
 std::string format_csv(const std::vector<std::string>& header, const Eigen::MatrixXd& values) {

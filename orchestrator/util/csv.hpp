@@ -87,6 +87,9 @@ char* format_shortest(char* out, double value);
 /// CSV text: header row, then the rows of `values` (each the shortest text that reads back to the same double).
 /// values.cols() == header.size() (asserted).
 std::string format_csv(const std::vector<std::string>& header, const Eigen::MatrixXd& values);
+/// One header cell as the writers put it: a name beginning with = + - @ (a spreadsheet formula) prefixed with ',
+/// and quoted per RFC 4180 when it holds a comma, a double quote or a line break. Plain names are unchanged.
+std::string csv_header_cell(const std::string& name);
 /// Writes format_csv(...) to `file` durably (util::write_file_atomically); throws IoError on I/O failure.
 void write_csv(const std::filesystem::path& file, const std::vector<std::string>& header,
                const Eigen::MatrixXd& values);

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 
 namespace demsa::test {
@@ -66,6 +67,30 @@ TEST(CliPostprocessPileCase, MeasuresWithTheCasesOwnPedestal) {
   ASSERT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find("radius 0.03 m, top at z = 0.012 m"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("estimator              robust"), std::string::npos) << text.out;
+}
+
+TEST(CliCompare, EachPileIsMeasuredOnItsOwnCasesPedestal) {
+  TempDir tmp;
+  const postprocess::Particles cone = small_pedestal_cone();
+  write_small_pedestal_case(tmp, cone);
+  std::filesystem::copy(tmp / "case", tmp / "same", std::filesystem::copy_options::recursive);
+  const CommandResult r = run_demsa({"compare", (tmp / "case").string(), (tmp / "same").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const nlohmann::json pile = nlohmann::json::parse(r.out)["comparisons"][0]["pile"];
+  for (const char* side : {"pedestal_a", "pedestal_b"}) {
+    ASSERT_TRUE(pile.contains(side)) << pile.dump();
+    EXPECT_DOUBLE_EQ(pile.at(side).at("radius_m").get<double>(), 0.03) << pile.dump();
+    EXPECT_DOUBLE_EQ(pile.at(side).at("top_m").get<double>(), 0.012) << pile.dump();
+  }
+  EXPECT_NEAR(pile["angle_a_deg"].get<double>(), 30.0, 1.0);
+  EXPECT_NEAR(pile["height_a_m"].get<double>(), height_above(cone, 0.012), 1e-9);
+  // A pedestal given on the command line wins over the cases'.
+  const CommandResult given =
+      run_demsa({"compare", (tmp / "case").string(), (tmp / "same").string(), "--json", "--pedestal-top", "0.011"});
+  ASSERT_EQ(given.exit_code, 0) << given.err;
+  EXPECT_DOUBLE_EQ(
+      nlohmann::json::parse(given.out).at("comparisons").at(0).at("pile").at("pedestal_b").at("top_m").get<double>(),
+      0.011);
 }
 
 TEST(CliPostprocessPileCase, OptionsOverrideTheCase) {

@@ -141,6 +141,17 @@ TEST(CliSensitivity, BoundsFarWiderThanTheDataAreRefusedUnlessExtrapolationIsAll
   EXPECT_FALSE(j["bounds"][1]["extrapolated"].get<bool>());
 }
 
+TEST(CliSensitivity, DataBaseThatIsNotAPowerOfTwoIsRoundedUpAndSaysSo) {
+  TempDir dir;
+  write_file(dir / "data.csv", data_csv(60));
+  const CommandResult r =
+      run_demsa({"sensitivity", "--data", (dir / "data.csv").string(), "--inputs", "a,b,c", "--response", "y",
+                 "--metamodels", "rbf-cubic", "--bootstrap", "0", "--base", "1000", "--json", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("--base 1000 is not a power of two: rounded up to 1024"), std::string::npos) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["outputs"][0]["metamodels"][0]["sobol"]["base"].get<int>(), 1024) << r.out;
+}
+
 struct BadCase {
   std::string name;
   std::string data;                ///< content of data.csv

@@ -53,12 +53,15 @@ TEST(Report, Base64KnownVectors) {  // RFC 4648 §10
 }
 
 TEST(Report, IntervalFormatting) {
-  EXPECT_EQ(format_interval(0.5302, 0.512, 0.551), "0.53 [0.512, 0.551]");
-  EXPECT_EQ(format_interval(3.7e-5, 3.7e-5, 3.7e-5), "3.70e-05");  // collapsed interval (exact RSM indices)
-  EXPECT_EQ(format_interval(0.0213, 0.02130001, 0.0213), "0.0213");
-  EXPECT_EQ(format_interval(1e-31, 2e-33, 3e-30), "0");  // round-off of a zero
-  EXPECT_EQ(format_interval(0.25, std::nan(""), std::nan("")), "0.25");
-  EXPECT_EQ(format_interval(std::nan(""), 0, 1), "n/a [0, 1]");
+  // One number format per column: three decimals for the value and both bounds.
+  EXPECT_EQ(format_interval(0.5302, 0.512, 0.551), "0.530 [0.512, 0.551]");
+  EXPECT_EQ(format_interval(3.7e-5, 3.7e-5, 3.7e-5), "0.000");  // collapsed interval (exact RSM indices)
+  EXPECT_EQ(format_interval(0.0213, 0.02130001, 0.0213), "0.021");
+  EXPECT_EQ(format_interval(1e-31, -2e-33, 3e-30), "0.000");  // round-off of a zero, no "-0.000"
+  EXPECT_EQ(format_interval(0.25, std::nan(""), std::nan("")), "0.250");
+  EXPECT_EQ(format_interval(std::nan(""), 0, 1), "n/a [0.000, 1.000]");
+  // A lower bound below 0 is clipped at 0 and marked.
+  EXPECT_EQ(format_interval(0.012, -0.031, 0.054), "0.012 [0.000*, 0.054]");
 }
 
 TEST(Report, MarkdownAndHtmlOfADocument) {

@@ -212,5 +212,18 @@ TEST(AtomicFileWriter, AnExceptionBeforeCommitLeavesTheOldFileAndNoTemporary) {
   EXPECT_EQ(test::read_file(dir / "d.csv"), "new");
 }
 
+TEST(Csv, HeaderCellsAreNeverFormulasAndAreQuotedPerRfc4180) {
+  EXPECT_EQ(csv_header_cell("settlement_1"), "settlement_1");
+  EXPECT_EQ(csv_header_cell("=cmd|' /C calc'!A0"), "'=cmd|' /C calc'!A0");
+  EXPECT_EQ(csv_header_cell("+1"), "'+1");
+  EXPECT_EQ(csv_header_cell("-x"), "'-x");
+  EXPECT_EQ(csv_header_cell("@sum"), "'@sum");
+  EXPECT_EQ(csv_header_cell("a,b"), "\"a,b\"");
+  EXPECT_EQ(csv_header_cell("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(csv_header_cell("two\nlines"), "\"two\nlines\"");
+  const Eigen::MatrixXd values = Eigen::MatrixXd::Zero(1, 2);
+  EXPECT_EQ(format_csv({"=a", "b,c"}, values), "'=a,\"b,c\"\n0,0\n");
+}
+
 }  // namespace
 }  // namespace demsa::util
