@@ -572,7 +572,10 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
   loop.store.record_failed(flight.run, outcome);
   ++loop.summary.failures_by_class[to_string(report.failure)];
   // collect_only: the plan neither retries nor gives up; the next `demsa run` retries it.
-  loop.plan.retry_or_give_up(flight.sample, flight.attempt, !loop.options.collect_only && loop.should_stop());
+  if (report.final)
+    loop.plan.give_up(flight.sample, flight.attempt);
+  else
+    loop.plan.retry_or_give_up(flight.sample, flight.attempt, !loop.options.collect_only && loop.should_stop());
 }
 
 /// Polls the executor (waiting up to `wait`) and finishes every case that ended; first stores the real job ids it
