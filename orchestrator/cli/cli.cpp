@@ -65,7 +65,8 @@ std::string command_name(const CLI::App& app) {
   std::string name = "demsa";
   const CLI::App* at = &app;
   while (true) {
-    const std::vector<const CLI::App*> subs = at->get_subcommands([](const CLI::App*) { return true; });
+    // The parsed subcommands (a filter would list every registered one, and name the first: `demsa run`).
+    const std::vector<CLI::App*> subs = at->get_subcommands();
     if (subs.empty()) break;
     at = subs.front();
     name += " " + at->get_name();

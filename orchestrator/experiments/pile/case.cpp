@@ -170,9 +170,11 @@ CaseWritten PileDraft::write(const Material& m, const TimestepChoice& ts, Params
   const PileSettings& s = settings(c);
   const PileAssembly& a = m_assembly;
   const double t_append = disc_append_interval(a.r_upper, m.gravity);
-  const long append_steps = steps_for(t_append, ts.dt);
-  const long settle_steps = steps_for(s.settle_time, ts.dt);
-  const long check_steps = std::max(1L, std::min(settle_steps, steps_for(s.settle_check_time, ts.dt)));
+  const long append_steps =
+      steps_for(t_append, ts.dt, "the interval between discs, sqrt(4 r_max / [material] gravity),");
+  const long settle_steps = steps_for(s.settle_time, ts.dt, "[pile] settle_time");
+  const long check_steps =
+      std::max(1L, std::min(settle_steps, steps_for(s.settle_check_time, ts.dt, "[pile] settle_check_time")));
   const long checks = (settle_steps + check_steps - 1) / check_steps;
   const int appended = static_cast<int>(a.discs.size()) - a.column_discs;
   const double r_min = pile_smallest_radius();

@@ -12,6 +12,7 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -221,6 +222,23 @@ TEST(StudySettings, RangesComeFromTheTable) {
             "is unstable for Hertz contacts");
   EXPECT_EQ(settings_table().find("pile", "levels")->range_text, "[2, 100000]");
   EXPECT_EQ(settings_table().find("parameters", "nu")->bounds.text(), "(0, 0.5)");
+}
+
+TEST(StudySettings, EveryNumberHasAPhysicalRange) {
+  // Both ends, finite: a value of 1e300 or 1e-300 is refused at its line, before it sizes a lattice, a mesh or a
+  // step count.
+  for (const Setting& s : settings_table().rows()) {
+    if (s.type != SettingType::number && s.type != SettingType::integer && s.type != SettingType::number_list &&
+        !(s.type == SettingType::table && s.section == "parameters"))
+      continue;
+    SCOPED_TRACE(s.section + "." + s.key);
+    ASSERT_TRUE(s.bounds.low.has_value());
+    ASSERT_TRUE(s.bounds.high.has_value());
+    EXPECT_TRUE(std::isfinite(s.bounds.low->value));
+    EXPECT_TRUE(std::isfinite(s.bounds.high->value));
+    EXPECT_FALSE(s.bounds.contains(1e300));
+    EXPECT_FALSE(s.bounds.contains(-1e300));
+  }
 }
 
 TEST(StudySettings, UnknownKeySuggestsTheNearestKey) {
