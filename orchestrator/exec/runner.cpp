@@ -504,7 +504,14 @@ void start_what_fits(Loop& loop, const std::map<int, StudyCase>& cases) {
     const std::optional<PlannedCase> next = loop.plan.next();
     if (!next) break;
     const fs::path folder = case_dir(loop.dir, next->sample);
-    const long particles = prepare_case(loop.config, cases.at(next->sample), folder);
+    long particles = 0;
+    try {
+      particles = prepare_case(loop.config, cases.at(next->sample), folder);
+    } catch (const util::StopRequested&) {
+      // A signal while the case was written (its folder is removed): nothing of this batch starts, and the loop
+      // stops as for any signal; the next `demsa run` writes these cases again.
+      return;
+    }
     batch.push_back(CaseTask{next->sample, next->attempt, folder});
     flights.push_back(InFlight{0, next->sample, next->attempt, particles});
   }

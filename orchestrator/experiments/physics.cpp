@@ -59,9 +59,9 @@ std::vector<std::string> liggghts_limit_violations(const Material& material, con
 }
 
 long steps_for(double duration, double dt, std::string_view what) {
-  assert(dt > 0);
   const double steps = std::round(duration / dt);
-  // Checked before the rounding to an integer, which is undefined beyond a long's range.
+  // Checked before the rounding to an integer, which is undefined beyond a long's range (and for a time step that
+  // underflowed to 0: the quotient is infinite or NaN).
   if (!(steps <= study::k_max_steps))
     throw util::UserError(
         fmt::format("{} = {:.4g} s is {:.3g} steps of dt = {:.4g} s, more than {:.0e} (LIGGGHTS reads "

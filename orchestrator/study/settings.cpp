@@ -213,7 +213,9 @@ std::vector<Setting> build_core_settings() {
           .doc("`rayleigh`: dt = `fraction` × T_R of the smallest particle of the sample; `fixed`: dt = `value`"));
   add(Row("timestep", "fraction")
           .number(FIELD(timestep.fraction),
-                  between(0, false, 0.3, true, "a time step above 0.3 Rayleigh times is unstable for Hertz contacts"))
+                  between(1e-6, true, 0.3, true,
+                          "a time step above 0.3 Rayleigh times is unstable for Hertz contacts; below 1e-6 it "
+                          "underflows for the smallest particles"))
           .cases("dt.fraction")
           .doc("dt as a fraction of the Rayleigh time T_R"));
   add(Row("timestep", "value")

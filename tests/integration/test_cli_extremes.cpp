@@ -2,12 +2,18 @@
 // it, or settings whose derived sizes (lattice sites, step counts, rejection draws) exceed what a case can hold, is
 // refused with exit 2 at the key's line by `demsa case` and `demsa run --dry-run` alike, instead of an abort, a hang or
 // a case whose step counts are written as 1.
+#include "support/process.hpp"
 #include "support/test_support.hpp"
+
+#include <signal.h>
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 namespace demsa::test {
@@ -74,8 +80,12 @@ TEST(CliExtremes, ARadiusSpreadThatRejectionCannotDrawIsRefused) {
 
 TEST(CliExtremes, StepCountsBeyondWhatLiggghtsRunsAreRefused) {
   // A time step of 1e-300 Rayleigh times: each step count was rounded from beyond a long's range and written as 1.
-  expect_refused("pile", "[timestep]\nfraction = 1e-300\n",
-                 {"study.toml: ", "more than 1e+12", "[timestep] fraction = 1e-300"});
+  // A denormal fraction (found by bench/fuzz_extreme_settings) gave dt = 0 and an assert.
+  for (const char* fraction : {"1e-300", "4.9406564584124654e-324"})
+    expect_refused("pile", std::string("[timestep]\nfraction = ") + fraction + "\n",
+                   {"[timestep] fraction: must lie in [1e-06, 0.3]"});
+  expect_refused("pile", "[timestep]\nmode = \"fixed\"\nvalue = 1e-300\n",
+                 {"study.toml: ", "more than 1e+12", "[timestep] value = 1e-300 s"});
 }
 
 TEST(CliExtremes, ADumpCutInItsLastNumberIsRefused) {
@@ -85,14 +95,44 @@ TEST(CliExtremes, ADumpCutInItsLastNumberIsRefused) {
   while (!dump.empty() && dump.back() == '\n') dump.pop_back();
   dump.pop_back();  // inside the last number
   write_file(dir / "cut.dump", dump);
-  const std::vector<std::vector<std::string>> commands{{"postprocess", "pile", (dir / "cut.dump").string()},
-                                                       {"export-vtk", (dir / "cut.dump").string()}};
+  write_file(dir / "whole.dump", read_file(data_path("postprocess/liggghts_pile/pile_final.dump")));
+  const std::vector<std::vector<std::string>> commands{
+      {"postprocess", "pile", (dir / "cut.dump").string()},
+      {"compare", (dir / "cut.dump").string(), (dir / "whole.dump").string()},
+      {"export-vtk", (dir / "cut.dump").string()}};
   for (const std::vector<std::string>& args : commands) {
     const CommandResult r = run_demsa(args);
     EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
     EXPECT_NE(r.err.find((dir / "cut.dump").string() + ":"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("no end of line): cut short?"), std::string::npos) << r.err;
   }
+}
+
+TEST(CliExtremes, ASignalStopsCaseWritingWithinASecondAndLeavesNothing) {
+  // A case of 1e7 particles takes about half a minute to draw and write: SIGINT (`case`) or SIGTERM (`run`) ended
+  // it only at its end, or killed it with the folder half written.
+  TempDir dir;
+  StudyToml study;
+  study.samples = 2;
+  study.tables = "[pile]\nparticles = 10000000\n";
+  write_file(dir / "study.toml", study.text());
+  const std::vector<std::pair<std::vector<std::string>, int>> commands{
+      {{"case", (dir / "study.toml").string(), "--sample", "0", "-o", (dir / "case").string()}, SIGINT},
+      {{"run", (dir / "study.toml").string(), "--dir", (dir / "study").string(), "--dry-run"}, SIGTERM}};
+  for (const auto& [args, sig] : commands) {
+    const pid_t pid = spawn_demsa(args, dir / "log.txt");
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    const auto sent = std::chrono::steady_clock::now();
+    ASSERT_EQ(::kill(pid, sig), 0);
+    const int status = wait_exit(pid);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+    EXPECT_EQ(status, 128 + sig) << args[0] << "\n" << read_file(dir / "log.txt");
+    EXPECT_LT(seconds, 1.0) << args[0];
+  }
+  EXPECT_FALSE(fs::exists(dir / "case"));
+  EXPECT_FALSE(fs::exists(dir / "study" / "cases" / "000000"));
+  EXPECT_NE(read_file(dir / "log.txt").find("demsa: stopped by signal 2; nothing partial was left"), std::string::npos)
+      << read_file(dir / "log.txt");
 }
 
 TEST(CliExtremes, OutOfMemoryNamesTheCommandThatRan) {

@@ -2,6 +2,7 @@
 
 #include "orchestrator/experiments/geometry.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/util/signals.hpp"
 
 #include <fmt/core.h>
 
@@ -31,6 +32,7 @@ OedometerAssembly build_assembly(const OedometerSettings& s, std::uint64_t seed)
   const double offset = -s.box_side / 2.0 + (s.box_side - n * cell) / 2.0 + cell / 2.0;
   const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));  // golden angle [rad]
   for (std::size_t i = 0; i < radii.size(); ++i) {
+    if (i % 4096 == 0) util::throw_if_stop_raised();
     const int index = static_cast<int>(i);
     const int layer = index / a.per_layer, k = index % a.per_layer;
     const int ix = k / n, iy = k % n;

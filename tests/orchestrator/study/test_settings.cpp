@@ -218,8 +218,8 @@ TEST(StudySettings, RangesComeFromTheTable) {
   EXPECT_EQ(error_of("[run]\nlost_fraction = -0.5\n"),
             "study.toml:7: [run] lost_fraction: must lie in [0, 1], got -0.5");
   EXPECT_EQ(error_of("[timestep]\nfraction = 0.5\n"),
-            "study.toml:7: [timestep] fraction: must lie in (0, 0.3], got 0.5: a time step above 0.3 Rayleigh times "
-            "is unstable for Hertz contacts");
+            "study.toml:7: [timestep] fraction: must lie in [1e-06, 0.3], got 0.5: a time step above 0.3 Rayleigh "
+            "times is unstable for Hertz contacts; below 1e-6 it underflows for the smallest particles");
   EXPECT_EQ(settings_table().find("pile", "levels")->range_text, "[2, 100000]");
   EXPECT_EQ(settings_table().find("parameters", "nu")->bounds.text(), "(0, 0.5)");
 }
