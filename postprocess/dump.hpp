@@ -54,8 +54,9 @@ struct DumpReaderOptions {
   std::size_t max_line_bytes = std::size_t{1} << 20;
   /// The file must end with an end of line. LIGGGHTS ends every line of a dump with one, so a last line without it
   /// was cut by a writer that stopped (killed, disk full); when the cut falls inside the last value of the last row,
-  /// that row still parses, with a wrong value. Off: a last line without end of line counts as a line.
-  bool require_final_newline = false;
+  /// that row still parses, with a wrong value. On by default for every reader (postprocess, compare, export-vtk, a
+  /// study's measurement); off: a last line without end of line counts as a line.
+  bool require_final_newline = true;
 
   /// Throws std::invalid_argument naming the field, its value and the rule.
   void validate() const;

@@ -36,6 +36,10 @@ namespace demsa::sobol {
 
 /// Most inputs of a Saltelli design: A and B are the two halves of one 2d-dimensional Sobol' sequence.
 inline constexpr int k_max_saltelli_dimension = k_max_sobol_dimension / 2;
+/// The largest base sample size N of a Saltelli design or of metamodel-based indices (the study file's
+/// `[analysis] base_samples`, `demsa design saltelli --base`, `demsa sensitivity --base`): N (2d + 2) points are held
+/// in memory, about 1 GB at 2^20 for 7 parameters.
+inline constexpr int k_max_base_samples = 1 << 20;
 
 struct SaltelliOptions {
   int base = 1024;             ///< N, rows of A and of B, >= 2 (a power of two gives the best balance)

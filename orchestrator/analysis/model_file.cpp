@@ -162,6 +162,9 @@ json parse_json(const std::string& text, const std::string& file) {
     return json::parse(text);
   } catch (const json::parse_error& e) {
     throw UserError(file, 0, fmt::format("not a JSON document: {}", e.what()));
+  } catch (const json::out_of_range& e) {
+    // A number beyond a double (1e999): nlohmann's 406, not a parse_error.
+    throw UserError(file, 0, fmt::format("a number out of range: {}", e.what()));
   }
 }
 

@@ -76,7 +76,7 @@ void add_common_params(Params& p, const Material& m, const TimestepChoice& ts, c
                                              : std::string("time step [s], fixed"));
   p.number("rayleigh_time", ts.rayleigh_time, "Rayleigh time of the smallest particle [s]");
   p.number("skin", c.timestep.skin, "neighbor skin [m]");
-  p.integer("thermo_steps", steps_for(0.01, ts.dt), "thermo output every 0.01 s");
+  p.integer("thermo_steps", steps_for(0.01, ts.dt, "the thermo output interval"), "thermo output every 0.01 s");
 }
 
 /// case.json "material": the contact parameters in the paper's order, then density and gravity.
@@ -207,6 +207,35 @@ void prepare_folder(const StudyConfig& config, const fs::path& dir, ExistingCase
   }
 }
 
+/// Removes what a write that failed left in the case folder, unless done(): the folder itself when the write created
+/// it, its files otherwise (prepare_folder left it empty; with `rewrite` the caller empties the folder itself).
+class PartialCase {
+ public:
+  PartialCase(fs::path dir, bool existed, ExistingCaseFiles existing)
+      : m_dir(std::move(dir)), m_existed(existed), m_existing(existing) {}
+  PartialCase(const PartialCase&) = delete;
+  PartialCase& operator=(const PartialCase&) = delete;
+  ~PartialCase() {
+    if (m_done) return;
+    std::error_code ec;
+    if (!m_existed) {
+      fs::remove_all(m_dir, ec);
+    } else if (m_existing != ExistingCaseFiles::rewrite) {
+      for (fs::directory_iterator it(m_dir, ec), end; !ec && it != end; it.increment(ec)) {
+        std::error_code ignored;
+        fs::remove_all(it->path(), ignored);
+      }
+    }
+  }
+  void done() { m_done = true; }
+
+ private:
+  fs::path m_dir;
+  bool m_existed;
+  ExistingCaseFiles m_existing;
+  bool m_done = false;
+};
+
 }  // namespace
 
 void clear_case_folder(const fs::path& folder) {
@@ -308,11 +337,24 @@ CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, co
     throw UserError(study_file, 0, message);
   }
 
+  const bool existed = fs::exists(dir);
   prepare_folder(config, dir, existing);
   fs::create_directories(dir);
+  PartialCase partial(dir, existed, existing);
   Params params;
-  add_common_params(params, material, ts, config);
-  const CaseWritten w = draft->write(material, ts, params, dir);
+  CaseWritten w;
+  try {
+    add_common_params(params, material, ts, config);
+    w = draft->write(material, ts, params, dir);
+  } catch (const UserError& e) {
+    // A step count beyond what LIGGGHTS can run (experiments/physics.hpp: steps_for).
+    const std::string what = request.sample >= 0 ? fmt::format("sample {}", request.sample) : std::string("the case");
+    const std::string dt = ts.mode == TimestepMode::rayleigh
+                               ? fmt::format("[timestep] fraction = {} of the Rayleigh time {:.4g} s",
+                                             config.timestep.fraction, ts.rayleigh_time)
+                               : fmt::format("[timestep] value = {} s", config.timestep.value);
+    throw UserError(study_file, 0, fmt::format("{} cannot run: {} (the time step is {})", what, e.what(), dt));
+  }
   write_text(dir / k_case_params, params.text());
   for (const char* include : {"system.liggghts", "contact.liggghts"})
     write_text(dir / include, with_rolling_model(template_text(include), config.contact));
@@ -354,6 +396,7 @@ CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, co
                         {"assembly_seed", request.assembly_seed}};
   write_text(dir / k_case_json, doc.dump(2) + "\n");
 
+  partial.done();
   CaseSummary summary;
   summary.dir = dir;
   summary.material = material;

@@ -11,6 +11,7 @@
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/process.hpp"
+#include "orchestrator/util/signals.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -187,6 +188,8 @@ void register_case_commands(CLI::App& app, CliState& state) {
   sub->add_flag("--json", options->json, "Print what was written as JSON");
   sub->callback([options, sample, set, &state] {
     if (sample->count() == 0 && set->count() == 0) throw UserError("demsa case: give --sample K or --set name=value");
+    // Drawing and writing a large case takes seconds: a signal stops it between particles and removes the folder.
+    util::StopFlag::install();
     run_case(*options, state);
   });
 

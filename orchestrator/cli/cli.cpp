@@ -3,6 +3,7 @@
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/signals.hpp"
 #include "orchestrator/version.hpp"
 #include "postprocess/error.hpp"
 #include "sobol/error.hpp"
@@ -65,7 +66,8 @@ std::string command_name(const CLI::App& app) {
   std::string name = "demsa";
   const CLI::App* at = &app;
   while (true) {
-    const std::vector<const CLI::App*> subs = at->get_subcommands([](const CLI::App*) { return true; });
+    // The parsed subcommands (a filter would list every registered one, and name the first: `demsa run`).
+    const std::vector<CLI::App*> subs = at->get_subcommands();
     if (subs.empty()) break;
     at = subs.front();
     name += " " + at->get_name();
@@ -99,6 +101,11 @@ int report_error(const std::exception_ptr& error, const std::string& command) {
     return internal_error(fmt::format("study store (SQLite): {}", e.what()));
   } catch (const std::system_error& e) {  // std::filesystem::filesystem_error names its paths
     return internal_error(e.what());
+  } catch (const StopRequested&) {
+    // A stop during case writing (util/signals.hpp); what was written is gone.
+    const int sig = StopFlag::signal_number();
+    fmt::print(stderr, "demsa: stopped by signal {}; nothing partial was left\n", sig);
+    return sig > 0 ? k_exit_signal_base + sig : k_exit_internal;
   } catch (const std::bad_alloc&) {
     // The sizes a user gives are bounded where they are read; this is the backstop for any other allocation.
     return internal_error(

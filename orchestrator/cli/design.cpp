@@ -52,6 +52,8 @@ struct DesignArgs {
 
 // Points of the Sobol' sequence at most (sobol_sequence's limit, 30 binary digits per coordinate).
 constexpr int k_max_sobol_points = 1 << 30;
+/// The most values (samples x dimension) of a design `demsa design lhs|sobol` writes.
+constexpr long long k_max_design_values = 1LL << 26;
 
 struct Parameters {
   std::vector<std::string> names;
@@ -139,6 +141,15 @@ void warn_unless_power_of_two(const std::string& option, int samples, const std:
   log::warn("{} {} is not a power of two (nearest: {} and {}); {}", option, samples, below, 2 * below, why);
 }
 
+/// The design is held in memory (and its CSV text): -n 200000000 --dim 2 took 10 GB.
+void check_design_values(const DesignArgs& args, int dimension) {
+  const long long values = static_cast<long long>(args.samples) * dimension;
+  if (values > k_max_design_values)
+    throw UserError(fmt::format("-n {}: {} samples x {} = {} values, more than 2^26 = {} (a design is held in memory)",
+                                args.samples, args.samples, dimension_source(args, dimension), values,
+                                k_max_design_values));
+}
+
 void check_point_design(const DesignArgs& args, sobol::DesignKind kind, int dimension) {
   if (kind == sobol::DesignKind::sobol) {
     if (args.samples < 1) throw UserError(fmt::format("-n {}: the number of samples must be at least 1", args.samples));
@@ -146,6 +157,7 @@ void check_point_design(const DesignArgs& args, sobol::DesignKind kind, int dime
     if (dimension > sobol::k_max_sobol_dimension)
       throw UserError(fmt::format("{}: the Sobol' sequence supports at most {} parameters",
                                   dimension_source(args, dimension), sobol::k_max_sobol_dimension));
+    check_design_values(args, dimension);
     return;
   }
   if (args.samples < 2) throw UserError(fmt::format("-n {}: a Latin hypercube needs at least 2 samples", args.samples));
@@ -161,6 +173,7 @@ void check_point_design(const DesignArgs& args, sobol::DesignKind kind, int dime
                     args.samples, sobol::k_max_optimised_lhs_samples));
   if (!(args.phi_p >= 1.0) || !std::isfinite(args.phi_p))
     throw UserError(fmt::format("--phi-p {}: p must be a finite number >= 1", args.phi_p));
+  check_design_values(args, dimension);
 }
 
 /// The base sample size of a Saltelli design: N rounded up to the next power of two, with a warning naming both
@@ -169,7 +182,9 @@ void check_point_design(const DesignArgs& args, sobol::DesignKind kind, int dime
 /// Saltelli et al. 2010 take N = 2^k.
 int saltelli_base(int samples) {
   if (samples < 2) throw UserError(fmt::format("--base {}: the base sample size must be at least 2", samples));
-  check_sobol_samples("--base", samples);
+  if (samples > sobol::k_max_base_samples)
+    throw UserError(fmt::format("--base {}: at most 2^20 = {} (the design holds N (2d + 2) rows in memory)", samples,
+                                sobol::k_max_base_samples));
   const unsigned rounded = std::bit_ceil(static_cast<unsigned>(samples));
   if (rounded == static_cast<unsigned>(samples)) return samples;
   log::warn(

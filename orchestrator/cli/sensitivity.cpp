@@ -90,6 +90,11 @@ void check_numeric_options(const SensitivityArgs& args) {
   if (args.base < 16)
     throw UserError(
         fmt::format("--base {}: must be at least 16 (a power of two, e.g. 16384, balances best)", args.base));
+  if (args.base > sobol::k_max_base_samples)
+    throw UserError(
+        fmt::format("--base {}: at most 2^20 = {} (the indices' QMC design holds N (2d + 2) points in "
+                    "memory)",
+                    args.base, sobol::k_max_base_samples));
 }
 
 std::string interval_text(const sobol::IndexEstimate& e) {

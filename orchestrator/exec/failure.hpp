@@ -35,6 +35,10 @@ struct FailureOptions {
 struct FailureReport {
   FailureClass failure = FailureClass::none;
   bool requeue = false;  ///< cancelled or lost: not a failure, the case must run again (same attempt)
+  /// The case's own check of its settings stopped it (a `demsa: ...` stop of its input script, such as "the pile has
+  /// reached the insertion height (raise fill_height)"): it follows from the settings, so a retry ends the same way.
+  /// Retries are for crashes and time-outs.
+  bool final = false;
   std::string message;   ///< one line for humans ("" when none)
   std::string log_tail;  ///< last lines of log.liggghts (or run.out/screen.txt when that says more)
 };

@@ -50,6 +50,11 @@ bool Plan::retry_or_give_up(int sample, int attempt, bool stopping) {
   return false;
 }
 
+void Plan::give_up(int sample, int attempt) {
+  m_attempts[sample] = std::max(m_attempts[sample], attempt);
+  if (!m_collect_only) m_failed.insert(sample);
+}
+
 void Plan::mark_done(int sample, int attempt) {
   m_attempts[sample] = std::max(m_attempts[sample], attempt);
   m_done.insert(sample);

@@ -58,6 +58,9 @@ class Plan {
   /// A failed attempt: back of the queue when the sample has starts left and the run is not `stopping`, failed for
   /// good otherwise. collect_only: neither (the next `demsa run` retries it). Returns whether it was queued.
   bool retry_or_give_up(int sample, int attempt, bool stopping);
+  /// A failed attempt that a retry cannot change (FailureReport::final): failed now, whatever its budget left
+  /// (collect_only: neither; the next `demsa run` decides).
+  void give_up(int sample, int attempt);
   /// A committed result: the sample is done and never comes back.
   void mark_done(int sample, int attempt);
 

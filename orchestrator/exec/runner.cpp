@@ -504,7 +504,14 @@ void start_what_fits(Loop& loop, const std::map<int, StudyCase>& cases) {
     const std::optional<PlannedCase> next = loop.plan.next();
     if (!next) break;
     const fs::path folder = case_dir(loop.dir, next->sample);
-    const long particles = prepare_case(loop.config, cases.at(next->sample), folder);
+    long particles = 0;
+    try {
+      particles = prepare_case(loop.config, cases.at(next->sample), folder);
+    } catch (const util::StopRequested&) {
+      // A signal while the case was written (its folder is removed): nothing of this batch starts, and the loop
+      // stops as for any signal; the next `demsa run` writes these cases again.
+      return;
+    }
     batch.push_back(CaseTask{next->sample, next->attempt, folder});
     flights.push_back(InFlight{0, next->sample, next->attempt, particles});
   }
@@ -572,7 +579,10 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
   loop.store.record_failed(flight.run, outcome);
   ++loop.summary.failures_by_class[to_string(report.failure)];
   // collect_only: the plan neither retries nor gives up; the next `demsa run` retries it.
-  loop.plan.retry_or_give_up(flight.sample, flight.attempt, !loop.options.collect_only && loop.should_stop());
+  if (report.final)
+    loop.plan.give_up(flight.sample, flight.attempt);
+  else
+    loop.plan.retry_or_give_up(flight.sample, flight.attempt, !loop.options.collect_only && loop.should_stop());
 }
 
 /// Polls the executor (waiting up to `wait`) and finishes every case that ended; first stores the real job ids it

@@ -1,5 +1,7 @@
 #include "orchestrator/experiments/assembly.hpp"
 
+#include "orchestrator/util/signals.hpp"
+
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
@@ -21,7 +23,8 @@ std::vector<double> truncated_normal_radii(const RadiusDistribution& d, int coun
   gsl_rng_set(rng.get(), static_cast<unsigned long>(seed));
   std::vector<double> radii;
   radii.reserve(static_cast<std::size_t>(count));
-  while (static_cast<int>(radii.size()) < count) {
+  for (std::uint64_t draw = 1; static_cast<int>(radii.size()) < count; ++draw) {
+    if (draw % 4096 == 0) util::throw_if_stop_raised();
     const double r = d.mean + gsl_ran_gaussian(rng.get(), d.sd);
     if (r >= d.r_min && r <= d.r_max) radii.push_back(r);
   }

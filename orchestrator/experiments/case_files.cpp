@@ -2,6 +2,7 @@
 
 #include "orchestrator/experiments/embedded_templates.hpp"
 #include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/signals.hpp"
 
 #include <fmt/core.h>
 
@@ -56,6 +57,8 @@ std::string data_header(const std::string& title, long atoms, double xlo, double
 }
 
 std::string atom_line(long id, const Particle& p, double density) {
+  // Every data file is written particle by particle through here: a stop is seen within a few thousand of them.
+  if (id % 4096 == 0) util::throw_if_stop_raised();
   // + 0.0 writes a negative zero as 0.
   return fmt::format("{} 1 {:.10g} {:.10g} {:.10g} {:.10g} {:.10g}\n", id, 2.0 * p.radius, density, p.x + 0.0,
                      p.y + 0.0, p.z + 0.0);

@@ -1,5 +1,7 @@
 #include "orchestrator/experiments/geometry.hpp"
 
+#include "orchestrator/util/signals.hpp"
+
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -16,6 +18,7 @@ std::vector<Triangle> pedestal_mesh(double radius, double height, double element
   const int ring_count = std::max(1, static_cast<int>(std::lround(radius / element)));
   std::vector<std::vector<Point>> rings{{Point{0.0, 0.0}}};
   for (int k = 1; k <= ring_count; ++k) {
+    util::throw_if_stop_raised();
     const double r = radius * k / ring_count;
     const int n = std::max(6, static_cast<int>(std::lround(two_pi * r / element)));
     std::vector<Point> ring;
@@ -68,7 +71,9 @@ std::vector<Triangle> plate_mesh(double side) {
 
 std::string to_ascii_stl(const std::vector<Triangle>& triangles, const std::string& solid_name) {
   std::string out = "solid " + solid_name + "\n";
-  for (const Triangle& t : triangles) {
+  for (std::size_t k = 0; k < triangles.size(); ++k) {
+    if (k % 4096 == 0) util::throw_if_stop_raised();
+    const Triangle& t = triangles[k];
     const Vertex u{t[1][0] - t[0][0], t[1][1] - t[0][1], t[1][2] - t[0][2]};
     const Vertex v{t[2][0] - t[0][0], t[2][1] - t[0][1], t[2][2] - t[0][2]};
     Vertex nrm{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};

@@ -1,5 +1,8 @@
 #include "orchestrator/experiments/physics.hpp"
 
+#include "orchestrator/study/setting_row.hpp"
+#include "orchestrator/util/errors.hpp"
+
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -55,9 +58,18 @@ std::vector<std::string> liggghts_limit_violations(const Material& material, con
   return problems;
 }
 
-long steps_for(double duration, double dt) {
-  assert(dt > 0);
-  return std::max(1L, std::lround(duration / dt));
+long steps_for(double duration, double dt, std::string_view what) {
+  const double steps = std::round(duration / dt);
+  // Checked before the rounding to an integer, which is undefined beyond a long's range (and for a time step that
+  // underflowed to 0: the quotient is infinite or NaN).
+  if (!(steps <= study::k_max_steps))
+    throw util::UserError(
+        fmt::format("{} = {:.4g} s is {:.3g} steps of dt = {:.4g} s, more than {:.0e} (LIGGGHTS reads "
+                    "step counts through variables printed with 15 significant digits; even a "
+                    "single particle runs about 1e6 steps a second): shorten it or make the time "
+                    "step longer",
+                    what, duration, steps, dt, study::k_max_steps));
+  return std::max(1L, static_cast<long>(steps));
 }
 
 namespace {

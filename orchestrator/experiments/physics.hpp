@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace demsa::experiments {
@@ -61,7 +62,8 @@ double liggghts_rolling_coefficient(const study::ContactSettings& contact, doubl
 /// the `viscous` model.
 std::optional<std::filesystem::path> liggghts_library_dir(const std::string& executable);
 
-/// Number of steps of `duration` seconds at time step dt (at least 1).
-long steps_for(double duration, double dt);
+/// Number of steps of `duration` seconds at time step dt (at least 1). Throws util::UserError naming `what` (the
+/// duration's setting, "[pile] settle_time") when they are more than study::k_max_steps.
+long steps_for(double duration, double dt, std::string_view what);
 
 }  // namespace demsa::experiments

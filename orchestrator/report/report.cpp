@@ -126,24 +126,44 @@ std::string html_escape(const std::string& text) {
   return out;
 }
 
-/// Inline Markdown `code` and *emphasis* as HTML (after escaping).
+/// Inline Markdown `code` (CommonMark code spans: a run of n backticks up to the next run of exactly n, one space
+/// stripped from each end when both are spaces) and *emphasis* as HTML (after escaping).
 std::string html_inline(const std::string& text) {
   const std::string escaped = html_escape(text);
+  const auto run_at = [&](std::size_t i) {
+    std::size_t n = 0;
+    while (i + n < escaped.size() && escaped[i + n] == '`') ++n;
+    return n;
+  };
   std::string out;
-  bool code = false;
   bool em = false;
-  for (char c : escaped) {
+  for (std::size_t i = 0; i < escaped.size();) {
+    const char c = escaped[i];
     if (c == '`') {
-      out += code ? "</code>" : "<code>";
-      code = !code;
-    } else if (c == '*' && !code) {
+      const std::size_t n = run_at(i);
+      std::size_t close = i + n;  // the start of a run of exactly n backticks (runs are skipped whole)
+      while (close < escaped.size() && !(escaped[close] == '`' && run_at(close) == n))
+        close += escaped[close] == '`' ? run_at(close) : 1;
+      if (close >= escaped.size()) {  // no closing run: the backticks are text
+        out.append(n, '`');
+        i += n;
+        continue;
+      }
+      std::string code = escaped.substr(i + n, close - i - n);
+      if (code.size() >= 2 && code.front() == ' ' && code.back() == ' ' &&
+          code.find_first_not_of(' ') != std::string::npos)
+        code = code.substr(1, code.size() - 2);
+      out += "<code>" + code + "</code>";
+      i = close + n;
+    } else if (c == '*') {
       out += em ? "</em>" : "<em>";
       em = !em;
+      ++i;
     } else {
       out += c;
+      ++i;
     }
   }
-  if (code) out += "</code>";
   if (em) out += "</em>";
   return out;
 }
@@ -178,6 +198,22 @@ std::string read_binary(const fs::path& path) {
 }
 
 }  // namespace
+
+std::string code_span(const std::string& text) {
+  std::string content;
+  std::size_t longest = 0, run = 0;
+  for (char c : text) {
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    run = c == '`' ? run + 1 : 0;
+    longest = std::max(longest, run);
+    content += c;
+  }
+  const std::string fence(longest + 1, '`');
+  if (!content.empty() &&
+      (content.front() == '`' || content.back() == '`' || (content.front() == ' ' && content.back() == ' ')))
+    content = " " + content + " ";
+  return fence + content + fence;
+}
 
 std::string render_markdown(const ReportDocument& document, const fs::path& folder) {
   std::string md = fmt::format("# {}\n", md_text(document.title));
@@ -314,8 +350,8 @@ ReportSection summary_section(const StudyData& s) {
   section.heading = "Study";
   const StudyConfig& c = s.config;
   const std::string experiment = fmt::format("{} ({})", c.experiment, experiments::of(c).summary);
-  section.paragraphs.push_back(fmt::format("Study `{}`: {} experiment, design `{}` of {} samples, seed {}.", c.name,
-                                           experiment, c.design, c.samples, c.seed));
+  section.paragraphs.push_back(fmt::format("Study {}: {} experiment, design `{}` of {} samples, seed {}.",
+                                           code_span(c.name), experiment, c.design, c.samples, c.seed));
   double cpu = 0;
   double wall = 0;
   std::map<std::string, int> failed_attempts;

@@ -47,6 +47,11 @@ struct ReportDocument {
   std::vector<ReportSection> sections;
 };
 
+/// `text` (a user's: a study name) as one Markdown code span that shows it as it is, whatever backticks it holds
+/// (CommonMark: a fence of more backticks than its longest run, padded by a space where the text starts or ends with
+/// one) and with its line breaks and tabs as spaces (a blank line would end the paragraph). render_html reads it back.
+std::string code_span(const std::string& text);
+
 /// Markdown with images referenced relative to `folder` (where report.md is written), each linked to its SVG.
 std::string render_markdown(const ReportDocument& document, const std::filesystem::path& folder);
 

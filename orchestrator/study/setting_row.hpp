@@ -46,6 +46,20 @@ inline const SettingBounds k_non_negative = at_least(0);
 inline constexpr double k_max_particles = 1e7;
 inline constexpr double k_max_steps = 1e12;
 
+// The physical ranges shared by every experiment: a particle radius between a fine powder's and a boulder's, and
+// the sizes and times of a laboratory-scale test (they bound the meshes, lattices and step counts a case needs).
+inline constexpr double k_min_radius = 1e-6;
+inline constexpr double k_max_radius = 1.0;
+/// The least share of the normal distribution of a particle set that must lie in [r_min, r_max]: the radii are drawn
+/// by rejection, so this bounds the draws per radius (100 on average).
+inline constexpr double k_min_radius_acceptance = 0.01;
+/// The longest simulated time of a stage of a case [s]: hours of a laboratory test.
+inline constexpr double k_max_duration = 1e4;
+inline const SettingBounds k_duration_bounds = between(0, true, k_max_duration, true);
+inline SettingBounds radius_bounds() {
+  return between(k_min_radius, true, k_max_radius, true, "from a fine powder's particles to a boulder");
+}
+
 /// The bounds of a step count: LIGGGHTS reads step counts through variables printed with 15 significant digits.
 SettingBounds step_bounds();
 
@@ -316,32 +330,34 @@ template <typename F>
 void radius_rows(std::vector<Row>& rows, const std::string& section, const std::string& prefix, F radii) {
   rows.push_back(std::move(Row(section, "r_min")
                                .number(
-                                   [radii](auto& c) -> auto& { return radii(c).r_min; }, k_positive)
+                                   [radii](auto& c) -> auto& { return radii(c).r_min; }, radius_bounds())
                                .unit("m")
                                .cases(prefix + "r_min")
                                .doc("smallest radius r_L")));
   rows.push_back(std::move(Row(section, "r_max")
                                .number(
-                                   [radii](auto& c) -> auto& { return radii(c).r_max; }, k_positive)
+                                   [radii](auto& c) -> auto& { return radii(c).r_max; }, radius_bounds())
                                .unit("m")
                                .cases(prefix + "r_max")
                                .doc("largest radius r_U; more than `r_min`")));
   rows.push_back(std::move(Row(section, "r_mean")
                                .number(
-                                   [radii](auto& c) -> auto& { return radii(c).mean; }, k_positive)
+                                   [radii](auto& c) -> auto& { return radii(c).mean; }, radius_bounds())
                                .unit("m")
                                .cases(prefix + "mean")
                                .doc("mean of the normal distribution before truncation, in [`r_min`, `r_max`]")));
-  rows.push_back(std::move(Row(section, "r_sd")
-                               .number(
-                                   [radii](auto& c) -> auto& { return radii(c).sd; }, k_positive)
-                               .unit("m")
-                               .cases(prefix + "sd")
-                               .doc("standard deviation of the normal distribution before truncation")));
+  rows.push_back(
+      std::move(Row(section, "r_sd")
+                    .number(
+                        [radii](auto& c) -> auto& { return radii(c).sd; }, between(0, false, k_max_radius, true))
+                    .unit("m")
+                    .cases(prefix + "sd")
+                    .doc("standard deviation of the normal distribution before truncation; at least 1 % of that "
+                         "distribution must lie in [`r_min`, `r_max`] (the radii are drawn by rejection)")));
 }
 
-/// The rules that tie a particle set's radius keys together (r_min < r_max, r_mean in [r_min, r_max]), checked when
-/// its section has been read.
+/// The rules that tie a particle set's radius keys together (r_min < r_max, r_mean in [r_min, r_max], at least
+/// k_min_radius_acceptance of the normal distribution inside [r_min, r_max]), checked when its section has been read.
 void check_radii(const RadiusDistribution& radii, const SectionCheck& at);
 
 /// The rows as settings (Row::finish), in order.

@@ -9,14 +9,17 @@
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
 #include "sobol/metamodel_sobol.hpp"
+#include "sobol/saltelli.hpp"
 #include "sobol/scaling.hpp"
 
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -27,8 +30,12 @@ namespace {
 
 // Upper bounds of the settings that size what demsa holds in memory (setting_row.hpp has the shared ones).
 constexpr double k_max_samples = 100000;
-constexpr double k_max_base_samples = 1 << 20;
+constexpr double k_max_base_samples = sobol::k_max_base_samples;
 constexpr double k_max_bootstrap = 100000;
+// Coulomb and rolling coefficients: far above any measured value (rolling coefficients of `viscous` in mm·ms reach a
+// few units), so that a value that is a typo of its exponent is refused at its line.
+const SettingBounds k_friction_bounds = between(0, true, 10, true);
+const SettingBounds k_rolling_bounds = between(0, true, 1000, true);
 
 #define FIELD(path) \
   [](auto& c) -> auto& { return c.path; }
@@ -55,7 +62,8 @@ std::vector<Setting> build_core_settings() {
           .cases("experiment")
           .doc("the experiment the cases simulate"));
   add(Row("study", "seed")
-          .integer(FIELD(seed), at_least(0))
+          .integer(FIELD(seed), between(0, true, static_cast<double>(std::numeric_limits<std::int64_t>::max()), true,
+                                        "a TOML integer"))
           .range(">= 0")
           .cases("seed")
           .doc("one seed for the design, the radii (GSL MT19937) and the initial positions"));
@@ -148,7 +156,7 @@ std::vector<Setting> build_core_settings() {
 
   // [material]
   add(Row("material", "E")
-          .number(FIELD(material.E), k_positive)
+          .number(FIELD(material.E), between(1e3, true, 1e13, true, "from a gel to ten times diamond's 1.2e12 Pa"))
           .unit("Pa")
           .cases("m.E")
           .doc("Young's modulus; LIGGGHTS accepts [5e6, 1e9] Pa only (see `soft_particles`, `hard_particles`)"));
@@ -157,11 +165,11 @@ std::vector<Setting> build_core_settings() {
           .cases("m.nu")
           .doc("Poisson ratio"));
   add(Row("material", "mu_pp")
-          .number(FIELD(material.mu_pp), k_non_negative)
+          .number(FIELD(material.mu_pp), k_friction_bounds)
           .cases("m.mu_pp")
           .doc("particle–particle Coulomb friction"));
   add(Row("material", "mu_pw")
-          .number(FIELD(material.mu_pw), k_non_negative)
+          .number(FIELD(material.mu_pw), k_friction_bounds)
           .cases("m.mu_pw")
           .doc("particle–wall Coulomb friction"));
   add(Row("material", "e_r")
@@ -169,21 +177,21 @@ std::vector<Setting> build_core_settings() {
           .cases("m.e_r")
           .doc("coefficient of restitution"));
   add(Row("material", "mu_r_pp")
-          .number(FIELD(material.mu_r_pp), k_non_negative)
+          .number(FIELD(material.mu_r_pp), k_rolling_bounds)
           .cases("m.mu_r_pp")
           .doc("particle–particle rolling coefficient of `[contact] rolling_model` (μ_r of `cdt`, dimensionless; μ_R "
                "of `viscous` in `viscous_unit`)"));
   add(Row("material", "mu_r_pw")
-          .number(FIELD(material.mu_r_pw), k_non_negative)
+          .number(FIELD(material.mu_r_pw), k_rolling_bounds)
           .cases("m.mu_r_pw")
           .doc("particle–wall rolling coefficient of `[contact] rolling_model`"));
   add(Row("material", "density")
-          .number(FIELD(material.density), k_positive)
+          .number(FIELD(material.density), between(1, true, 1e5, true, "from an aerogel to four times osmium's"))
           .unit("kg/m³")
           .cases("m.density")
           .doc("particle density (not in the paper)"));
   add(Row("material", "gravity")
-          .number(FIELD(material.gravity), k_positive)
+          .number(FIELD(material.gravity), between(1e-3, true, 1e4, true, "from microgravity to a centrifuge"))
           .unit("m/s²")
           .cases("m.gravity")
           .doc("\\|g\\|"));
@@ -205,17 +213,19 @@ std::vector<Setting> build_core_settings() {
           .doc("`rayleigh`: dt = `fraction` × T_R of the smallest particle of the sample; `fixed`: dt = `value`"));
   add(Row("timestep", "fraction")
           .number(FIELD(timestep.fraction),
-                  between(0, false, 0.3, true, "a time step above 0.3 Rayleigh times is unstable for Hertz contacts"))
+                  between(1e-6, true, 0.3, true,
+                          "a time step above 0.3 Rayleigh times is unstable for Hertz contacts; below 1e-6 it "
+                          "underflows for the smallest particles"))
           .cases("dt.fraction")
           .doc("dt as a fraction of the Rayleigh time T_R"));
   add(Row("timestep", "value")
-          .number(FIELD(timestep.value), k_positive)
+          .number(FIELD(timestep.value), between(0, false, 1, true))
           .unit("s")
           .default_text("— (required with `mode = \"fixed\"`)")
           .cases("dt.value")
           .doc("fixed time step"));
   add(Row("timestep", "skin")
-          .number(FIELD(timestep.skin), k_positive)
+          .number(FIELD(timestep.skin), between(0, false, 1, true))
           .unit("m")
           .cases("dt.skin")
           .doc("neighbor list skin; a moving mesh may travel at most skin/2 per step"));
@@ -234,7 +244,10 @@ std::vector<Setting> build_core_settings() {
           .integer(FIELD(run.parallel), between(0, true, 1e6, true))
           .doc("cases at once (local); 0 = cores / ranks"));
   add(Row("run", "oversubscribe").boolean(FIELD(run.oversubscribe)).doc("allow parallel × ranks > cores"));
-  add(Row("run", "timeout").number(FIELD(run.timeout), k_non_negative).unit("s").doc("per case; 0 = none"));
+  add(Row("run", "timeout")
+          .number(FIELD(run.timeout), between(0, true, 1e7, true))
+          .unit("s")
+          .doc("per case; 0 = none"));
   add(Row("run", "retries")
           .integer(FIELD(run.retries), between(0, true, 1000, true))
           .doc("extra attempts after a failure"));
@@ -267,7 +280,7 @@ std::vector<Setting> build_core_settings() {
           .string(FIELD(run.slurm.prologue))
           .doc("shell lines before mpirun (e.g. `module load ...`)"));
   add(Row("run.slurm", "poll_interval")
-          .number(FIELD(run.slurm.poll_interval), k_positive)
+          .number(FIELD(run.slurm.poll_interval), between(0, false, 86400, true))
           .unit("s")
           .doc("time between squeue polls"));
 
@@ -356,7 +369,7 @@ std::vector<Setting> build_core_settings() {
           .doc("`epsd`, `epsd3`: viscous damping ratio η_r of the rolling dashpot "
                "(`coefficientRollingViscousDamping`, dimensionless; Ai et al. 2011 use 0.3)"));
   add(Row("contact", "rolling_stiffness")
-          .number(FIELD(contact.rolling_stiffness), at_least(1))
+          .number(FIELD(contact.rolling_stiffness), between(1, true, 1e6, true))
           .cases("contact.rolling_stiffness")
           .canonical(unless_default("contact.rolling_stiffness", FIELD(contact.rolling_stiffness)))
           .doc("`epsd3`: prefactor of the rolling stiffness k_r = factor × k_n μ_r² R*² (`rollingStiffness`, "
@@ -453,6 +466,23 @@ void check_radii(const RadiusDistribution& radii, const SectionCheck& at) {
   if (radii.mean < radii.r_min || radii.mean > radii.r_max)
     at.fail(key,
             fmt::format("r_mean ({}) must lie in [r_min, r_max] = [{}, {}]", radii.mean, radii.r_min, radii.r_max));
+  // The share of N(mean, sd) inside [r_min, r_max] falls as sd grows (both ends of the standardised interval move
+  // towards 0), so the largest admissible sd is found by bisection for the message.
+  const auto share = [&](double sd) {
+    const auto phi = [](double z) { return 0.5 * std::erfc(-z / std::numbers::sqrt2); };
+    return phi((radii.r_max - radii.mean) / sd) - phi((radii.r_min - radii.mean) / sd);
+  };
+  if (share(radii.sd) < k_min_radius_acceptance) {
+    double low = 0, high = radii.sd;
+    for (int i = 0; i < 200; ++i) {
+      const double mid = 0.5 * (low + high);
+      (share(mid) >= k_min_radius_acceptance ? low : high) = mid;
+    }
+    at.fail(at.given("r_sd") ? "r_sd" : key,
+            fmt::format("r_sd = {} m leaves {:.3g} of the normal distribution in [r_min, r_max] = [{}, {}] m, less "
+                        "than {} (the radii are drawn by rejection): r_sd must be at most {:.4g} m",
+                        radii.sd, share(radii.sd), radii.r_min, radii.r_max, k_min_radius_acceptance, low));
+  }
 }
 
 std::vector<Setting> finish_rows(std::vector<Row>& rows) {

@@ -3,6 +3,7 @@
 #include "orchestrator/util/errors.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/core.h>
@@ -20,6 +21,22 @@ namespace fs = std::filesystem;
 
 AtomicFileWriter::AtomicFileWriter(fs::path path)
     : path_(std::move(path)), tmp_(path_.parent_path() / (path_.filename().string() + ".tmp")) {
+  struct stat st {};
+  if (::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
+    // A FIFO, a terminal or a device (`--json /dev/stdout`): written through, since a rename would replace the node
+    // by a regular file. Opened without blocking, so that a FIFO without a reader is an error, not a hang.
+    through_ = true;
+    tmp_ = path_;
+    fd_ = ::open(path_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd_ < 0) {
+      const int error = errno;
+      throw IoError(fmt::format("{}: cannot write: {}", path_.string(),
+                                error == ENXIO ? std::string("a FIFO that no process reads") : std::strerror(error)));
+    }
+    const int flags = ::fcntl(fd_, F_GETFL);
+    if (flags >= 0) ::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK);
+    return;
+  }
   fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) throw IoError(fmt::format("{}: cannot write: {}", tmp_.string(), std::strerror(errno)));
 }
@@ -27,7 +44,7 @@ AtomicFileWriter::AtomicFileWriter(fs::path path)
 AtomicFileWriter::~AtomicFileWriter() {
   if (fd_ >= 0) {
     ::close(fd_);
-    ::unlink(tmp_.c_str());
+    if (!through_) ::unlink(tmp_.c_str());
   }
 }
 
@@ -44,6 +61,11 @@ void AtomicFileWriter::append(std::string_view text) {
 
 void AtomicFileWriter::commit() {
   assert(fd_ >= 0);
+  if (through_) {
+    if (::close(std::exchange(fd_, -1)) != 0)
+      throw IoError(fmt::format("{}: close failed: {}", path_.string(), std::strerror(errno)));
+    return;
+  }
   if (::fsync(fd_) != 0) throw IoError(fmt::format("{}: fsync failed: {}", tmp_.string(), std::strerror(errno)));
   const int fd = std::exchange(fd_, -1);
   if (::close(fd) != 0) {

@@ -8,7 +8,10 @@
 
 namespace demsa::util {
 
-/// Writes `text` to `path` atomically and durably. Throws IoError naming the file and the system's reason.
+/// Writes `text` to `path` atomically and durably. Throws IoError naming the file and the system's reason (a full
+/// device: "No space left on device"). A target that exists and is not a regular file (a FIFO, a terminal, a device
+/// such as /dev/stdout) is written through instead, never replaced by a regular file; a FIFO that no process reads is
+/// an error, not a wait.
 void write_file_atomically(const std::filesystem::path& path, const std::string& text);
 
 /// The same, for text written in pieces (a file too large to hold in memory at once): append() writes to the
@@ -28,6 +31,7 @@ class AtomicFileWriter {
   std::filesystem::path path_;
   std::filesystem::path tmp_;
   int fd_ = -1;
+  bool through_ = false;  ///< the target is not a regular file (a FIFO, a device): written in place
 };
 
 /// The whole content of a file. Throws IoError naming the file when it cannot be read.

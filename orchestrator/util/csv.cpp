@@ -172,8 +172,10 @@ class CsvBuilder {
         errno = 0;
         char* end = nullptr;
         v = std::strtod(copy.c_str(), &end);
-        if (end == copy.c_str() || *end != '\0')
-          throw UserError(file, line_number, fmt::format("{}: '{}' is not a number", where(), cell));
+        // The whole cell: strtod stops at a NUL inside it ("5\0 2.23" read as 5).
+        if (end != copy.c_str() + copy.size())
+          throw UserError(file, line_number,
+                          fmt::format("{}: '{}' is not a number", where(), visible(std::string(cell))));
         if (errno == ERANGE && std::isinf(v))
           throw UserError(file, line_number, fmt::format("{}: '{}' is out of range", where(), cell));
       }

@@ -122,6 +122,12 @@ TEST(CliDesignErrors, ValuesOutOfRangeNameTheOption) {
        "demsa: error: --dim 41: the Sobol' sequence supports at most 40 parameters"},
       {{"saltelli", "--base", "1", "--dim", "2"}, "demsa: error: --base 1: the base sample size must be at least 2"},
       {{"saltelli", "-N", "1", "--dim", "2"}, "demsa: error: --base 1: the base sample size must be at least 2"},
+      // One cap with the study file's [analysis] base_samples, before anything is allocated.
+      {{"saltelli", "--base", "1048577", "--dim", "2"}, "demsa: error: --base 1048577: at most 2^20 = 1048576"},
+      // -n 200000000 --dim 2 held 10 GB.
+      {{"lhs", "-n", "200000000", "--dim", "2"},
+       "demsa: error: -n 200000000: 200000000 samples x --dim 2 = 400000000 values, more than 2^26 = 67108864"},
+      {{"sobol", "-n", "67108864", "--dim", "2"}, "more than 2^26 = 67108864"},
   };
   for (const Case& c : cases) {
     std::vector<std::string> args{"design"};

@@ -198,6 +198,7 @@ TEST(CliSensitivityErrors, EachBadInputNamesFileRowColumnAndValue) {
       {"bootstrap", good, {"--bootstrap", "-5"}, "--bootstrap -5: must be >= 0"},
       {"confidence", good, {"--confidence", "1.5"}, "--confidence 1.5: must be strictly between 0 and 1"},
       {"base", good, {"--base", "1"}, "--base 1: must be at least 16"},
+      {"base above the cap", good, {"--base", "1048577"}, "--base 1048577: at most 2^20 = 1048576"},
       {"kernel", good, {"--gp-kernel", "rbf"}, "--gp-kernel: unknown GP kernel 'rbf' (valid: squared-exponential"},
       {"trend", good, {"--gp-trend", "cubic"}, "--gp-trend: unknown GP trend 'cubic' (valid: constant, linear)"},
   };

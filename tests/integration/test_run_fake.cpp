@@ -172,6 +172,23 @@ TEST(RunFake, EveryFailureClassRetriesTimeoutAndAnalysis) {
   EXPECT_EQ(after.at(1), 4);
 }
 
+TEST(RunFake, AStopThatFollowsFromTheSettingsIsNotRetried) {
+  // The pile's stop at the insertion height follows from its settings: each such case ran twice. A LIGGGHTS error of
+  // another kind is still retried.
+  test::TempDir tmp;
+  StudyText s;
+  s.samples = 4;
+  s.retries = 2;
+  write_study(tmp, s);
+  test::FakeLiggghtsEnvironment env("1:insertion,2:error", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
+  EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
+  const std::map<int, int> starts = starts_per_sample(tmp.path());
+  EXPECT_EQ(starts.at(1), 1);
+  EXPECT_EQ(starts.at(2), 3);
+  EXPECT_EQ(starts.at(0), 1);
+}
+
 TEST(RunFake, ResumeAfterSigkillAtRandomMomentsDoesEachSampleExactlyOnce) {
   test::TempDir tmp;
   StudyText s;

@@ -223,8 +223,10 @@ TEST(DumpReader, ReadParticlesFiltersType) {
 TEST(DumpReader, ReadParticlesKeepsTheCallersOptions) {
   TempDir dir;
   write_file(dir / "a.dump", frame_with_rows("1", "id type x y z radius", "1 1 0 0 0 0.1"));  // no final '\n'
-  EXPECT_EQ(read_particles(dir / "a.dump").size(), 1u);
+  EXPECT_THROW(read_particles(dir / "a.dump"), ParseError) << "a cut file is refused by default";
   DumpReaderOptions options;
+  options.require_final_newline = false;
+  EXPECT_EQ(read_particles(dir / "a.dump", 0, options).size(), 1u);
   options.require_final_newline = true;
   options.required_columns = {"vx"};
   EXPECT_EQ(test::message_of<ParseError>([&] { read_particles(dir / "a.dump", 0, options); }),
@@ -262,7 +264,9 @@ TEST(DumpReaderErrors, TruncatedMidFrameRows) {
 
 TEST(DumpReaderErrors, TruncatedMidLine) {
   const std::string text = frame_with_rows("2", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0.5 0.");
-  EXPECT_EQ(error_of(text), "bad.dump:11: atom row has 4 values, ITEM: ATOMS names 6 columns (line cut short?)");
+  EXPECT_EQ(error_of(text), "bad.dump:11: the file ends inside this line ('2 1 0.5 0.', no end of line): cut short?");
+  // A row cut short that still ends its line.
+  EXPECT_EQ(error_of(text + "\n"), "bad.dump:11: atom row has 4 values, ITEM: ATOMS names 6 columns (line cut short?)");
 }
 
 TEST(DumpReaderErrors, TruncatedInHeader) {
@@ -412,14 +416,15 @@ TEST(DumpReaderOptionsTest, ValidateNamesFieldAndValue) {
             "DumpReaderOptions.buffer_bytes = 10: must be at least 4096");
 }
 
-TEST(DumpReaderErrors, FinalNewlineRequiredWhenAsked) {
+TEST(DumpReaderErrors, FinalNewlineRequiredByDefault) {
   // A cut inside the last value of the last row leaves a row that parses: only the missing end of line tells.
   const std::string cut = frame_with_rows("2", "id type x y z radius", "1 1 0 0 0 0.1\n2 1 0 0 0 0.12");
   TempDir dir;
   write_file(dir / "c.dump", cut);
-  EXPECT_NO_THROW(read_last_frame(dir / "c.dump"));
-  DumpReaderOptions options;
-  options.require_final_newline = true;
+  DumpReaderOptions lenient;
+  lenient.require_final_newline = false;
+  EXPECT_NO_THROW(read_last_frame(dir / "c.dump", lenient));
+  DumpReaderOptions options;  // the default: the cut row was read as complete before
   EXPECT_EQ(test::message_of<ParseError>([&] { read_last_frame(dir / "c.dump", options); }),
             (dir / "c.dump").string() +
                 ":11: the file ends inside this line ('2 1 0 0 0 0.12', no end of line): "

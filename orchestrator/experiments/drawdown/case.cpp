@@ -157,12 +157,13 @@ CaseWritten DrawdownDraft::write(const Material& m, const TimestepChoice& ts, Pa
     for (const Particle& p : ps) mass += m.density * 4.0 / 3.0 * std::numbers::pi * p.radius * p.radius * p.radius;
     return mass;
   };
-  const long check_steps = steps_for(s.check_time, ts.dt);
+  const long check_steps = steps_for(s.check_time, ts.dt, "[drawdown] check_time");
   const long window_checks = std::max(1L, std::lround(s.window / s.check_time));
   const double fill_mass = mass_of(m_fill);
   params.comment("draw-down");
   params.number("half_width", half, "side walls at x = -half_width and half_width [m]");
-  params.integer("fill_steps", steps_for(s.fill_time, ts.dt), "the fill settles on the closed floor");
+  params.integer("fill_steps", steps_for(s.fill_time, ts.dt, "[drawdown] fill_time"),
+                 "the fill settles on the closed floor");
   params.integer("check_steps", check_steps, "discharge recorded and fallen particles removed every this often");
   params.integer("window_checks", window_checks, "checks of a window");
   params.integer("min_windows", std::max(1L, std::lround(s.min_time / (window_checks * s.check_time))),

@@ -34,8 +34,8 @@ CaseWritten InclineDraft::write(const Material& m, const TimestepChoice& ts, Par
                                 const fs::path& dir) const {
   const InclineSettings& s = settings(m_config);
   const long probes = static_cast<long>(m_radii.size());
-  const long settle_steps = steps_for(s.settle_time, ts.dt);
-  const long record_steps = steps_for(s.record_angle / s.tilt_rate, ts.dt);
+  const long settle_steps = steps_for(s.settle_time, ts.dt, "[incline] settle_time");
+  const long record_steps = steps_for(s.record_angle / s.tilt_rate, ts.dt, "[incline] record_angle / tilt_rate");
   const long records =
       static_cast<long>(std::ceil(s.max_angle / (s.tilt_rate * static_cast<double>(record_steps) * ts.dt) - 1e-9));
   params.comment("incline: a tilting plate of the wall material");

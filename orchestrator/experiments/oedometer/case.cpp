@@ -2,12 +2,14 @@
 
 #include "orchestrator/experiments/geometry.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/util/signals.hpp"
 
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 // The oedometer's case (paper §4): its loose lattice packing and the files of its folder, for either plate.
@@ -25,10 +27,12 @@ OedometerAssembly build_assembly(const OedometerSettings& s, std::uint64_t seed)
   const double cell = 2.0 * s.radii.r_max + gap;
   const int n = static_cast<int>(std::floor((s.box_side - gap) / cell));
   assert(n >= 1);
-  a.per_layer = n * n;
+  // Up to (10 m / 2.1 um)^2 sites: more than an int holds, and more than any particle count (all in one layer then).
+  a.per_layer = static_cast<int>(std::min<long long>(static_cast<long long>(n) * n, std::numeric_limits<int>::max()));
   const double offset = -s.box_side / 2.0 + (s.box_side - n * cell) / 2.0 + cell / 2.0;
   const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));  // golden angle [rad]
   for (std::size_t i = 0; i < radii.size(); ++i) {
+    if (i % 4096 == 0) util::throw_if_stop_raised();
     const int index = static_cast<int>(i);
     const int layer = index / a.per_layer, k = index % a.per_layer;
     const int ix = k / n, iy = k % n;
@@ -71,7 +75,7 @@ CaseWritten OedometerDraft::write(const Material& m, const TimestepChoice& ts, P
   const StudyConfig& c = m_config;
   const OedometerSettings& s = settings(c);
   const OedometerAssembly& a = m_assembly;
-  const long fill_steps = steps_for(s.fill_time, ts.dt);
+  const long fill_steps = steps_for(s.fill_time, ts.dt, "[oedometer] fill_time");
   // Averaging windows sample every 10 steps, so a check interval is a multiple of 10.
   const long check_steps = std::max(10L, (s.servo_check_steps + 9) / 10 * 10);
   const long max_checks = (s.servo_max_steps + check_steps - 1) / check_steps;

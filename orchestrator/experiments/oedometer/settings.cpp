@@ -4,6 +4,8 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+
 // The [oedometer] section of the study file: its rows, the rules between them, and its prose in docs/study-file.md.
 namespace demsa::experiments::oedometer {
 
@@ -26,6 +28,8 @@ void apply_preset(OedometerSettings& oedometer, const std::string& preset) {
   oedometer.particles = 4642;
   oedometer.radii = k_paper_radii;
 }
+
+const SettingBounds k_gain_bounds = between(0, true, 1e12, true);
 
 #define OED(member) \
   [](auto& c) -> auto& { return settings(c).member; }
@@ -53,23 +57,23 @@ std::vector<Setting> oedometer_settings() {
           .doc("number of particles"));
   radius_rows(rows, "oedometer", "oed.", OED(radii));
   add(Row("oedometer", "box_side")
-          .number(OED(box_side), k_positive)
+          .number(OED(box_side), between(0, false, 10, true))
           .unit("m")
           .cases("oed.box_side")
-          .doc("side of the square box; more than 2 `r_max`"));
+          .doc("side of the square box; at least 2.2 `r_max` (a lattice cell of 2 `r_max` and its gaps)"));
   add(Row("oedometer", "box_height")
-          .number(OED(box_height), k_positive)
+          .number(OED(box_height), between(0, false, 100, true))
           .unit("m")
           .cases("oed.box_height")
           .doc("box height; a case whose settled packing top plus `plate_gap` lies above it stops after the fill "
                "with an error naming this key (both plate modes)"));
   add(Row("oedometer", "fill_time")
-          .number(OED(fill_time), k_positive)
+          .number(OED(fill_time), between(0, false, k_max_duration, true))
           .unit("s")
           .cases("oed.fill_time")
           .doc("pouring and settling before loading"));
   add(Row("oedometer", "loads")
-          .numbers(OED(loads))
+          .numbers(OED(loads), between(0, false, 1e9, true))
           .check([](const SettingValue& v) {
             const auto& loads = std::get<std::vector<double>>(v);
             if (loads.empty()) throw SettingError("needs at least one load");
@@ -80,13 +84,13 @@ std::vector<Setting> oedometer_settings() {
                 throw SettingError(fmt::format("loads must increase: {} N follows {} N", loads[i], loads[i - 1]));
             }
           })
-          .range("at least one, > 0, increasing")
+          .range("at least one, in (0, 1e+09], increasing")
           .unit("N")
           .cases("oed.load")
           .doc("the loads L_n"));
   add(Row("oedometer", "measured_settlements")
-          .numbers(OED(measured_settlements))
-          .range("none, or one per load after the first")
+          .numbers(OED(measured_settlements), between(-100, true, 100, true))
+          .range("none, or one per load after the first, each in [-100, 100]")
           .unit("m")
           .measurement("oed.measured_settlement")
           .doc("s̃_i for loads 2..n relative to load 1: a finished case stores its error E_0 against them"));
@@ -97,26 +101,23 @@ std::vector<Setting> oedometer_settings() {
           .cases("oed.mode")
           .doc("`servo` (`fix mesh/surface/stress/servo`) or `trial-step` (the paper's algorithm)"));
   add(Row("oedometer", "plate_gap")
-          .number(OED(plate_gap), k_non_negative)
+          .number(OED(plate_gap), between(0, true, 100, true))
           .unit("m")
           .cases("oed.plate_gap")
           .doc("the plate starts this far above the settled packing"));
   add(Row("oedometer", "load_tolerance")
-          .number(OED(load_tolerance), k_positive)
+          .number(OED(load_tolerance), between(0, false, 1e9, true))
           .unit("N")
           .cases("oed.tol")
           .doc("\\|F − L\\| that counts as reached (paper R_pr)"));
   add(Row("oedometer", "servo_vel_max")
-          .number(OED(servo_vel_max), k_positive)
+          .number(OED(servo_vel_max), between(0, false, 1e3, true))
           .unit("m/s")
           .cases("oed.vmax")
           .doc("servo speed limit; must be below skin/(2 dt)"));
-  add(Row("oedometer", "servo_kp")
-          .number(OED(servo_kp), k_non_negative)
-          .cases("oed.kp")
-          .doc("servo proportional gain"));
-  add(Row("oedometer", "servo_ki").number(OED(servo_ki), k_non_negative).cases("oed.ki").doc("servo integral gain"));
-  add(Row("oedometer", "servo_kd").number(OED(servo_kd), k_non_negative).cases("oed.kd").doc("servo derivative gain"));
+  add(Row("oedometer", "servo_kp").number(OED(servo_kp), k_gain_bounds).cases("oed.kp").doc("servo proportional gain"));
+  add(Row("oedometer", "servo_ki").number(OED(servo_ki), k_gain_bounds).cases("oed.ki").doc("servo integral gain"));
+  add(Row("oedometer", "servo_kd").number(OED(servo_kd), k_gain_bounds).cases("oed.kd").doc("servo derivative gain"));
   add(Row("oedometer", "servo_max_steps")
           .integer(OED(servo_max_steps), step_bounds())
           .unit("steps")
@@ -128,7 +129,7 @@ std::vector<Setting> oedometer_settings() {
           .cases("oed.scheck")
           .doc("servo: force averaged and the load checked every this many steps (rounded up to a multiple of 10)"));
   add(Row("oedometer", "rest_velocity")
-          .number(OED(rest_velocity), k_positive)
+          .number(OED(rest_velocity), between(0, false, 1e3, true))
           .unit("m/s")
           .cases("oed.vrest")
           .doc("servo: the plate is at rest when its mean speed over a check is below this"));
@@ -147,7 +148,7 @@ std::vector<Setting> oedometer_settings() {
           .cases("oed.mt")
           .doc("trial-step: m_T"));
   add(Row("oedometer", "trial_step0")
-          .number(OED(trial_step0), k_positive)
+          .number(OED(trial_step0), between(0, false, 1, true))
           .unit("m")
           .cases("oed.d0")
           .doc("trial-step: δ_T0 (the paper's 0.0075 mm)"));
@@ -176,8 +177,12 @@ void check_oedometer(const StudyConfig& config, const SectionCheck& at) {
     at.fail("measured_settlements",
             fmt::format("has {} values; it needs one per load after the first ({} loads -> {} values)",
                         o.measured_settlements.size(), o.loads.size(), o.loads.size() - 1));
-  if (2 * o.radii.r_max >= o.box_side)
-    at.fail("box_side", fmt::format("{} m is too small for particles of radius {} m", o.box_side, o.radii.r_max));
+  // The lattice (build_assembly) has cells of 2 r_max with a gap of 0.1 r_max between them and the walls.
+  const double gap = 0.1 * o.radii.r_max, cell = 2.0 * o.radii.r_max + gap;
+  if (!(std::floor((o.box_side - gap) / cell) >= 1))
+    at.fail("box_side",
+            fmt::format("{} m is too small for particles of radius {} m: it must be at least 2.2 r_max = {:.4g} m",
+                        o.box_side, o.radii.r_max, 2.2 * o.radii.r_max));
 }
 
 }  // namespace demsa::experiments::oedometer

@@ -2,6 +2,7 @@
 
 #include "orchestrator/experiments/geometry.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/util/signals.hpp"
 
 #include <fmt/core.h>
 
@@ -71,6 +72,7 @@ PileAssembly build_assembly(const PileSettings& s, std::uint64_t seed) {
   std::size_t next = 0;
   bool in_column = true;
   for (int k = 0; next < a.radii.size(); ++k) {
+    util::throw_if_stop_raised();
     Disc disc = fill_disc(a.radii, next, a.r_upper, s.disc_radius, gap);
     assert(!disc.empty());
     const double z_column = base + a.r_upper + 2.0 * a.r_upper * k;
@@ -99,7 +101,8 @@ std::vector<Particle> build_base_layer(const PileSettings& s, std::uint64_t seed
   std::vector<std::pair<double, double>> sites;
   const long rows = static_cast<long>(std::floor(R / row));
   const long columns = static_cast<long>(std::floor(R / pitch)) + 1;
-  for (long j = -rows; j <= rows; ++j)
+  for (long j = -rows; j <= rows; ++j) {
+    util::throw_if_stop_raised();
     for (long i = -columns; i <= columns; ++i) {
       const double x = (static_cast<double>(i) + (j % 2 != 0 ? 0.5 : 0.0)) * pitch;
       const double y = static_cast<double>(j) * row;
@@ -108,6 +111,7 @@ std::vector<Particle> build_base_layer(const PileSettings& s, std::uint64_t seed
       // reach of the smallest pile particle, against 0.5 % this way: docs/experiments.md).
       if (std::hypot(x, y) <= R) sites.emplace_back(x, y);
     }
+  }
   const std::vector<double> radii = truncated_normal_radii(s.radii, static_cast<int>(sites.size()), base_seed);
   std::vector<Particle> layer;
   for (std::size_t k = 0; k < sites.size(); ++k)
@@ -170,9 +174,11 @@ CaseWritten PileDraft::write(const Material& m, const TimestepChoice& ts, Params
   const PileSettings& s = settings(c);
   const PileAssembly& a = m_assembly;
   const double t_append = disc_append_interval(a.r_upper, m.gravity);
-  const long append_steps = steps_for(t_append, ts.dt);
-  const long settle_steps = steps_for(s.settle_time, ts.dt);
-  const long check_steps = std::max(1L, std::min(settle_steps, steps_for(s.settle_check_time, ts.dt)));
+  const long append_steps =
+      steps_for(t_append, ts.dt, "the interval between discs, sqrt(4 r_max / [material] gravity),");
+  const long settle_steps = steps_for(s.settle_time, ts.dt, "[pile] settle_time");
+  const long check_steps =
+      std::max(1L, std::min(settle_steps, steps_for(s.settle_check_time, ts.dt, "[pile] settle_check_time")));
   const long checks = (settle_steps + check_steps - 1) / check_steps;
   const int appended = static_cast<int>(a.discs.size()) - a.column_discs;
   const double r_min = pile_smallest_radius();
@@ -231,6 +237,7 @@ CaseWritten PileDraft::write(const Material& m, const TimestepChoice& ts, Params
       "variable        in_insertion_zone equal count(all,insertion_zone)\n",
       appended, a.append_height, t_append, zone_bottom);
   for (std::size_t k = static_cast<std::size_t>(a.column_discs); k < a.discs.size(); ++k) {
+    util::throw_if_stop_raised();
     discs += fmt::format("# disc {} of {}: {} particles\nrun {}\ninclude pile_remove.liggghts\n", k + 1, a.discs.size(),
                          a.discs[k].size(), "${append_steps}");
     discs += fmt::format(

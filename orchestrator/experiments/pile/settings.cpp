@@ -4,6 +4,9 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+#include <numbers>
+
 // The [pile] section of the study file: its rows, the rules between them, and its prose in docs/study-file.md.
 namespace demsa::experiments::pile {
 
@@ -46,12 +49,12 @@ std::vector<Setting> pile_settings() {
           .doc("number of particles"));
   radius_rows(rows, "pile", "pile.", PILE(radii));
   add(Row("pile", "disc_radius")
-          .number(PILE(disc_radius), k_positive)
+          .number(PILE(disc_radius), between(0, false, 10, true))
           .unit("m")
           .cases("pile.disc_radius")
           .doc("r_fu, radius of the filling discs; at least `r_max`"));
   add(Row("pile", "fill_height")
-          .number(PILE(fill_height), k_positive)
+          .number(PILE(fill_height), between(0, false, 100, true))
           .unit("m")
           .cases("pile.fill_height")
           .doc("h_fu above the pedestal top (above the top of the base layer with `base = \"particles\"`): discs "
@@ -59,17 +62,19 @@ std::vector<Setting> pile_settings() {
                "whose pile grows into the layer of a new disc (a particle centre above h_fu − r_U) stops with an "
                "error naming this key"));
   add(Row("pile", "pedestal_radius")
-          .number(PILE(pedestal_radius), k_positive)
+          .number(PILE(pedestal_radius),
+                  between(1e-3, true, 1, true, "its mesh has rings 5 mm apart: up to 200 rings and 250000 triangles"))
           .unit("m")
           .cases("pile.pedestal_radius")
           .doc("r_cy"));
   add(Row("pile", "pedestal_height")
-          .number(PILE(pedestal_height), k_positive)
+          .number(PILE(pedestal_height),
+                  between(1e-4, true, 1, true, "its side band is split into bands of 5 mm: up to 200"))
           .unit("m")
           .cases("pile.pedestal_height")
           .doc("h_cy (the pedestal top)"));
   add(Row("pile", "settle_time")
-          .number(PILE(settle_time), k_non_negative)
+          .number(PILE(settle_time), k_duration_bounds)
           .unit("s")
           .cases("pile.settle_time")
           .doc("settling after the last disc: the cap; a pile still moving then is recorded as unsettled and flagged "
@@ -77,7 +82,7 @@ std::vector<Setting> pile_settings() {
   // The settling rows replaced `ke_stop` (0: settle for settle_time). At their defaults they give the hash text of
   // that version (`pile.ke_stop=0`, nothing more), so its studies keep their hash and their fixed settling time.
   add(Row("pile", "settle_speed")
-          .number(PILE(settle_speed), k_non_negative)
+          .number(PILE(settle_speed), between(0, true, 1e3, true))
           .cases("pile.settle_speed")
           .canonical([](const StudyConfig& c) -> Lines {
             if (settings(c).settle_speed == 0) return {{"pile.ke_stop", canonical_number(0)}};
@@ -92,13 +97,13 @@ std::vector<Setting> pile_settings() {
           .canonical(unless_default("pile.settle_quantile", PILE(settle_quantile)))
           .doc("share of the particles on the pedestal that must be slow; 1 = every one (the fastest is judged)"));
   add(Row("pile", "settle_window")
-          .number(PILE(settle_window), k_positive)
+          .number(PILE(settle_window), between(0, false, k_max_duration, true))
           .unit("s")
           .cases("pile.settle_window")
           .canonical(unless_default("pile.settle_window", PILE(settle_window)))
           .doc("how long the settling criterion must hold"));
   add(Row("pile", "settle_check_time")
-          .number(PILE(settle_check_time), k_positive)
+          .number(PILE(settle_check_time), between(0, false, k_max_duration, true))
           .unit("s")
           .cases("pile.settle_check_time")
           .doc("how often the settling criterion is checked and fallen particles removed (also after every disc)"));
@@ -109,7 +114,7 @@ std::vector<Setting> pile_settings() {
           .doc("delete particles whose centre is below the pedestal top and outside its radius (§3.2's filter "
                "applied during the run); they are counted as removed, not lost"));
   add(Row("pile", "domain_half_width")
-          .number(PILE(domain_half_width), k_positive)
+          .number(PILE(domain_half_width), between(0, false, 10, true))
           .unit("m")
           .cases("pile.domain_half_width")
           .doc("simulation box half width; particles leaving it are lost. Must exceed `disc_radius` + `r_max` and "
@@ -217,6 +222,17 @@ void check_pile(const StudyConfig& config, const SectionCheck& at) {
   if (p.disc_radius + p.radii.r_max > p.domain_half_width || p.pedestal_radius >= p.domain_half_width)
     at.fail("domain_half_width",
             fmt::format("{} m must exceed the disc radius + r_max and the pedestal radius", p.domain_half_width));
+  if (p.base == PileBase::particles) {
+    // The base layer's hexagonal lattice (build_base_layer) has about pi R^2 / (pitch^2 sqrt(3)/2) sites.
+    const double pitch = k_base_pitch * p.radii.mean;
+    const double sites =
+        std::numbers::pi * p.pedestal_radius * p.pedestal_radius / (pitch * pitch * std::sqrt(3.0) / 2);
+    if (sites > k_max_particles)
+      at.fail(at.given("pedestal_radius") ? "pedestal_radius" : "base",
+              fmt::format("a base layer of particles of mean radius {} m on a pedestal of radius {} m would hold about "
+                          "{:.3g} particles, more than {:.0e}",
+                          p.radii.mean, p.pedestal_radius, sites, k_max_particles));
+  }
 }
 
 std::map<std::string, std::string> pile_retired_keys() {

@@ -169,6 +169,13 @@ TEST(ModelFile, BadFilesNameTheFileAndTheField) {
   } catch (const UserError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("broken.json: not a JSON document: ", 0), 0u) << e.what();
   }
+  // A number beyond a double was the JSON library's own error, exit 3, without the file's name.
+  try {
+    parse_model_json("{\"format\": 1e999}", "huge.json");
+    FAIL() << "no error";
+  } catch (const UserError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("huge.json: a number out of range: ", 0), 0u) << e.what();
+  }
 }
 
 TEST(ModelFile, NamesAreUniqueAndFromASafeCharacterSet) {

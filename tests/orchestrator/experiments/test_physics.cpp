@@ -41,8 +41,8 @@ TEST(Physics, AppendIntervalIsFallTimeOfTwoUpperRadii) {
   const double t = pile::disc_append_interval(3.5e-3, 9.81);
   EXPECT_NEAR(t, 0.037777178144788405, 1e-15);
   EXPECT_NEAR(0.5 * 9.81 * t * t, 2 * 3.5e-3, 1e-15);  // a disc released at rest falls 2 r_U
-  EXPECT_EQ(steps_for(t, 1e-5), 3778);
-  EXPECT_EQ(steps_for(0.0, 1e-5), 1);
+  EXPECT_EQ(steps_for(t, 1e-5, "t"), 3778);
+  EXPECT_EQ(steps_for(0.0, 1e-5, "t"), 1);
 }
 
 TEST(Physics, ValidSettingsHaveNoViolations) {

@@ -102,6 +102,27 @@ TEST(Report, MarkdownShowsTheStudyNameAsTextNotMarkup) {
       << md;
 }
 
+TEST(Report, AStudyNameIsOneCodeSpanWhateverItHolds) {
+  // A name with a backtick ended the "Study `NAME`" code span, and its line breaks started headings and raw HTML.
+  const std::string name = "a`b\n\n# heading\n<script>x</script> [l](u) ``` `";
+  const std::string span = code_span(name);
+  EXPECT_EQ(span, "```` a`b  # heading <script>x</script> [l](u) ``` ` ````");
+  EXPECT_EQ(span.find('\n'), std::string::npos);
+  EXPECT_EQ(code_span("plain"), "`plain`");
+  EXPECT_EQ(code_span("`x"), "`` `x ``");
+  // The HTML page reads the span back as one <code> element, escaped.
+  ReportDocument doc;
+  ReportSection section;
+  section.paragraphs.push_back("Study " + span + ": pile, design `lhs`.");
+  doc.sections.push_back(section);
+  const std::string html = render_html(doc);
+  EXPECT_NE(html.find("<p>Study <code>a`b  # heading &lt;script&gt;x&lt;/script&gt; [l](u) ``` `</code>: pile, design "
+                      "<code>lhs</code>.</p>"),
+            std::string::npos)
+      << html;
+  EXPECT_EQ(html.find("<script>"), std::string::npos);
+}
+
 TEST(Report, HtmlOfAMissingImageFails) {
   ReportDocument doc;
   ReportSection s;

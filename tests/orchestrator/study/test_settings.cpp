@@ -12,6 +12,7 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -217,10 +218,27 @@ TEST(StudySettings, RangesComeFromTheTable) {
   EXPECT_EQ(error_of("[run]\nlost_fraction = -0.5\n"),
             "study.toml:7: [run] lost_fraction: must lie in [0, 1], got -0.5");
   EXPECT_EQ(error_of("[timestep]\nfraction = 0.5\n"),
-            "study.toml:7: [timestep] fraction: must lie in (0, 0.3], got 0.5: a time step above 0.3 Rayleigh times "
-            "is unstable for Hertz contacts");
+            "study.toml:7: [timestep] fraction: must lie in [1e-06, 0.3], got 0.5: a time step above 0.3 Rayleigh "
+            "times is unstable for Hertz contacts; below 1e-6 it underflows for the smallest particles");
   EXPECT_EQ(settings_table().find("pile", "levels")->range_text, "[2, 100000]");
   EXPECT_EQ(settings_table().find("parameters", "nu")->bounds.text(), "(0, 0.5)");
+}
+
+TEST(StudySettings, EveryNumberHasAPhysicalRange) {
+  // Both ends, finite: a value of 1e300 or 1e-300 is refused at its line, before it sizes a lattice, a mesh or a
+  // step count.
+  for (const Setting& s : settings_table().rows()) {
+    if (s.type != SettingType::number && s.type != SettingType::integer && s.type != SettingType::number_list &&
+        !(s.type == SettingType::table && s.section == "parameters"))
+      continue;
+    SCOPED_TRACE(s.section + "." + s.key);
+    ASSERT_TRUE(s.bounds.low.has_value());
+    ASSERT_TRUE(s.bounds.high.has_value());
+    EXPECT_TRUE(std::isfinite(s.bounds.low->value));
+    EXPECT_TRUE(std::isfinite(s.bounds.high->value));
+    EXPECT_FALSE(s.bounds.contains(1e300));
+    EXPECT_FALSE(s.bounds.contains(-1e300));
+  }
 }
 
 TEST(StudySettings, UnknownKeySuggestsTheNearestKey) {

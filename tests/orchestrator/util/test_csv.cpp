@@ -30,6 +30,15 @@ std::string parse_error(const std::string& text, const CsvReadOptions& options =
   return test::message_of<UserError>([&] { parse_csv(text, "d.csv", options); });
 }
 
+TEST(CsvErrors, ANulInsideACellIsNotTheEndOfTheNumber) {
+  // strtod stopped at the NUL: "5\0 2.23" was read as 5.
+  const std::string text("a,b\n1,2\n5\0 2.23,3\n", 18);
+  EXPECT_EQ(parse_error(text), "d.csv:3: column 'a': '5\\x00 2.23' is not a number");
+  std::istringstream in(text);
+  EXPECT_EQ(test::message_of<UserError>([&] { read_csv(in, "d.csv"); }),
+            "d.csv:3: column 'a': '5\\x00 2.23' is not a number");
+}
+
 // format_shortest writes what fmt's "{}" writes, and the text reads back to the same double: every boundary of the
 // fixed/scientific choice, zeros, infinities, NaN, subnormals, the extremes, and a million random bit patterns.
 TEST(Csv, ShortestTextIsFmtsAndRoundTrips) {
