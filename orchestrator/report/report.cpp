@@ -295,6 +295,13 @@ void ReportOptions::validate() const {
 
 namespace {
 
+/// The paragraph of a failed calibration check: what failed, then each problem found.
+std::string check_failed(const std::string& what, const std::vector<std::string>& problems) {
+  std::string text = "**Check failed: " + what + ".**";
+  for (const std::string& problem : problems) text += " " + problem + ".";
+  return text;
+}
+
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 
 /// A parameter's symbol for tables ("μ_R,PP"), in gnuplot's enhanced text ("μ_{R,PP}") and its unit, from
@@ -699,13 +706,11 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
   }
   if (!any_measured) plot.measured.clear();
   section.tables.push_back(targets);
-  if (!c.problems.empty()) {
-    std::string text =
-        "**Check failed: the targets contradict what the study can produce; this optimum is not an "
-        "answer.**";
-    for (const std::string& problem : c.problems) text += " " + problem + ".";
-    section.paragraphs.push_back(text);
-  }
+  if (!c.problems.empty())
+    section.paragraphs.push_back(
+        check_failed("the targets contradict what the study can produce; this optimum is not an "
+                     "answer",
+                     c.problems));
   if (!c.verify_dir.empty())
     section.paragraphs.push_back(
         c.verified ? fmt::format("Verified by a real run at the optimum ({:.0f} s).", c.verify_seconds)
@@ -749,13 +754,9 @@ ReportSection posterior_section(const PosteriorOutcome& p, const fs::path& sampl
                             fmt::format("{:.2g}{}", t.tail_probability, t.contradicted ? " (contradicted)" : ""),
                             t.samples > 0 ? fmt::format("{:.5g} to {:.5g}", t.observed_low, t.observed_high) : ""});
   section.tables.push_back(targets);
-  if (!p.problems.empty()) {
-    std::string text =
-        "**Check failed: the measurements contradict what the studies can produce; this posterior is "
-        "not an answer.**";
-    for (const std::string& problem : p.problems) text += " " + problem + ".";
-    section.paragraphs.push_back(text);
-  }
+  if (!p.problems.empty())
+    section.paragraphs.push_back(check_failed(
+        "the measurements contradict what the studies can produce; this posterior is not an answer", p.problems));
   for (const std::string& warning : p.warnings) section.paragraphs.push_back("Warning: " + warning + ".");
   for (const VerifyPoint& v : p.verification)
     for (const VerifyPoint::Measured& m : v.measured)
