@@ -209,17 +209,18 @@ std::vector<const Study*> studies_measuring(const std::vector<Study>& studies, c
     if (measures(s)) measuring.push_back(&s);
   }
   if (!target.study.empty() && named.empty()) {
-    std::string names;
-    for (const Study& s : studies) names += fmt::format("{}{}", names.empty() ? "" : ", ", s.config.name);
-    throw UserError(fmt::format("--target {}: no study is named '{}' (the studies: {})", text, target.study, names));
+    std::vector<std::string> names;
+    for (const Study& s : studies) names.push_back(s.config.name);
+    throw UserError(
+        fmt::format("--target {}: no study is named '{}' (the studies: {})", text, target.study, join(names)));
   }
   if (!target.study.empty() && named.size() > 1) {
-    std::string dirs;
-    for (const Study* s : named) dirs += fmt::format("{}{}", dirs.empty() ? "" : ", ", s->dir.string());
+    std::vector<std::string> dirs;
+    for (const Study* s : named) dirs.push_back(s->dir.string());
     throw UserError(
         fmt::format("--target {}: the studies {} share the name '{}', so STUDY:NAME cannot tell them "
                     "apart; give them different [study] names",
-                    text, dirs, target.study));
+                    text, join(dirs), target.study));
   }
   if (measuring.empty()) {
     std::string all;
@@ -229,12 +230,12 @@ std::vector<const Study*> studies_measuring(const std::vector<Study>& studies, c
                                 target.study.empty() ? "" : "named '" + target.study + "' ", all));
   }
   if (measuring.size() > 1) {
-    std::string names;
-    for (const Study* s : measuring) names += fmt::format("{}{}", names.empty() ? "" : ", ", s->config.name);
+    std::vector<std::string> names;
+    for (const Study* s : measuring) names.push_back(s->config.name);
     throw UserError(
         fmt::format("--target {}: ambiguous: the studies {} all measure '{}'; say which with "
                     "--target STUDY:{}=... (one per study)",
-                    text, names, target.name, target.name));
+                    text, join(names), target.name, target.name));
   }
   return measuring;
 }
