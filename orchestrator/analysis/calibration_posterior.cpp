@@ -2,11 +2,9 @@
 
 #include "orchestrator/analysis/calibration.hpp"
 #include "orchestrator/analysis/fit.hpp"
-#include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/analysis/joint_studies.hpp"
 #include "orchestrator/experiments/registry.hpp"
-#include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/parameters.hpp"
-#include "orchestrator/study/store.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -64,14 +62,6 @@ double d2(int n) {
 struct ResolvedTarget {
   MeasuredValue measured;
   double weight = 1.0;
-};
-
-struct Study {
-  fs::path dir;
-  StudyConfig config;
-  std::vector<SampleRow> samples;
-  std::map<int, std::map<std::string, double>> observables;
-  std::vector<std::string> available;
 };
 
 }  // namespace
@@ -197,26 +187,23 @@ QualifiedName qualified_name(const std::string& text) {
 /// The studies a target is matched to: the one named by its STUDY: prefix, else the only study that measures its
 /// name. A bare name that several studies measure (two piles both have `angle`) is refused: the measured value of
 /// one lab test belongs to one experiment.
-std::vector<const Study*> studies_measuring(const std::vector<Study>& studies, const QualifiedName& target,
-                                            const std::string& text) {
-  const auto measures = [&](const Study& s) {
-    return std::find(s.available.begin(), s.available.end(), target.name) != s.available.end();
-  };
-  std::vector<const Study*> named, measuring;
-  for (const Study& s : studies) {
+std::vector<const JointStudy*> studies_measuring(const std::vector<JointStudy>& studies, const QualifiedName& target,
+                                                 const std::string& text) {
+  std::vector<const JointStudy*> named, measuring;
+  for (const JointStudy& s : studies) {
     if (!target.study.empty() && s.config.name != target.study) continue;
     named.push_back(&s);
-    if (measures(s)) measuring.push_back(&s);
+    if (s.measures(target.name)) measuring.push_back(&s);
   }
   if (!target.study.empty() && named.empty()) {
     std::vector<std::string> names;
-    for (const Study& s : studies) names.push_back(s.config.name);
+    for (const JointStudy& s : studies) names.push_back(s.config.name);
     throw UserError(
         fmt::format("--target {}: no study is named '{}' (the studies: {})", text, target.study, join(names)));
   }
   if (!target.study.empty() && named.size() > 1) {
     std::vector<std::string> dirs;
-    for (const Study* s : named) dirs.push_back(s->dir.string());
+    for (const JointStudy* s : named) dirs.push_back(s->dir.string());
     throw UserError(
         fmt::format("--target {}: the studies {} share the name '{}', so STUDY:NAME cannot tell them "
                     "apart; give them different [study] names",
@@ -224,14 +211,14 @@ std::vector<const Study*> studies_measuring(const std::vector<Study>& studies, c
   }
   if (measuring.empty()) {
     std::string all;
-    for (const Study* s : named)
+    for (const JointStudy* s : named)
       all += fmt::format("\n  {} ({}): {}", s->config.name, s->dir.string(), join(s->available));
     throw UserError(fmt::format("--target {}: no study {}has this observable (observables:{})", text,
                                 target.study.empty() ? "" : "named '" + target.study + "' ", all));
   }
   if (measuring.size() > 1) {
     std::vector<std::string> names;
-    for (const Study* s : measuring) names.push_back(s->config.name);
+    for (const JointStudy* s : measuring) names.push_back(s->config.name);
     throw UserError(
         fmt::format("--target {}: ambiguous: the studies {} all measure '{}'; say which with "
                     "--target STUDY:{}=... (one per study)",
@@ -244,63 +231,15 @@ std::vector<const Study*> studies_measuring(const std::vector<Study>& studies, c
 
 PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   options.validate();
-  std::vector<Study> studies;
-  // One folder given twice (or by two spellings of its path) would count its measurements twice and narrow the
-  // posterior as if they had been measured twice: refused, compared by canonical path.
-  std::vector<fs::path> canonical;
-  for (size_t i = 0; i < options.dirs.size(); ++i) {
-    require_study_folder(options.dirs[i]);
-    canonical.push_back(fs::canonical(options.dirs[i]));
-    for (size_t k = 0; k < i; ++k)
-      if (canonical[k] == canonical[i])
-        throw UserError(
-            fmt::format("calibrate: study folders '{}' and '{}' are the same study ({}); give each study "
-                        "once, or its measurements count twice",
-                        options.dirs[k].string(), options.dirs[i].string(), canonical[i].string()));
-  }
-  for (const fs::path& dir : options.dirs) {
-    Study s;
-    s.dir = dir;
-    s.config = experiments::load_study(dir / k_frozen_study);
-    const Store store = Store::open_read_only((dir / k_store_file).string());
-    s.samples = store.samples();
-    s.observables = store.observables();
-    for (const auto& [sample, values] : s.observables)
-      for (const auto& [name, value] : values)
-        if (std::find(s.available.begin(), s.available.end(), name) == s.available.end()) s.available.push_back(name);
-    studies.push_back(std::move(s));
-  }
-
-  // The prior: every parameter of any study, on the intersection of the ranges of the studies that vary it.
+  const std::vector<JointStudy> studies = load_joint_studies(options.dirs, "calibrate");
   PosteriorOutcome outcome;
-  std::vector<sobol::Bounds> prior;
-  std::vector<std::string> owner;  // study that set the current bounds (for messages)
-  for (const Study& s : studies) {
-    outcome.studies.push_back(s.config.name);
-    for (const ParameterRange& p : s.config.parameters) {
-      const auto it = std::find_if(outcome.parameters.begin(), outcome.parameters.end(),
-                                   [&](const PosteriorParameter& q) { return q.name == p.name; });
-      if (it == outcome.parameters.end()) {
-        PosteriorParameter q;
-        q.name = p.name;
-        outcome.parameters.push_back(q);
-        prior.push_back(p.bounds);
-        owner.push_back(s.dir.string());
-        continue;
-      }
-      sobol::Bounds& b = prior[static_cast<size_t>(it - outcome.parameters.begin())];
-      const std::string& first = owner[static_cast<size_t>(it - outcome.parameters.begin())];
-      if (b.scale != p.bounds.scale)
-        throw UserError(fmt::format("parameter {}: {} samples it on a {} scale, {} on a {} scale; the prior needs one",
-                                    p.name, first, sobol::to_string(b.scale), s.dir.string(),
-                                    sobol::to_string(p.bounds.scale)));
-      const double low = std::max(b.low, p.bounds.low), high = std::min(b.high, p.bounds.high);
-      if (!(low < high))
-        throw UserError(fmt::format("parameter {}: the ranges [{:g}, {:g}] of {} and [{:g}, {:g}] of {} do not overlap",
-                                    p.name, b.low, b.high, first, p.bounds.low, p.bounds.high, s.dir.string()));
-      b.low = low;
-      b.high = high;
-    }
+  const JointPrior joint = joint_prior(studies);
+  const std::vector<sobol::Bounds>& prior = joint.bounds;
+  for (const JointStudy& s : studies) outcome.studies.push_back(s.config.name);
+  for (const std::string& name : joint.names) {
+    PosteriorParameter q;
+    q.name = name;
+    outcome.parameters.push_back(q);
   }
   const int d = static_cast<int>(prior.size());
 
@@ -331,49 +270,26 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   std::set<std::pair<std::string, std::string>> matched;  // (study folder, observable): one target each
   for (const ResolvedTarget& t : measured) {
     const QualifiedName target = qualified_name(t.measured.name);
-    for (const Study* study : studies_measuring(studies, target, t.measured.name)) {
-      const Study& s = *study;
+    for (const JointStudy* study : studies_measuring(studies, target, t.measured.name)) {
+      const JointStudy& s = *study;
       if (!matched.insert({s.dir.string(), target.name}).second)
         throw UserError(
             fmt::format("--target {}: {} of {} is given a value twice", t.measured.name, target.name, s.dir.string()));
-      const TrainingData data = training_data(s.config, s.samples, s.observables, target.name);
-      if (data.size() < 2)
-        throw UserError(fmt::format("{}: {} done samples measure {}; calibration needs more", s.dir.string(),
-                                    data.size(), target.name));
-      const std::vector<std::string> candidates =
-          options.model.empty() ? s.config.analysis.metamodels : std::vector<std::string>{options.model};
-      std::vector<FittedMetamodel> fits =
-          fit_metamodels(metamodel_kinds(candidates), s.config.analysis.metamodel_options(), data.unit, data.y);
-      const std::optional<std::size_t> best = best_by_q2(fits);
-      if (!best) {
-        std::string errors;
-        for (const FittedMetamodel& f : fits) errors += fmt::format("\n  {}: {}", f.name(), f.error);
-        throw UserError(fmt::format("{}: no metamodel could be fitted to {}:{}", s.dir.string(), target.name, errors));
-      }
+      FittedObservable fit = fit_observable(s, target.name, options.model);
       PosteriorTarget pt;
       pt.name = target.name;
       pt.study = s.config.name;
-      pt.model = fits[*best].name();
-      pt.q2 = fits[*best].quality.q2;
+      pt.model = fit.model_name;
+      pt.q2 = fit.q2;
       pt.value = t.measured.value;
       pt.sd = t.measured.sd;
       pt.weight = t.weight;
-      pt.observed_low = data.y.minCoeff();
-      pt.observed_high = data.y.maxCoeff();
-      pt.samples = static_cast<int>(data.size());
+      pt.observed_low = fit.observed_low;
+      pt.observed_high = fit.observed_high;
+      pt.samples = fit.samples;
       outcome.targets.push_back(pt);
-      models.push_back(std::move(fits[*best].model));
-      sobol::GaussianTarget g{pt.name, models.back().get(), {}, pt.value, pt.sd, pt.weight};
-      // The study's unit coordinate of its parameter j is affine in the prior's coordinate (same scale).
-      for (const ParameterRange& p : s.config.parameters) {
-        const auto it = std::find_if(outcome.parameters.begin(), outcome.parameters.end(),
-                                     [&](const PosteriorParameter& q) { return q.name == p.name; });
-        const int column = static_cast<int>(it - outcome.parameters.begin());
-        const sobol::Bounds& b = prior[static_cast<size_t>(column)];
-        const double at_low = sobol::to_unit(b.low, p.bounds), at_high = sobol::to_unit(b.high, p.bounds);
-        g.inputs.push_back({column, at_low, at_high - at_low});
-      }
-      gaussian.push_back(g);
+      models.push_back(std::move(fit.model));
+      gaussian.push_back({pt.name, models.back().get(), input_maps(s, joint), pt.value, pt.sd, pt.weight});
     }
   }
   std::optional<sobol::GaussianPosterior> posterior;
@@ -550,7 +466,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
       for (int j = 0; j < d; ++j) vp.physical.push_back(sobol::to_physical(u(j), prior[static_cast<size_t>(j)]));
       Eigen::MatrixXd pm, ps;
       posterior->predict(u.transpose(), pm, ps);
-      for (const Study& s : studies) {
+      for (const JointStudy& s : studies) {
         std::vector<double> unit;
         for (const ParameterRange& p : s.config.parameters) {
           const auto it = std::find_if(outcome.parameters.begin(), outcome.parameters.end(),

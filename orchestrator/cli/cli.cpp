@@ -147,6 +147,7 @@ int run_cli(int argc, char** argv) {
   register_extend_command(app, state);
   register_refine_command(app, state);
   register_measure_command(app, state);
+  register_plan_command(app, state);
 
   // Every error of every command ends here: the subcommands' callbacks run inside parse().
   try {

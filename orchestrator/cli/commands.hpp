@@ -25,5 +25,6 @@ void register_predict_command(CLI::App& app, CliState& state);      // predict.c
 void register_extend_command(CLI::App& app, CliState& state);       // extend.cpp
 void register_refine_command(CLI::App& app, CliState& state);       // refine.cpp
 void register_measure_command(CLI::App& app, CliState& state);      // measure.cpp
+void register_plan_command(CLI::App& app, CliState& state);         // plan.cpp
 
 }  // namespace demsa::cli

@@ -152,6 +152,9 @@ struct Experiment {
   /// The targets of `demsa calibrate` when none are given: (observable, value) pairs from the settings. Throws
   /// util::UserError naming the file and the option to give when the settings have none.
   std::vector<std::pair<std::string, double>> (*default_targets)(const study::StudyConfig& config);
+  /// The observables a laboratory measures in this experiment (an angle of repose; not a DEM pile's height, which
+  /// depends on how much was poured): what `demsa plan` assumes measured when no --observe is given.
+  std::vector<std::string> (*lab_observables)(const study::StudyConfig& config);
   /// The observable (and value) by which the report chooses the case it shows.
   ReportFocus (*report_focus)(const study::StudyConfig& config);
   /// The report's section on one finished case `folder` (of sample `sample`; `relative` is its path as the report

@@ -229,6 +229,38 @@ PlotFiles plot_sobol_bars(const Plotter& plotter, const SobolBarChart& chart, co
   return plotter.render(stem, chart.title, data, body);
 }
 
+// ------------------------------------------------------------------------------------- plan widths
+
+PlotFiles plot_plan_widths(const Plotter& plotter, const PlanWidthChart& chart, const fs::path& stem) {
+  // Twenty colours (matplotlib's tab20), repeated beyond.
+  static const char* const colours[] = {"#1f77b4", "#aec7e8", "#ff7f0e", "#ffbb78", "#2ca02c", "#98df8a", "#d62728",
+                                        "#ff9896", "#9467bd", "#c5b0d5", "#8c564b", "#c49c94", "#e377c2", "#f7b6d2",
+                                        "#7f7f7f", "#c7c7c7", "#bcbd22", "#dbdb8d", "#17becf", "#9edae5"};
+  std::string data = "$widths << EOD\n";
+  for (size_t j = 0; j < chart.parameters.size(); ++j) {
+    data += gnuplot_quote(chart.parameters[j]);
+    for (const std::vector<double>& w : chart.width) data += fmt::format(" {}", num(std::isfinite(w[j]) ? w[j] : 0.0));
+    data += "\n";
+  }
+  data += "EOD\n";
+  std::string body;
+  body += fmt::format("  set title {} noenhanced\n", gnuplot_quote(chart.title));
+  body += "  set style data histogram\n  set style histogram clustered gap 1\n";
+  body += "  set style fill solid 0.85 border rgb 'black'\n  set boxwidth 0.9\n";
+  body += "  set yrange [0:1.05]\n  set ylabel '90 % posterior width / prior width'\n  set xlabel 'parameter'\n";
+  body += "  set grid ytics lc rgb '#dddddd'\n  set key outside right top noenhanced\n  set xtics nomirror noenhanced\n";
+  body += "  plot ";
+  for (size_t i = 0; i < chart.subsets.size(); ++i) {
+    const bool mark = static_cast<int>(i) == chart.recommended;
+    body += fmt::format("{}$widths using {}{} title {} lc rgb '{}'{}", i ? ", \\\n       " : "", i + 2,
+                        i ? "" : ":xtic(1)", gnuplot_quote(chart.subsets[i] + (mark ? " (recommended)" : "")),
+                        colours[i % std::size(colours)], mark ? " lw 3" : "");
+  }
+  body += fmt::format(", \\\n       {} with lines dt 2 lw 2 lc rgb '{}' title {}\n", num(chart.goal), k_grey,
+                      gnuplot_quote(fmt::format("goal {:g}", chart.goal)));
+  return plotter.render(stem, chart.title, data, body, 1.0, chart.subsets.size() > 7 ? 1.6 : 1.2);
+}
+
 // ------------------------------------------------------------------------------------- predicted vs observed
 
 PlotFiles plot_predicted_vs_observed(const Plotter& plotter, const PredictedVsObserved& p, const fs::path& stem) {
@@ -494,8 +526,10 @@ PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& h, 
 }
 
 PlotFiles plot_lines(const Plotter& plotter, const LinePlot& p, const fs::path& stem) {
-  static const char* const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
-                                        "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  // Twenty colours (matplotlib's tab20), repeated beyond.
+  static const char* const colours[] = {"#1f77b4", "#aec7e8", "#ff7f0e", "#ffbb78", "#2ca02c", "#98df8a", "#d62728",
+                                        "#ff9896", "#9467bd", "#c5b0d5", "#8c564b", "#c49c94", "#e377c2", "#f7b6d2",
+                                        "#7f7f7f", "#c7c7c7", "#bcbd22", "#dbdb8d", "#17becf", "#9edae5"};
   std::string data;
   for (size_t k = 0; k < p.series.size(); ++k) {
     const LinePlot::Series& s = p.series[k];

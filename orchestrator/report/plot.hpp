@@ -134,6 +134,18 @@ PlotFiles plot_lines(const Plotter& plotter, const LinePlot& plot, const std::fi
 PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& history,
                              const std::filesystem::path& stem);
 
+/// `demsa plan`: the expected 90 % posterior width over the prior width of each parameter (groups along x) for each
+/// set of experiments (one bar per set in every group), with the goal as a dashed line.
+struct PlanWidthChart {
+  std::string title;
+  std::vector<std::string> parameters;     ///< one group each
+  std::vector<std::string> subsets;        ///< one bar per group each ("pile + incline")
+  std::vector<std::vector<double>> width;  ///< [subset][parameter]
+  double goal = 0.5;
+  int recommended = -1;  ///< subset drawn with a thick black border (-1: none)
+};
+PlotFiles plot_plan_widths(const Plotter& plotter, const PlanWidthChart& chart, const std::filesystem::path& stem);
+
 /// A calibration: where the optimum lies in each parameter's range, and target against predicted (and
 /// measured, after a verification run) per observable.
 struct CalibrationPlot {

@@ -1,6 +1,7 @@
 #include "orchestrator/report/posterior_plots.hpp"
 
 #include "orchestrator/util/csv.hpp"
+#include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
 
@@ -174,6 +175,19 @@ PosteriorFigures plot_posterior(const Plotter& plotter, const PosteriorOutcome& 
     figures.predictive = plotter.render(folder / "posterior_predictive", "posterior predictive", data, body, 1.0);
   }
   return figures;
+}
+
+PlotFiles plot_plan(const Plotter& plotter, const analysis::PlanOutcome& plan, const std::filesystem::path& folder) {
+  PlanWidthChart chart;
+  chart.title = fmt::format("demsa plan: expected 90 % posterior width per parameter ({} truths)", plan.truths);
+  chart.parameters = plan.parameters;
+  for (const analysis::PlanSubset& s : plan.subsets) {
+    chart.subsets.push_back(util::join(s.studies, " + "));
+    chart.width.push_back(s.width);
+  }
+  chart.goal = plan.goal;
+  chart.recommended = plan.recommended;
+  return plot_plan_widths(plotter, chart, folder / "plan_widths");
 }
 
 }  // namespace demsa::report

@@ -4,6 +4,7 @@
 // predictive against every measured target (one panel per observable family: the angle; the settlement curve with
 // its error bars).
 #include "orchestrator/analysis/calibration_posterior.hpp"
+#include "orchestrator/analysis/experiment_plan.hpp"
 #include "orchestrator/report/plot.hpp"
 
 #include <filesystem>
@@ -21,5 +22,8 @@ struct PosteriorFigures {
 /// draws in `samples` (posterior_samples.csv).
 PosteriorFigures plot_posterior(const Plotter& plotter, const analysis::PosteriorOutcome& outcome,
                                 const std::filesystem::path& samples, const std::filesystem::path& folder);
+
+/// `demsa plan`'s figure, plan_widths (.gp, .png, .svg) in `folder`: grouped bars of the expected widths.
+PlotFiles plot_plan(const Plotter& plotter, const analysis::PlanOutcome& plan, const std::filesystem::path& folder);
 
 }  // namespace demsa::report

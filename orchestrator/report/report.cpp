@@ -5,6 +5,7 @@
 #include "orchestrator/analysis/analysis_json.hpp"
 #include "orchestrator/analysis/calibration.hpp"
 #include "orchestrator/analysis/calibration_posterior.hpp"
+#include "orchestrator/analysis/experiment_plan.hpp"
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/analysis/training_data.hpp"
@@ -772,6 +773,49 @@ ReportSection posterior_section(const PosteriorOutcome& p, const fs::path& sampl
   return section;
 }
 
+/// `demsa plan`: the expected widths per set of experiments, the sd each observable was given, the recommendation.
+ReportSection plan_section(const PlanOutcome& p, const Plotter& plotter, const fs::path& out, ReportSummary& summary) {
+  ReportSection section;
+  section.heading = "Which experiments to run";
+  section.paragraphs.push_back(fmt::format(
+      "`demsa plan` over {} studies: {} parameter points (truths) drawn from the prior, each measured with the sd "
+      "below and calibrated on the metamodels, for every set of the experiments. Width: the 90 % posterior width "
+      "over the prior width, the mean over the truths (about 0.9: the set leaves the parameter free). Outside: how "
+      "often a truth fell outside its 90 % interval (about 10 % when the planner is calibrated).",
+      p.studies.size(), p.truths));
+  ReportTable observables;
+  observables.caption = "Measured observables";
+  observables.header = {"study", "observable", "sd", "from", "metamodel", "Q²"};
+  for (const PlanObservable& o : p.observables) {
+    const Observable l = experiments::describe_observable(o.name);
+    observables.rows.push_back({o.study, o.name,
+                                fmt::format("{:.3g}{}", o.sd * l.factor, l.unit.empty() ? "" : " " + l.unit), o.source,
+                                o.model, fmt::format("{:.3f}", o.q2)});
+  }
+  section.tables.push_back(observables);
+  ReportTable widths;
+  widths.caption = "Expected 90 % posterior width / prior width per set of experiments";
+  widths.header = {"experiments"};
+  for (const std::string& name : p.parameters) widths.header.push_back(name);
+  widths.header.push_back("outside");
+  widths.header.push_back("CPU-hours");
+  for (size_t i = 0; i < p.subsets.size(); ++i) {
+    const PlanSubset& s = p.subsets[i];
+    std::vector<std::string> row{join(s.studies, " + ") +
+                                 (static_cast<int>(i) == p.recommended ? " (recommended)" : "")};
+    for (const double w : s.width) row.push_back(fmt::format("{:.2f}", w));
+    row.push_back(fmt::format("{:.0f} %", 100 * s.outside_all));
+    row.push_back(std::isfinite(s.cpu_seconds) ? fmt::format("{:.3g}", s.cpu_seconds / 3600) : "-");
+    widths.rows.push_back(row);
+  }
+  section.tables.push_back(widths);
+  section.paragraphs.push_back(fmt::format("Recommendation: {}.", p.recommendation));
+  section.figures.push_back(
+      {"Expected posterior width per parameter, one bar per set of experiments", plot_plan(plotter, p, out)});
+  summary.images.push_back(section.figures.back().files.png);
+  return section;
+}
+
 /// `demsa refine`'s steps: a table and the half-widths against the samples, with the target as a line.
 ReportSection refine_section(const std::vector<RefineStep>& steps, const Plotter& plotter, const fs::path& out,
                              ReportSummary& summary) {
@@ -878,6 +922,15 @@ ReportSummary write_study_report(const ReportOptions& options) {
     doc.sections.push_back(posterior_section(read_posterior(posterior_file),
                                              dir / "calibration" / "posterior_samples.csv", plotter, summary.out_dir,
                                              summary));
+
+  const fs::path plan_file = dir / "plan" / "plan.json";
+  if (fs::exists(plan_file)) {
+    try {
+      doc.sections.push_back(plan_section(read_plan(plan_file), plotter, summary.out_dir, summary));
+    } catch (const std::exception& e) {
+      summary.notes.push_back(fmt::format("{}: no plan section: {}", plan_file.string(), e.what()));
+    }
+  }
 
   if (!summary.notes.empty()) {
     ReportSection notes;

@@ -116,6 +116,11 @@ long removed_particles(const fs::path& folder) {
   return static_cast<long>(read_end(folder).at("removed"));
 }
 
+/// The slope left in the box and the mass that ran out (a discharge rate needs a load cell under the outlet).
+std::vector<std::string> lab_observables(const StudyConfig&) {
+  return {std::string(k_slope_angle), std::string(k_discharged_mass)};
+}
+
 std::vector<std::pair<std::string, double>> default_targets(const StudyConfig& config) {
   throw util::UserError(fmt::format(
       "{}: a draw-down study has no target of its own; give the measured values, e.g. --target slope_angle=38±2 "
@@ -235,6 +240,7 @@ const Experiment& experiment() {
       .removed_particles = removed_particles,
       .check_outputs = nullptr,
       .default_targets = default_targets,
+      .lab_observables = lab_observables,
       .report_focus = report_focus,
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,

@@ -111,6 +111,12 @@ long removed_particles(const fs::path& folder) {
   return 0;
 }
 
+std::vector<std::string> lab_observables(const StudyConfig& config) {
+  std::vector<std::string> names;
+  for (const Observable& o : observables(config)) names.push_back(o.name);
+  return names;
+}
+
 std::vector<std::pair<std::string, double>> default_targets(const StudyConfig& config) {
   throw util::UserError(fmt::format(
       "{}: an incline study has no target of its own; give the measured angles, e.g. --target roll_angle=12±0.5 "
@@ -204,6 +210,7 @@ const Experiment& experiment() {
       .removed_particles = removed_particles,
       .check_outputs = nullptr,
       .default_targets = default_targets,
+      .lab_observables = lab_observables,
       .report_focus = report_focus,
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,

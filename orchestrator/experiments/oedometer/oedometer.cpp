@@ -131,6 +131,13 @@ std::optional<OutputProblem> check_outputs(const fs::path& folder, const StudyCo
   return std::nullopt;
 }
 
+/// The settlement at each load after the first (not the error E_0, which is computed from them).
+std::vector<std::string> lab_observables(const StudyConfig& config) {
+  std::vector<std::string> names;
+  for (std::size_t i = 1; i < settings(config).loads.size(); ++i) names.push_back(settlement_name(i));
+  return names;
+}
+
 std::vector<std::pair<std::string, double>> default_targets(const StudyConfig& config) {
   const OedometerSettings& o = settings(config);
   const std::vector<double>& measured = o.measured_settlements;
@@ -289,6 +296,7 @@ const Experiment& experiment() {
       .removed_particles = removed_particles,
       .check_outputs = check_outputs,
       .default_targets = default_targets,
+      .lab_observables = lab_observables,
       .report_focus = report_focus,
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,

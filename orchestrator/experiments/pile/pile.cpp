@@ -168,6 +168,8 @@ long removed_particles(const fs::path& folder) {
   return settling ? settling->removed : 0;
 }
 
+std::vector<std::string> lab_observables(const StudyConfig&) { return {std::string(k_angle)}; }
+
 std::vector<std::pair<std::string, double>> default_targets(const StudyConfig& config) {
   return {{std::string(k_angle), settings(config).target_angle}};
 }
@@ -266,6 +268,7 @@ const Experiment& experiment() {
       .removed_particles = removed_particles,
       .check_outputs = nullptr,
       .default_targets = default_targets,
+      .lab_observables = lab_observables,
       .report_focus = report_focus,
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,

@@ -29,7 +29,8 @@ TEST(Registry, EveryDescriptorIsCompleteAndOwnsItsSections) {
     // The hooks every experiment must have (the optional ones may be null).
     EXPECT_TRUE(e->sections && e->settings && e->retired_keys && e->draft && e->driver_command && e->drivers &&
                 e->particles && e->largest_radius && e->run_outputs && e->measure && e->observables && e->describe &&
-                e->removed_particles && e->default_targets && e->report_focus && e->case_report && e->vtk_surfaces)
+                e->removed_particles && e->default_targets && e->lab_observables && e->report_focus && e->case_report &&
+                e->vtk_surfaces)
         << name;
     const auto own = e->sections();
     ASSERT_FALSE(own.empty()) << name;

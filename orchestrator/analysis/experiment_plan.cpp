@@ -1,0 +1,574 @@
+#include "orchestrator/analysis/experiment_plan.hpp"
+
+#include "orchestrator/analysis/joint_studies.hpp"
+#include "orchestrator/analysis/study_analysis.hpp"
+#include "orchestrator/experiments/registry.hpp"
+#include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/text.hpp"
+#include "sobol/ensemble_sampler.hpp"
+#include "sobol/posterior.hpp"
+#include "sobol/random.hpp"
+#include "sobol/saltelli.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <numeric>
+
+namespace demsa::analysis {
+
+using namespace demsa::util;
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+
+/// "NAME" or "STUDY:NAME".
+struct Qualified {
+  std::string study, name;
+  bool matches(const JointStudy& s, const std::string& observable) const {
+    return name == observable && (study.empty() || study == s.config.name);
+  }
+};
+
+Qualified qualified(const std::string& option, const std::string& text) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) {
+    if (trim(text).empty()) throw UserError(fmt::format("{} '{}': no observable named", option, text));
+    return {"", trim(text)};
+  }
+  Qualified q{trim(text.substr(0, colon)), trim(text.substr(colon + 1))};
+  if (q.study.empty() || q.name.empty())
+    throw UserError(fmt::format("{} '{}': expected NAME or STUDY:NAME (STUDY: a study's [study] name)", option, text));
+  return q;
+}
+
+struct SdOverride {
+  Qualified target;
+  double sd = 0.0;
+  std::string text;
+  bool used = false;
+};
+
+SdOverride parse_sd(const std::string& text) {
+  const auto eq = text.rfind('=');
+  if (eq == std::string::npos) throw UserError(fmt::format("--sd '{}': expected NAME=SD or STUDY:NAME=SD", text));
+  SdOverride o;
+  o.target = qualified("--sd", text.substr(0, eq));
+  const std::optional<double> v = parse_number(trim(text.substr(eq + 1)));
+  if (!v || !std::isfinite(*v) || !(*v > 0))
+    throw UserError(
+        fmt::format("--sd '{}': '{}' must be a number > 0 (the observable's standard deviation, in the "
+                    "units demsa stores it: SI, angles in degrees)",
+                    text, trim(text.substr(eq + 1))));
+  o.sd = *v;
+  o.text = text;
+  return o;
+}
+
+/// Total indices of a fitted metamodel on its study's unit cube: QMC Saltelli estimate (sobol/saltelli.hpp; Saltelli
+/// et al. 2010 estimators) at N = 2048 without intervals, enough to sort parameters at the k_plan_sensitive line.
+std::vector<double> total_indices(const sobol::Metamodel& model, int dimension, std::uint64_t seed) {
+  sobol::SaltelliOptions design;
+  design.base = 2048;
+  design.dimension = dimension;
+  design.seed = seed;
+  sobol::SobolOptions options;
+  options.bootstrap = 0;
+  try {
+    const sobol::SobolResult r = sobol::sobol_indices([&](const Eigen::MatrixXd& x) { return model.predict(x); },
+                                                      sobol::saltelli_design(design), options);
+    std::vector<double> st;
+    for (const sobol::IndexEstimate& e : r.total) st.push_back(std::clamp(e.value, 0.0, 1.0));
+    return st;
+  } catch (const sobol::NumericalError&) {
+    return std::vector<double>(static_cast<size_t>(dimension), 0.0);  // a constant response: no parameter matters
+  }
+}
+
+/// 90 % interval of parameter j under weights w over the prior sample, by walking the sample in the order of its
+/// coordinate j (order[j], sorted once): the first points where the weighted CDF reaches 5 % and 95 %.
+std::pair<double, double> weighted_interval(const Eigen::MatrixXd& u, const std::vector<int>& order,
+                                            const Eigen::VectorXd& w, int j, double total) {
+  double cum = 0.0, q05 = k_nan, q95 = k_nan;
+  for (const int i : order) {
+    cum += w(i);
+    if (std::isnan(q05) && cum >= 0.05 * total) q05 = u(i, j);
+    if (cum >= 0.95 * total) {
+      q95 = u(i, j);
+      break;
+    }
+  }
+  if (std::isnan(q95)) q95 = u(order.back(), j);
+  return {q05, q95};
+}
+
+std::string subset_label(const PlanSubset& s) { return join(s.studies, " + "); }
+
+}  // namespace
+
+void PlanOptions::validate() const {
+  if (dirs.empty()) throw UserError("plan: a study folder is required");
+  if (static_cast<int>(dirs.size()) > k_plan_max_studies)
+    throw UserError(fmt::format("plan: {} studies given; at most {} ({} subsets)", dirs.size(), k_plan_max_studies,
+                                (1 << k_plan_max_studies) - 1));
+  if (truths < 2 || truths > 10000) throw UserError(fmt::format("--truths {}: must be in 2..10000", truths));
+  if (!(goal > 0 && goal < 1)) throw UserError(fmt::format("--goal {:g}: must be in (0, 1)", goal));
+  try {
+    if (!model.empty()) sobol::metamodel_kind_from_string(model);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--model: {}", e.what()));
+  }
+}
+
+PlanOutcome plan_experiments(const PlanOptions& options) {
+  options.validate();
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<JointStudy> studies = load_joint_studies(options.dirs, "plan");
+  const JointPrior prior = joint_prior(studies);
+  const int d = prior.dimension();
+  PlanOutcome outcome;
+  outcome.parameters = prior.names;
+  outcome.truths = options.truths;
+  outcome.goal = options.goal;
+  outcome.seed = options.seed ? *options.seed : studies.front().config.seed;
+  outcome.prior_points = k_plan_prior_points;
+
+  std::vector<SdOverride> sds;
+  for (const std::string& text : options.sds) sds.push_back(parse_sd(text));
+  std::vector<Qualified> observe;
+  for (const std::string& text : options.observe) observe.push_back(qualified("--observe", text));
+  for (size_t k = 0; k < observe.size(); ++k)
+    if (std::none_of(studies.begin(), studies.end(), [&](const JointStudy& s) {
+          return observe[k].matches(s, observe[k].name) && s.measures(observe[k].name);
+        }))
+      throw UserError(fmt::format("--observe '{}': no study {}measures it", options.observe[k],
+                                  observe[k].study.empty() ? "" : "named '" + observe[k].study + "' "));
+
+  // The measured observables, their metamodels (in the prior's coordinates) and their sd.
+  std::vector<std::unique_ptr<sobol::Metamodel>> models;
+  std::vector<sobol::GaussianTarget> targets;
+  std::vector<int> target_study;
+  for (size_t si = 0; si < studies.size(); ++si) {
+    const JointStudy& s = studies[si];
+    PlanStudy ps;
+    ps.name = s.config.name;
+    ps.dir = s.dir;
+    ps.experiment = s.config.experiment;
+    ps.samples = static_cast<int>(s.samples.size());
+    ps.cpu_per_case = s.cpu_per_case;
+    outcome.studies.push_back(ps);
+    std::vector<std::string> names;
+    if (observe.empty()) {
+      for (const std::string& name : experiments::of(s.config).lab_observables(s.config))
+        if (s.measures(name)) names.push_back(name);
+    } else {
+      for (const Qualified& q : observe)
+        if (q.matches(s, q.name) && s.measures(q.name) && std::find(names.begin(), names.end(), q.name) == names.end())
+          names.push_back(q.name);
+    }
+    if (names.empty())
+      throw UserError(fmt::format(
+          "plan: study {} ({}) measures none of the observables {} (it has: {}); name them "
+          "with --observe STUDY:NAME",
+          s.config.name, s.dir.string(),
+          observe.empty() ? "a laboratory measures in this experiment" : "given by --observe", join(s.available)));
+    for (const std::string& name : names) {
+      FittedObservable fit = fit_observable(s, name, options.model);
+      PlanObservable po;
+      po.study = s.config.name;
+      po.name = name;
+      po.model = fit.model_name;
+      po.q2 = fit.q2;
+      po.median = fit.observed_median;
+      po.low = fit.observed_low;
+      po.high = fit.observed_high;
+      po.samples = fit.samples;
+      const std::vector<double> st =
+          total_indices(*fit.model, static_cast<int>(s.config.parameters.size()), outcome.seed);
+      po.total_index.assign(static_cast<size_t>(d), k_nan);
+      for (size_t j = 0; j < s.config.parameters.size(); ++j)
+        po.total_index[static_cast<size_t>(prior.column(s.config.parameters[j].name))] = st[j];
+      const auto given =
+          std::find_if(sds.begin(), sds.end(), [&](const SdOverride& o) { return o.target.matches(s, name); });
+      if (given != sds.end()) {
+        given->used = true;
+        po.sd = given->sd;
+        po.source = "given";
+      } else {
+        const double spread = fit.observed_high - fit.observed_low;
+        po.measurement_sd = k_plan_measurement_share * (std::abs(po.median) > 0 ? std::abs(po.median) : spread);
+        const std::optional<NoiseAnalysis> noise = measured_noise(s.replicates, s.observables, name, 0.95, 0.0);
+        if (noise) po.noise_sd = std::sqrt(noise->estimate.variance);
+        po.sd = std::sqrt(po.measurement_sd * po.measurement_sd + (noise ? noise->estimate.variance : 0.0));
+        po.source = noise ? "replicates + default error" : "default error (no replicates)";
+        if (!(po.sd > 0))
+          throw UserError(fmt::format("plan: {}:{} is 0 on every sample: give its sd with --sd {}:{}=SD", s.config.name,
+                                      name, s.config.name, name));
+      }
+      outcome.observables.push_back(po);
+      models.push_back(std::move(fit.model));
+      targets.push_back({name, models.back().get(), input_maps(s, prior), 0.0, po.sd, 1.0});
+      target_study.push_back(static_cast<int>(si));
+    }
+  }
+  for (const SdOverride& o : sds)
+    if (!o.used)
+      throw UserError(fmt::format("--sd '{}': no measured observable is named so (measured: {})", o.text, [&] {
+        std::vector<std::string> names;
+        for (const PlanObservable& p : outcome.observables) names.push_back(p.study + ":" + p.name);
+        return join(names);
+      }()));
+  for (int j = 0; j < d; ++j)
+    for (const PlanObservable& po : outcome.observables)
+      if (po.total_index[static_cast<size_t>(j)] >= k_plan_sensitive) {
+        outcome.sensitive.push_back(prior.names[static_cast<size_t>(j)]);
+        break;
+      }
+
+  // The shared prior sample and every observable's prediction on it; the truths and their measurements. The
+  // measurements are drawn once per truth, so that every subset is judged on the same simulated lab results.
+  const sobol::GaussianPosterior all(targets, d);
+  const int n_targets = static_cast<int>(targets.size());
+  const int p_points = k_plan_prior_points;
+  sobol::Random random(outcome.seed);
+  Eigen::MatrixXd u(p_points, d);
+  for (int i = 0; i < p_points; ++i)
+    for (int j = 0; j < d; ++j) u(i, j) = random.uniform();
+  Eigen::MatrixXd mean, sd;
+  all.predict(u, mean, sd);
+  const Eigen::MatrixXd variance = sd.array().square().matrix();
+  const Eigen::MatrixXd half_log_variance = (0.5 * variance.array().log()).matrix();
+  std::vector<std::vector<int>> order(static_cast<size_t>(d));
+  for (int j = 0; j < d; ++j) {
+    order[static_cast<size_t>(j)].resize(static_cast<size_t>(p_points));
+    std::iota(order[static_cast<size_t>(j)].begin(), order[static_cast<size_t>(j)].end(), 0);
+    std::sort(order[static_cast<size_t>(j)].begin(), order[static_cast<size_t>(j)].end(),
+              [&](int a, int b) { return u(a, j) < u(b, j); });
+  }
+  Eigen::MatrixXd truth(options.truths, d);
+  for (int t = 0; t < options.truths; ++t)
+    for (int j = 0; j < d; ++j) truth(t, j) = random.uniform();
+  Eigen::MatrixXd truth_mean, truth_sd;
+  all.predict(truth, truth_mean, truth_sd);
+  Eigen::MatrixXd measured(options.truths, n_targets);
+  for (int t = 0; t < options.truths; ++t)
+    for (int k = 0; k < n_targets; ++k) measured(t, k) = truth_mean(t, k) + truth_sd(t, k) * random.normal();
+
+  const int n_studies = static_cast<int>(studies.size());
+  const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
+  for (int mask = 1; mask < (1 << n_studies); ++mask) {
+    PlanSubset subset;
+    std::vector<int> ks;
+    double cost = 0.0;
+    for (int si = 0; si < n_studies; ++si)
+      if (mask & (1 << si)) {
+        subset.studies.push_back(studies[static_cast<size_t>(si)].config.name);
+        cost += studies[static_cast<size_t>(si)].cpu_per_case *
+                static_cast<double>(studies[static_cast<size_t>(si)].samples.size());
+      }
+    subset.cpu_seconds = cost;
+    for (int k = 0; k < n_targets; ++k)
+      if (mask & (1 << target_study[static_cast<size_t>(k)])) ks.push_back(k);
+    std::vector<std::vector<double>> widths(static_cast<size_t>(d));
+    std::vector<int> outside(static_cast<size_t>(d), 0);
+    for (int t = 0; t < options.truths; ++t) {
+      Eigen::VectorXd log_w = Eigen::VectorXd::Zero(p_points);
+      for (const int k : ks)
+        log_w.array() -= (mean.col(k).array() - measured(t, k)).square() / (2.0 * variance.col(k).array()) +
+                         half_log_variance.col(k).array();
+      const Eigen::VectorXd w = (log_w.array() - log_w.maxCoeff()).exp().matrix();
+      const double total = w.sum();
+      const double ess = total * total / w.squaredNorm();
+      std::vector<std::pair<double, double>> interval(static_cast<size_t>(d));
+      if (ess >= k_plan_min_ess) {
+        for (int j = 0; j < d; ++j)
+          interval[static_cast<size_t>(j)] = weighted_interval(u, order[static_cast<size_t>(j)], w, j, total);
+      } else {
+        // Too few prior points carry the posterior (it is narrow in some direction): sample it.
+        std::vector<sobol::GaussianTarget> chosen;
+        for (const int k : ks) {
+          sobol::GaussianTarget g = targets[static_cast<size_t>(k)];
+          g.value = measured(t, k);
+          chosen.push_back(g);
+        }
+        const sobol::GaussianPosterior posterior(chosen, d);
+        sobol::EnsembleOptions sampler;
+        sampler.walkers = 2 * d + 2;
+        sampler.burn_in = k_plan_burn_in;
+        sampler.steps = k_plan_steps;
+        sampler.seed = outcome.seed + 7919u * static_cast<std::uint64_t>(mask) + static_cast<std::uint64_t>(t);
+        const sobol::EnsembleResult r =
+            sobol::sample_ensemble(sobol::posterior_function(posterior), lower, upper, sampler);
+        const std::vector<sobol::MarginalSummary> m = sobol::summarise_marginals(r, lower, upper);
+        for (int j = 0; j < d; ++j)
+          interval[static_cast<size_t>(j)] = {m[static_cast<size_t>(j)].q05, m[static_cast<size_t>(j)].q95};
+        ++subset.sampled;
+      }
+      for (int j = 0; j < d; ++j) {
+        const auto [q05, q95] = interval[static_cast<size_t>(j)];
+        widths[static_cast<size_t>(j)].push_back(q95 - q05);
+        if (truth(t, j) < q05 || truth(t, j) > q95) ++outside[static_cast<size_t>(j)];
+      }
+    }
+    int outside_all = 0;
+    for (int j = 0; j < d; ++j) {
+      const std::vector<double>& w = widths[static_cast<size_t>(j)];
+      subset.width.push_back(std::accumulate(w.begin(), w.end(), 0.0) / static_cast<double>(w.size()));
+      subset.width_q10.push_back(sobol::quantile(w, 0.1));
+      subset.width_q90.push_back(sobol::quantile(w, 0.9));
+      subset.outside.push_back(static_cast<double>(outside[static_cast<size_t>(j)]) / options.truths);
+      outside_all += outside[static_cast<size_t>(j)];
+    }
+    subset.outside_all = static_cast<double>(outside_all) / (static_cast<double>(options.truths) * d);
+    subset.meets_goal = true;
+    for (const std::string& name : outcome.sensitive) {
+      const double w = subset.width[static_cast<size_t>(prior.column(name))];
+      subset.worst_sensitive = std::max(subset.worst_sensitive, w);
+      if (w > options.goal) subset.meets_goal = false;
+    }
+    outcome.subsets.push_back(subset);
+  }
+
+  // The recommendation: the cheapest subset that meets the goal (unknown costs rank by the number of experiments),
+  // ties broken by fewer experiments and then by the smaller largest width; else the smallest largest width.
+  const auto cost_key = [](const PlanSubset& s) { return std::isnan(s.cpu_seconds) ? 0.0 : s.cpu_seconds; };
+  for (size_t i = 0; i < outcome.subsets.size(); ++i) {
+    const PlanSubset& s = outcome.subsets[i];
+    if (!s.meets_goal) continue;
+    if (outcome.recommended < 0) {
+      outcome.recommended = static_cast<int>(i);
+      continue;
+    }
+    const PlanSubset& best = outcome.subsets[static_cast<size_t>(outcome.recommended)];
+    const auto key = [&](const PlanSubset& x) {
+      return std::make_tuple(cost_key(x), x.studies.size(), x.worst_sensitive);
+    };
+    if (key(s) < key(best)) outcome.recommended = static_cast<int>(i);
+  }
+  const std::string sensitive = outcome.sensitive.empty() ? "none" : join(outcome.sensitive);
+  if (outcome.recommended >= 0) {
+    const PlanSubset& s = outcome.subsets[static_cast<size_t>(outcome.recommended)];
+    outcome.recommendation = fmt::format(
+        "measure {}: the cheapest set that brings every parameter with ST >= {:g} ({}) to <= {:g} of its prior width "
+        "(largest {:.2f}){}",
+        subset_label(s), k_plan_sensitive, sensitive, options.goal, s.worst_sensitive,
+        std::isnan(s.cpu_seconds) ? ""
+                                  : fmt::format("; one more study of it costs {:.2g} CPU-hours", s.cpu_seconds / 3600));
+  } else {
+    size_t best = 0;
+    for (size_t i = 1; i < outcome.subsets.size(); ++i)
+      if (outcome.subsets[i].worst_sensitive < outcome.subsets[best].worst_sensitive) best = i;
+    outcome.recommended = static_cast<int>(best);
+    const PlanSubset& s = outcome.subsets[best];
+    std::vector<std::string> wide;
+    for (const std::string& name : outcome.sensitive)
+      if (s.width[static_cast<size_t>(prior.column(name))] > options.goal)
+        wide.push_back(fmt::format("{} {:.2f}", name, s.width[static_cast<size_t>(prior.column(name))]));
+    outcome.recommendation = fmt::format(
+        "no set of these experiments brings every parameter with ST >= {:g} ({}) to <= {:g} of its prior width; the "
+        "best is {} (still wide: {}): an experiment that separates those parameters is missing",
+        k_plan_sensitive, sensitive, options.goal, subset_label(s), join(wide));
+  }
+  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  outcome.out = options.out.empty() ? options.dirs.front() / "plan" : options.out;
+  fs::create_directories(outcome.out);
+  write_file_atomically(outcome.out / "plan.json", plan_to_json(outcome));
+  return outcome;
+}
+
+namespace {
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json numbers(const std::vector<double>& v) {
+  json a = json::array();
+  for (const double x : v) a.push_back(number(x));
+  return a;
+}
+double number_of(const json& j) { return j.is_number() ? j.get<double>() : k_nan; }
+std::vector<double> numbers_of(const json& j) {
+  std::vector<double> v;
+  for (const json& x : j) v.push_back(number_of(x));
+  return v;
+}
+
+}  // namespace
+
+std::string plan_to_json(const PlanOutcome& o) {
+  json j;
+  j["parameters"] = o.parameters;
+  json studies = json::array();
+  for (const PlanStudy& s : o.studies)
+    studies.push_back(json{{"name", s.name},
+                           {"dir", s.dir.string()},
+                           {"experiment", s.experiment},
+                           {"samples", s.samples},
+                           {"cpu_per_case", number(s.cpu_per_case)}});
+  j["studies"] = studies;
+  json observables = json::array();
+  for (const PlanObservable& p : o.observables)
+    observables.push_back(json{{"study", p.study},
+                               {"name", p.name},
+                               {"model", p.model},
+                               {"q2", number(p.q2)},
+                               {"sd", p.sd},
+                               {"noise_sd", p.noise_sd >= 0 ? json(p.noise_sd) : json(nullptr)},
+                               {"measurement_sd", p.measurement_sd},
+                               {"source", p.source},
+                               {"median", p.median},
+                               {"low", p.low},
+                               {"high", p.high},
+                               {"samples", p.samples},
+                               {"total_index", numbers(p.total_index)}});
+  j["observables"] = observables;
+  j["sensitive"] = o.sensitive;
+  json subsets = json::array();
+  for (const PlanSubset& s : o.subsets)
+    subsets.push_back(json{{"studies", s.studies},
+                           {"width", numbers(s.width)},
+                           {"width_q10", numbers(s.width_q10)},
+                           {"width_q90", numbers(s.width_q90)},
+                           {"outside", numbers(s.outside)},
+                           {"outside_all", s.outside_all},
+                           {"cpu_seconds", number(s.cpu_seconds)},
+                           {"sampled", s.sampled},
+                           {"meets_goal", s.meets_goal},
+                           {"worst_sensitive", s.worst_sensitive}});
+  j["subsets"] = subsets;
+  j["recommended"] = o.recommended;
+  j["recommendation"] = o.recommendation;
+  j["truths"] = o.truths;
+  j["goal"] = o.goal;
+  j["seed"] = o.seed;
+  j["prior_points"] = o.prior_points;
+  j["seconds"] = o.seconds;
+  j["defaults"] = json{{"measurement_share", k_plan_measurement_share},
+                       {"sensitive_total_index", k_plan_sensitive},
+                       {"min_ess", k_plan_min_ess},
+                       {"burn_in", k_plan_burn_in},
+                       {"steps", k_plan_steps}};
+  return j.dump(2) + "\n";
+}
+
+PlanOutcome read_plan(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw UserError(fmt::format("{}: cannot read", file.string()));
+  PlanOutcome o;
+  try {
+    const json j = json::parse(in);
+    o.parameters = j.at("parameters").get<std::vector<std::string>>();
+    for (const json& e : j.at("studies"))
+      o.studies.push_back({e.at("name"), fs::path(e.at("dir").get<std::string>()), e.at("experiment"), e.at("samples"),
+                           number_of(e.at("cpu_per_case"))});
+    for (const json& e : j.at("observables")) {
+      PlanObservable p;
+      p.study = e.at("study");
+      p.name = e.at("name");
+      p.model = e.at("model");
+      p.q2 = number_of(e.at("q2"));
+      p.sd = e.at("sd");
+      p.noise_sd = e.at("noise_sd").is_number() ? e.at("noise_sd").get<double>() : -1.0;
+      p.measurement_sd = e.at("measurement_sd");
+      p.source = e.at("source");
+      p.median = e.at("median");
+      p.low = e.at("low");
+      p.high = e.at("high");
+      p.samples = e.at("samples");
+      p.total_index = numbers_of(e.at("total_index"));
+      o.observables.push_back(p);
+    }
+    o.sensitive = j.at("sensitive").get<std::vector<std::string>>();
+    for (const json& e : j.at("subsets")) {
+      PlanSubset s;
+      s.studies = e.at("studies").get<std::vector<std::string>>();
+      s.width = numbers_of(e.at("width"));
+      s.width_q10 = numbers_of(e.at("width_q10"));
+      s.width_q90 = numbers_of(e.at("width_q90"));
+      s.outside = numbers_of(e.at("outside"));
+      s.outside_all = e.at("outside_all");
+      s.cpu_seconds = number_of(e.at("cpu_seconds"));
+      s.sampled = e.at("sampled");
+      s.meets_goal = e.at("meets_goal");
+      s.worst_sensitive = e.at("worst_sensitive");
+      if (s.width.size() != o.parameters.size())
+        throw UserError(
+            fmt::format("{}: a subset's widths do not match its "
+                        "parameters",
+                        file.string()));
+      o.subsets.push_back(s);
+    }
+    o.recommended = j.at("recommended");
+    if (o.recommended >= static_cast<int>(o.subsets.size()))
+      throw UserError(fmt::format("{}: recommended subset {} does not exist", file.string(), o.recommended));
+    o.recommendation = j.at("recommendation");
+    o.truths = j.at("truths");
+    o.goal = j.at("goal");
+    o.seed = j.at("seed");
+    o.prior_points = j.at("prior_points");
+    o.seconds = j.at("seconds");
+  } catch (const json::exception& e) {
+    throw UserError(fmt::format("{}: not a plan file: {}", file.string(), e.what()));
+  }
+  o.out = file.parent_path();
+  return o;
+}
+
+std::string plan_text(const PlanOutcome& o) {
+  std::string text = fmt::format(
+      "plan over {} studies: {} truths drawn from the prior, each measured with the sd below and calibrated ({:.1f} "
+      "s)\n",
+      o.studies.size(), o.truths, o.seconds);
+  text += "measured observables:\n";
+  for (const PlanObservable& p : o.observables) {
+    const study::Observable l = experiments::describe_observable(p.name);
+    const std::string unit = l.unit.empty() ? "" : " " + l.unit;
+    std::string st;
+    for (size_t j = 0; j < o.parameters.size(); ++j)
+      if (std::isfinite(p.total_index[j]) && p.total_index[j] >= 0.05)
+        st += fmt::format("{}{} {:.2f}", st.empty() ? "" : ", ", o.parameters[j], p.total_index[j]);
+    text += fmt::format(
+        "  {}:{:<14} sd {:.3g}{} ({}{}), {} Q² {:.3f}; ST: {}\n", p.study, p.name, p.sd * l.factor, unit, p.source,
+        p.source == "given" ? ""
+        : p.noise_sd >= 0
+            ? fmt::format(": DEM noise {:.3g}{}, measurement {:.3g}{} = {:.0f} % of the median", p.noise_sd * l.factor,
+                          unit, p.measurement_sd * l.factor, unit, 100 * k_plan_measurement_share)
+            : fmt::format(": measurement {:.3g}{} = {:.0f} % of the median", p.measurement_sd * l.factor, unit,
+                          100 * k_plan_measurement_share),
+        p.model, p.q2, st.empty() ? "none >= 0.05" : st);
+  }
+  size_t label = 6;
+  for (const PlanSubset& s : o.subsets) label = std::max(label, subset_label(s).size());
+  text += fmt::format("expected 90 % posterior width / prior width (mean over the truths):\n  {:<{}}", "subset", label);
+  for (const std::string& p : o.parameters) text += fmt::format(" {:>8}", p.substr(0, 8));
+  text += fmt::format(" {:>8} {:>10}\n", "outside", "CPU-h");
+  for (size_t i = 0; i < o.subsets.size(); ++i) {
+    const PlanSubset& s = o.subsets[i];
+    text += fmt::format("  {:<{}}", subset_label(s), label);
+    for (size_t j = 0; j < s.width.size(); ++j) text += fmt::format(" {:>8.2f}", s.width[j]);
+    text += fmt::format(" {:>7.0f}% {:>10}{}\n", 100 * s.outside_all,
+                        std::isfinite(s.cpu_seconds) ? fmt::format("{:.3g}", s.cpu_seconds / 3600) : "-",
+                        static_cast<int>(i) == o.recommended ? "  <- recommended"
+                        : s.meets_goal                       ? "  meets goal"
+                                                             : "");
+  }
+  text += fmt::format(
+      "  (outside: how often the truth fell outside its 90 % interval, about 10 % for a well-calibrated plan; CPU-h: "
+      "one "
+      "more study of each experiment, median CPU per done case × design samples)\n");
+  text += fmt::format("parameters with ST >= {:g} in some measured observable: {}\n", k_plan_sensitive,
+                      o.sensitive.empty() ? "none" : join(o.sensitive));
+  text += fmt::format("recommendation: {}\n", o.recommendation);
+  text += fmt::format("written to {}\n", o.out.string());
+  return text;
+}
+
+}  // namespace demsa::analysis

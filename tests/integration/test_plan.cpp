@@ -1,0 +1,147 @@
+// `demsa plan` through the real binary, on synthetic studies whose answers are known: two observables that each
+// leave two parameters on a ridge and pin both together, a parameter no observable depends on, and a linear-Gaussian
+// posterior whose width halves with the sd.
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/store.hpp"
+#include "support/synthetic_study.hpp"
+#include "support/test_support.hpp"
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <functional>
+
+using namespace demsa::study;
+
+namespace demsa::test {
+namespace {
+namespace fs = std::filesystem;
+
+/// The study orders its parameters mu_pp, mu_pw, mu_r_pw: a = mu_pp, b = mu_pw, c = mu_r_pw (unit coordinates of the
+/// study's ranges); c enters no observable.
+const std::string k_ranges =
+    "mu_pw = { low = 0.4, high = 1.9 }\nmu_r_pw = { low = 0.1, high = 0.5 }\nmu_pp = { low = 0.7, high = 1.9 }\n";
+
+/// A pile study of 30 samples whose angle is `angle(u)`, each case recorded with `cpu` CPU seconds.
+void write_study(const fs::path& dir, const std::string& name, unsigned seed,
+                 const std::function<double(const std::vector<double>&)>& angle, double cpu = 0.0) {
+  SyntheticStudy study = start_synthetic_study(
+      dir,
+      StudyToml{.name = name, .seed = 5, .samples = 30, .parameters = k_ranges, .analysis = "metamodels = [\"rsm1\"]\n"}
+          .text(),
+      seed);
+  for (const SampleRow& row : study.samples) {
+    RunOutcome done;
+    done.exit_code = 0;
+    done.cpu_seconds = cpu;
+    study.store.record_done(study.store.add_run(row.sample, 1), done, {{"angle", angle(row.unit)}});
+  }
+}
+
+nlohmann::json plan(const std::vector<std::string>& args) {
+  std::vector<std::string> all{"plan"};
+  all.insert(all.end(), args.begin(), args.end());
+  all.push_back("--json");
+  const CommandResult r = run_demsa(all);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+const nlohmann::json& subset(const nlohmann::json& j, const std::vector<std::string>& studies) {
+  for (const nlohmann::json& s : j.at("subsets"))
+    if (s.at("studies").get<std::vector<std::string>>() == studies) return s;
+  throw std::runtime_error("no such subset");
+}
+
+double width(const nlohmann::json& s, int parameter) { return s.at("width").at(parameter).get<double>(); }
+
+TEST(PlanCli, TwoObservablesThatEachLeaveARidgePinBothParametersTogether) {
+  TempDir dir;
+  // y1 = a + b and y2 = a - b, in degrees: each alone fixes one combination, together both.
+  write_study(
+      dir / "sum", "sum", 11, [](const std::vector<double>& u) { return 20.0 + 5.0 * (u[0] + u[1]); }, 40.0);
+  write_study(
+      dir / "difference", "difference", 12, [](const std::vector<double>& u) { return 30.0 + 5.0 * (u[0] - u[1]); },
+      10.0);
+  const nlohmann::json j = plan({(dir / "sum").string(), (dir / "difference").string(), "--sd", "sum:angle=0.25",
+                                 "--sd", "difference:angle=0.25"});
+  ASSERT_EQ(j.at("subsets").size(), 3u);
+  const nlohmann::json& sum = subset(j, {"sum"});
+  const nlohmann::json& difference = subset(j, {"difference"});
+  const nlohmann::json& both = subset(j, {"sum", "difference"});
+  for (const nlohmann::json* alone : {&sum, &difference}) {
+    EXPECT_GT(width(*alone, 0), 0.4) << alone->dump();
+    EXPECT_GT(width(*alone, 1), 0.4) << alone->dump();
+  }
+  // Together: a = (y1 + y2 - 50) / 10 has sd 0.25 / (5 √2), a 90 % width of 0.116; so has b.
+  EXPECT_NEAR(width(both, 0), 0.116, 0.03) << both.dump();
+  EXPECT_NEAR(width(both, 1), 0.116, 0.03) << both.dump();
+  // c enters no observable: it keeps about 0.9 of its width in every subset and is not counted as sensitive.
+  for (const nlohmann::json& s : j.at("subsets")) EXPECT_NEAR(width(s, 2), 0.9, 0.05) << s.dump();
+  EXPECT_EQ(j.at("sensitive").get<std::vector<std::string>>(), (std::vector<std::string>{"mu_pp", "mu_pw"}));
+  // The planner's own calibration: the truth falls outside its 90 % interval about 10 % of the time.
+  for (const nlohmann::json& s : j.at("subsets")) {
+    EXPECT_GE(s.at("outside_all").get<double>(), 0.05) << s.dump();
+    EXPECT_LE(s.at("outside_all").get<double>(), 0.20) << s.dump();
+  }
+  // Cost: 30 samples at the median CPU per case of each study.
+  EXPECT_DOUBLE_EQ(both.at("cpu_seconds").get<double>(), 30 * 40.0 + 30 * 10.0);
+  // Only both together meet the goal: that is the recommendation.
+  EXPECT_TRUE(both.at("meets_goal").get<bool>());
+  EXPECT_FALSE(sum.at("meets_goal").get<bool>());
+  EXPECT_EQ(j.at("subsets").at(j.at("recommended").get<int>()), both);
+  EXPECT_NE(j.at("recommendation").get<std::string>().find("measure sum + difference"), std::string::npos)
+      << j.at("recommendation");
+  // plan.json, the figure, the printed table and the report section.
+  EXPECT_TRUE(fs::exists(dir / "sum" / "plan" / "plan.json"));
+  EXPECT_TRUE(fs::exists(dir / "sum" / "plan" / "plan_widths.png"));
+  const CommandResult text = run_demsa({"plan", (dir / "sum").string(), (dir / "difference").string(), "--sd",
+                                        "angle=0.25", "--truths", "10", "--no-plots"});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("sum + difference"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("<- recommended"), std::string::npos) << text.out;
+  ASSERT_EQ(run_demsa({"report", (dir / "sum").string()}).exit_code, 0);
+  EXPECT_NE(read_file(dir / "sum" / "report" / "report.md").find("Which experiments to run"), std::string::npos);
+}
+
+TEST(PlanCli, HalvingTheSdHalvesALinearGaussianPosterior) {
+  TempDir dir;
+  write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
+  // Width of a: 2 · 1.645 · sd / 10 (where the interval stays inside the range): 0.066 at sd 0.2, 0.033 at 0.1.
+  const double wide = width(plan({(dir / "line").string(), "--sd", "angle=0.2"}).at("subsets").at(0), 0);
+  const double narrow = width(plan({(dir / "line").string(), "--sd", "angle=0.1"}).at("subsets").at(0), 0);
+  EXPECT_NEAR(wide, 0.066, 0.008);
+  EXPECT_NEAR(narrow / wide, 0.5, 0.05) << wide << " " << narrow;
+}
+
+TEST(PlanCli, TheDefaultSdIsTwoPercentOfTheMedianAndStatedAsSuch) {
+  TempDir dir;
+  write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
+  const nlohmann::json j = plan({(dir / "line").string(), "--truths", "5"});
+  const nlohmann::json& o = j.at("observables").at(0);
+  EXPECT_EQ(o.at("source").get<std::string>(), "default error (no replicates)");
+  EXPECT_NEAR(o.at("sd").get<double>(), 0.02 * o.at("median").get<double>(), 1e-12);
+  EXPECT_TRUE(o.at("noise_sd").is_null());
+}
+
+TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
+  TempDir dir;
+  write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
+  const std::string study = (dir / "line").string();
+  const auto refused = [&](const std::vector<std::string>& args, const std::string& message) {
+    std::vector<std::string> all{"plan", study};
+    all.insert(all.end(), args.begin(), args.end());
+    const CommandResult r = run_demsa(all);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  };
+  refused({"--sd", "height=1"}, "--sd 'height=1': no measured observable is named so (measured: line:angle)");
+  refused({"--sd", "angle=-1"}, "--sd 'angle=-1': '-1' must be a number > 0");
+  refused({"--observe", "slide_angle"}, "--observe 'slide_angle': no study measures it");
+  refused({"--truths", "1"}, "--truths 1: must be in 2..10000");
+  refused({study}, "are the same study");
+}
+
+}  // namespace
+}  // namespace demsa::test
