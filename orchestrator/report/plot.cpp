@@ -248,7 +248,8 @@ PlotFiles plot_plan_widths(const Plotter& plotter, const PlanWidthChart& chart, 
   body += "  set style data histogram\n  set style histogram clustered gap 1\n";
   body += "  set style fill solid 0.85 border rgb 'black'\n  set boxwidth 0.9\n";
   body += "  set yrange [0:1.05]\n  set ylabel '90 % posterior width / prior width'\n  set xlabel 'parameter'\n";
-  body += "  set grid ytics lc rgb '#dddddd'\n  set key outside right top noenhanced\n  set xtics nomirror noenhanced\n";
+  body +=
+      "  set grid ytics lc rgb '#dddddd'\n  set key outside right top noenhanced\n  set xtics nomirror noenhanced\n";
   body += "  plot ";
   for (size_t i = 0; i < chart.subsets.size(); ++i) {
     const bool mark = static_cast<int>(i) == chart.recommended;
