@@ -1,5 +1,6 @@
 #include "orchestrator/analysis/experiment_plan.hpp"
 
+#include "orchestrator/analysis/calibration_posterior.hpp"
 #include "orchestrator/analysis/joint_studies.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/experiments/registry.hpp"
@@ -255,9 +256,58 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
     std::sort(order[static_cast<size_t>(j)].begin(), order[static_cast<size_t>(j)].end(),
               [&](int a, int b) { return u(a, j) < u(b, j); });
   }
+  // The truths: uniform on the box, or, with --near, uniform points accepted with probability exp(-z²/2), z the
+  // distance of the predicted observable from the guessed value in units of its ±.
+  struct Near {
+    int target = 0;
+    double value = 0.0, sd = 1.0;
+  };
+  std::vector<Near> near;
+  for (const std::string& text : options.near)
+    for (const MeasuredValue& m : parse_measured("--near", text)) {
+      if (!(m.sd > 0)) throw UserError(fmt::format("--near '{}': give the value's spread, NAME=V±E", text));
+      const Qualified q = qualified("--near", m.name);
+      int found = -1;
+      for (int k = 0; k < n_targets; ++k) {
+        const PlanObservable& po = outcome.observables[static_cast<size_t>(k)];
+        if (po.name == q.name && (q.study.empty() || q.study == po.study)) {
+          if (found >= 0)
+            throw UserError(
+                fmt::format("--near '{}': several studies measure {}; say which with STUDY:{}", text, q.name, q.name));
+          found = k;
+        }
+      }
+      if (found < 0) throw UserError(fmt::format("--near '{}': {} is not a measured observable", text, m.name));
+      near.push_back({found, m.value, m.sd});
+      outcome.near.push_back(text);
+    }
   Eigen::MatrixXd truth(options.truths, d);
-  for (int t = 0; t < options.truths; ++t)
-    for (int j = 0; j < d; ++j) truth(t, j) = random.uniform();
+  {
+    constexpr long k_max_candidates = 1000000;
+    long candidates = 0;
+    int accepted = 0;
+    while (accepted < options.truths) {
+      if (candidates >= k_max_candidates)
+        throw UserError(fmt::format(
+            "--near {}: only {} of {} parameter points drawn from the prior predict values this near; the studies "
+            "can hardly produce them (widen the ±, or check the value against the studies' ranges)",
+            join(options.near), accepted, k_max_candidates));
+      Eigen::MatrixXd batch(near.empty() ? options.truths - accepted : 4096, d);
+      for (Eigen::Index i = 0; i < batch.rows(); ++i)
+        for (int j = 0; j < d; ++j) batch(i, j) = random.uniform();
+      candidates += batch.rows();
+      Eigen::MatrixXd batch_mean, batch_sd;
+      if (!near.empty()) all.predict(batch, batch_mean, batch_sd);
+      for (Eigen::Index i = 0; i < batch.rows() && accepted < options.truths; ++i) {
+        double log_accept = 0.0;
+        for (const Near& n : near) {
+          const double z = (batch_mean(i, n.target) - n.value) / n.sd;
+          log_accept -= 0.5 * z * z;
+        }
+        if (near.empty() || random.uniform() < std::exp(log_accept)) truth.row(accepted++) = batch.row(i);
+      }
+    }
+  }
   Eigen::MatrixXd truth_mean, truth_sd;
   all.predict(truth, truth_mean, truth_sd);
   Eigen::MatrixXd measured(options.truths, n_targets);
@@ -447,6 +497,7 @@ std::string plan_to_json(const PlanOutcome& o) {
   j["recommended"] = o.recommended;
   j["recommendation"] = o.recommendation;
   j["truths"] = o.truths;
+  j["near"] = o.near;
   j["goal"] = o.goal;
   j["seed"] = o.seed;
   j["prior_points"] = o.prior_points;
@@ -511,6 +562,7 @@ PlanOutcome read_plan(const fs::path& file) {
       throw UserError(fmt::format("{}: recommended subset {} does not exist", file.string(), o.recommended));
     o.recommendation = j.at("recommendation");
     o.truths = j.at("truths");
+    o.near = j.value("near", std::vector<std::string>{});
     o.goal = j.at("goal");
     o.seed = j.at("seed");
     o.prior_points = j.at("prior_points");
@@ -524,9 +576,9 @@ PlanOutcome read_plan(const fs::path& file) {
 
 std::string plan_text(const PlanOutcome& o) {
   std::string text = fmt::format(
-      "plan over {} studies: {} truths drawn from the prior, each measured with the sd below and calibrated ({:.1f} "
+      "plan over {} studies: {} truths drawn from the prior{}, each measured with the sd below and calibrated ({:.1f} "
       "s)\n",
-      o.studies.size(), o.truths, o.seconds);
+      o.studies.size(), o.truths, o.near.empty() ? "" : " where the metamodels predict " + join(o.near), o.seconds);
   text += "measured observables:\n";
   for (const PlanObservable& p : o.observables) {
     const study::Observable l = experiments::describe_observable(p.name);

@@ -8,9 +8,10 @@
 //   1. the joint prior and one metamodel per measured observable, exactly as `demsa calibrate --method bayes` builds
 //      them (joint_studies.hpp), and each observable's sd: the user's, else the study's DEM noise (pooled over its
 //      replicate cases) combined with a stated default measurement error;
-//   2. M truths drawn from the prior; for each, one simulated measurement of every observable, m_k(u*) plus Gaussian
-//      noise of the likelihood's variance σ_k² + s_k²(u*) (so that the planner's own 90 % intervals should miss the
-//      truth 10 % of the time: the coverage column checks it);
+//   2. M truths drawn from the prior (or, with --near, from the prior restricted by rejection to where an
+//      observable is predicted near a guessed value: von Neumann 1951's rejection sampling); for each, one simulated
+//      measurement of every observable, m_k(u*) plus Gaussian noise of the likelihood's variance σ_k² + s_k²(u*) (so
+//      that the planner's own 90 % intervals should miss the truth 10 % of the time: the coverage column checks it);
 //   3. for every non-empty subset of the studies and every truth, the posterior of the subset's observables, its
 //      90 % width over the prior width per parameter, and whether the truth fell outside the interval. The posterior
 //      is computed by self-normalised importance sampling from one shared prior sample (Owen 2013, "Monte Carlo
@@ -53,6 +54,11 @@ struct PlanOptions {
   std::vector<std::string> sds;
   /// "NAME" or "STUDY:NAME": the observables measured; empty: each experiment's laboratory observables.
   std::vector<std::string> observe;
+  /// "NAME=V±E" or "STUDY:NAME=V±E" (also +-): a guess of what the lab will measure. The truths are then drawn
+  /// from the prior restricted to where the metamodel predicts NAME near V (accepted with probability
+  /// exp(-(m(u) - V)² / (2 E²))), so that the widths are those expected around that value rather than over the
+  /// whole prior.
+  std::vector<std::string> near;
   int truths = 50;                    ///< M >= 2
   double goal = 0.5;                  ///< the width the recommendation asks of every sensitive parameter, in (0, 1)
   std::string model;                  ///< one metamodel for every observable; empty: the best Q² per observable
@@ -104,6 +110,7 @@ struct PlanOutcome {
   int recommended = -1;                ///< index into subsets
   std::string recommendation;          ///< in words
   int truths = 0;
+  std::vector<std::string> near;  ///< the --near conditions the truths were drawn under ("" : the whole prior)
   double goal = 0.5;
   std::uint64_t seed = 0;
   int prior_points = 0;

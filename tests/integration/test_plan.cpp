@@ -115,6 +115,25 @@ TEST(PlanCli, HalvingTheSdHalvesALinearGaussianPosterior) {
   EXPECT_NEAR(narrow / wide, 0.5, 0.05) << wide << " " << narrow;
 }
 
+TEST(PlanCli, NearAGuessedValueTheWidthsAreThoseAroundIt) {
+  TempDir dir;
+  write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
+  // sd 1: a 90 % interval of 0.33 of the range in the middle, cut by the range's end near a = 0.
+  const auto width_near = [&](const std::string& near) {
+    const nlohmann::json j = plan({(dir / "line").string(), "--sd", "angle=1", "--near", near});
+    EXPECT_EQ(j.at("near").at(0).get<std::string>(), near);
+    return width(j.at("subsets").at(0), 0);
+  };
+  const double middle = width_near("angle=25±0.2");
+  const double edge = width_near("angle=20.2±0.2");
+  EXPECT_NEAR(middle, 0.33, 0.03);
+  EXPECT_LT(edge, middle - 0.06) << edge;
+  // A value the study cannot produce is refused, not planned around.
+  const CommandResult r = run_demsa({"plan", (dir / "line").string(), "--near", "angle=60±0.1"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--near angle=60±0.1: only 0 of 1000000 parameter points"), std::string::npos) << r.err;
+}
+
 TEST(PlanCli, TheDefaultSdIsTwoPercentOfTheMedianAndStatedAsSuch) {
   TempDir dir;
   write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
