@@ -426,8 +426,12 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
         wide.push_back(fmt::format("{} {:.2f}", name, s.width[static_cast<size_t>(prior.column(name))]));
     outcome.recommendation = fmt::format(
         "no set of these experiments brings every parameter with ST >= {:g} ({}) to <= {:g} of its prior width; the "
-        "best is {} (still wide: {}): an experiment that separates those parameters is missing",
-        k_plan_sensitive, sensitive, options.goal, subset_label(s), join(wide));
+        "best is {} (still wide: {}): an experiment that follows {} is missing",
+        k_plan_sensitive, sensitive, options.goal, subset_label(s), join(wide), [&] {
+          std::vector<std::string> names;
+          for (const std::string& w : wide) names.push_back(w.substr(0, w.find(' ')));
+          return join(names, " and ");
+        }());
   }
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   outcome.out = options.out.empty() ? options.dirs.front() / "plan" : options.out;
@@ -452,6 +456,12 @@ std::vector<double> numbers_of(const json& j) {
 }
 
 }  // namespace
+
+std::string plan_mark(const PlanOutcome& o, std::size_t i) {
+  const bool goal = o.subsets[i].meets_goal;
+  if (static_cast<int>(i) == o.recommended) return goal ? "recommended" : "best there is";
+  return goal ? "meets goal" : "";
+}
 
 std::string plan_to_json(const PlanOutcome& o) {
   json j;
@@ -607,10 +617,8 @@ std::string plan_text(const PlanOutcome& o) {
     text += fmt::format("  {:<{}}", subset_label(s), label);
     for (size_t j = 0; j < s.width.size(); ++j) text += fmt::format(" {:>8.2f}", s.width[j]);
     text += fmt::format(" {:>7.0f}% {:>10}{}\n", 100 * s.outside_all,
-                        std::isfinite(s.cpu_seconds) ? fmt::format("{:.3g}", s.cpu_seconds / 3600) : "-",
-                        static_cast<int>(i) == o.recommended ? "  <- recommended"
-                        : s.meets_goal                       ? "  meets goal"
-                                                             : "");
+                        std::isfinite(s.cpu_seconds) ? fmt::format("{:.3f}", s.cpu_seconds / 3600) : "-",
+                        plan_mark(o, i).empty() ? "" : "  <- " + plan_mark(o, i));
   }
   text += fmt::format(
       "  (outside: how often the truth fell outside its 90 % interval, about 10 % for a well-calibrated plan; CPU-h: "

@@ -120,6 +120,10 @@ struct PlanOutcome {
 
 PlanOutcome plan_experiments(const PlanOptions& options);
 
+/// How the table marks subset i: "recommended" (the recommended set, which meets the goal), "best there is" (the
+/// recommended set when none meets it), "meets goal", or "".
+std::string plan_mark(const PlanOutcome& outcome, std::size_t i);
+
 std::string plan_to_json(const PlanOutcome& outcome);
 /// Reads <out>/plan.json back; throws util::UserError naming the file.
 PlanOutcome read_plan(const std::filesystem::path& file);

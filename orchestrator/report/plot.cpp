@@ -253,9 +253,10 @@ PlotFiles plot_plan_widths(const Plotter& plotter, const PlanWidthChart& chart, 
   body += "  plot ";
   for (size_t i = 0; i < chart.subsets.size(); ++i) {
     const bool mark = static_cast<int>(i) == chart.recommended;
-    body += fmt::format("{}$widths using {}{} title {} lc rgb '{}'{}", i ? ", \\\n       " : "", i + 2,
-                        i ? "" : ":xtic(1)", gnuplot_quote(chart.subsets[i] + (mark ? " (recommended)" : "")),
-                        colours[i % std::size(colours)], mark ? " lw 3" : "");
+    body +=
+        fmt::format("{}$widths using {}{} title {} lc rgb '{}'{}", i ? ", \\\n       " : "", i + 2, i ? "" : ":xtic(1)",
+                    gnuplot_quote(chart.subsets[i] + (mark ? " (" + chart.recommended_label + ")" : "")),
+                    colours[i % std::size(colours)], mark ? " lw 3" : "");
   }
   body += fmt::format(", \\\n       {} with lines dt 2 lw 2 lc rgb '{}' title {}\n", num(chart.goal), k_grey,
                       gnuplot_quote(fmt::format("goal {:g}", chart.goal)));

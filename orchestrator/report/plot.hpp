@@ -142,7 +142,8 @@ struct PlanWidthChart {
   std::vector<std::string> subsets;        ///< one bar per group each ("pile + incline")
   std::vector<std::vector<double>> width;  ///< [subset][parameter]
   double goal = 0.5;
-  int recommended = -1;  ///< subset drawn with a thick black border (-1: none)
+  int recommended = -1;                           ///< subset drawn with a thick border (-1: none)
+  std::string recommended_label = "recommended";  ///< appended to its key entry in parentheses
 };
 PlotFiles plot_plan_widths(const Plotter& plotter, const PlanWidthChart& chart, const std::filesystem::path& stem);
 

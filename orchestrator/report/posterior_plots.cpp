@@ -187,6 +187,8 @@ PlotFiles plot_plan(const Plotter& plotter, const analysis::PlanOutcome& plan, c
   }
   chart.goal = plan.goal;
   chart.recommended = plan.recommended;
+  if (plan.recommended >= 0)
+    chart.recommended_label = analysis::plan_mark(plan, static_cast<std::size_t>(plan.recommended));
   return plot_plan_widths(plotter, chart, folder / "plan_widths");
 }
 

@@ -801,11 +801,11 @@ ReportSection plan_section(const PlanOutcome& p, const Plotter& plotter, const f
   widths.header.push_back("CPU-hours");
   for (size_t i = 0; i < p.subsets.size(); ++i) {
     const PlanSubset& s = p.subsets[i];
-    std::vector<std::string> row{join(s.studies, " + ") +
-                                 (static_cast<int>(i) == p.recommended ? " (recommended)" : "")};
+    const std::string mark = plan_mark(p, i);
+    std::vector<std::string> row{join(s.studies, " + ") + (mark.empty() ? "" : " (" + mark + ")")};
     for (const double w : s.width) row.push_back(fmt::format("{:.2f}", w));
     row.push_back(fmt::format("{:.0f} %", 100 * s.outside_all));
-    row.push_back(std::isfinite(s.cpu_seconds) ? fmt::format("{:.3g}", s.cpu_seconds / 3600) : "-");
+    row.push_back(std::isfinite(s.cpu_seconds) ? fmt::format("{:.3f}", s.cpu_seconds / 3600) : "-");
     widths.rows.push_back(row);
   }
   section.tables.push_back(widths);

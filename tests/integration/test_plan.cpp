@@ -142,6 +142,11 @@ TEST(PlanCli, TheDefaultSdIsTwoPercentOfTheMedianAndStatedAsSuch) {
   EXPECT_EQ(o.at("source").get<std::string>(), "default error (no replicates)");
   EXPECT_NEAR(o.at("sd").get<double>(), 0.02 * o.at("median").get<double>(), 1e-12);
   EXPECT_TRUE(o.at("noise_sd").is_null());
+  // A goal no set reaches: the best there is, and what stays wide.
+  const CommandResult r = run_demsa({"plan", (dir / "line").string(), "--truths", "5", "--goal", "0.01", "--no-plots"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("<- best there is"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("an experiment that follows mu_pp is missing"), std::string::npos) << r.out;
 }
 
 TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
