@@ -122,7 +122,7 @@ void PlanOptions::validate() const {
   if (static_cast<int>(dirs.size()) > k_plan_max_studies)
     throw UserError(fmt::format("plan: {} studies given; at most {} ({} subsets)", dirs.size(), k_plan_max_studies,
                                 (1 << k_plan_max_studies) - 1));
-  if (truths < 2 || truths > 10000) throw UserError(fmt::format("--truths {}: must be in 2..10000", truths));
+  if (truths < 2 || truths > 1000) throw UserError(fmt::format("--truths {}: must be in 2..1000", truths));
   if (!(goal > 0 && goal < 1)) throw UserError(fmt::format("--goal {:g}: must be in (0, 1)", goal));
   try {
     if (!model.empty()) sobol::metamodel_kind_from_string(model);

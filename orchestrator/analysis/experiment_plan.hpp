@@ -59,7 +59,7 @@ struct PlanOptions {
   /// exp(-(m(u) - V)² / (2 E²))), so that the widths are those expected around that value rather than over the
   /// whole prior.
   std::vector<std::string> near;
-  int truths = 50;                    ///< M >= 2
+  int truths = 50;                    ///< M, 2..1000
   double goal = 0.5;                  ///< the width the recommendation asks of every sensitive parameter, in (0, 1)
   std::string model;                  ///< one metamodel for every observable; empty: the best Q² per observable
   std::optional<std::uint64_t> seed;  ///< empty: the first study's seed

@@ -104,8 +104,8 @@ std::vector<sobol::InputMap> input_maps(const JointStudy& study, const JointPrio
 FittedObservable fit_observable(const JointStudy& s, const std::string& observable, const std::string& model) {
   const TrainingData data = training_data(s.config, s.samples, s.observables, observable);
   if (data.size() < 2)
-    throw UserError(
-        fmt::format("{}: {} done samples measure {}; calibration needs more", s.dir.string(), data.size(), observable));
+    throw UserError(fmt::format("{}: {} done samples measure {}; a metamodel needs at least 2", s.dir.string(),
+                                data.size(), observable));
   const std::vector<std::string> candidates =
       model.empty() ? s.config.analysis.metamodels : std::vector<std::string>{model};
   std::vector<FittedMetamodel> fits =

@@ -66,7 +66,7 @@ void register_plan_command(CLI::App& app, CliState& state) {
   sub->add_option("--near", args->options.near,
                   "NAME=V±E or STUDY:NAME=V±E: a guess of the value the lab will measure; the truths are drawn where "
                   "the metamodel predicts it (default: the whole prior)");
-  sub->add_option("--truths", args->options.truths, "Parameter points drawn from the prior (default 50)");
+  sub->add_option("--truths", args->options.truths, "Parameter points drawn from the prior, 2..1000 (default 50)");
   sub->add_option("--goal", args->options.goal,
                   "The width, over the prior width, the recommendation asks of every parameter with ST >= 0.1 "
                   "(default 0.5)");

@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <functional>
+#include <map>
 
 using namespace demsa::study;
 
@@ -149,6 +151,33 @@ TEST(PlanCli, TheDefaultSdIsTwoPercentOfTheMedianAndStatedAsSuch) {
   EXPECT_NE(r.out.find("an experiment that follows mu_pp is missing"), std::string::npos) << r.out;
 }
 
+TEST(PlanCli, AStudyWithReplicatesAddsItsDemNoiseToTheDefaultSd) {
+  TempDir dir;
+  write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
+  // Points 1..4 twice more, 0.5° above and below their design value: pooled noise variance (0.5² + 0.5²) / 2.
+  Store store((dir / "line" / "study.db").string());
+  const std::vector<SampleRow> samples = store.samples();
+  const std::map<int, std::map<std::string, double>> values = store.observables();
+  std::vector<ReplicateRow> replicates;
+  for (int k = 0; k < 4; ++k)
+    for (int repeat = 1; repeat <= 2; ++repeat)
+      replicates.push_back({replicate_sample_id(samples[k].sample, repeat), samples[k].sample, repeat,
+                            static_cast<std::uint64_t>(100 + repeat), samples[k].unit, samples[k].physical});
+  store.add_replicates(replicates);
+  for (const ReplicateRow& r : replicates) {
+    RunOutcome done;
+    done.exit_code = 0;
+    store.record_done(store.add_run(r.sample, 1), done,
+                      {{"angle", values.at(r.point).at("angle") + (r.repeat == 1 ? 0.5 : -0.5)}});
+  }
+  const nlohmann::json j = plan({(dir / "line").string(), "--truths", "5"});
+  const nlohmann::json& o = j.at("observables").at(0);
+  EXPECT_EQ(o.at("source").get<std::string>(), "replicates + default error");
+  EXPECT_NEAR(o.at("noise_sd").get<double>(), 0.5, 1e-9);
+  const double measurement = 0.02 * o.at("median").get<double>();
+  EXPECT_NEAR(o.at("sd").get<double>(), std::sqrt(0.25 + measurement * measurement), 1e-9);
+}
+
 TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
   TempDir dir;
   write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
@@ -163,7 +192,8 @@ TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
   refused({"--sd", "height=1"}, "--sd 'height=1': no measured observable is named so (measured: line:angle)");
   refused({"--sd", "angle=-1"}, "--sd 'angle=-1': '-1' must be a number > 0");
   refused({"--observe", "slide_angle"}, "--observe 'slide_angle': no study measures it");
-  refused({"--truths", "1"}, "--truths 1: must be in 2..10000");
+  refused({"--truths", "1"}, "--truths 1: must be in 2..1000");
+  refused({"--truths", "5000"}, "--truths 5000: must be in 2..1000");
   refused({study}, "are the same study");
 }
 
