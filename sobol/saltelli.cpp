@@ -498,7 +498,7 @@ bool negligible_variance(double mean, double variance) {
 }
 
 namespace {
-SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options);
+SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options, double scale);
 }
 
 SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& options) {
@@ -511,13 +511,13 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
     if (v.size() > 0) largest = std::max(largest, v.cwiseAbs().maxCoeff());
   for (const Eigen::VectorXd& v : y.ba)
     if (v.size() > 0) largest = std::max(largest, v.cwiseAbs().maxCoeff());
-  if (!(largest > k_large_output) || !std::isfinite(largest)) return sobol_indices_of(y, options);
+  if (!(largest > k_large_output) || !std::isfinite(largest)) return sobol_indices_of(y, options, 1.0);
   SaltelliResponses scaled = y;
   scaled.a /= largest;
   scaled.b /= largest;
   for (Eigen::VectorXd& v : scaled.ab) v /= largest;
   for (Eigen::VectorXd& v : scaled.ba) v /= largest;
-  SobolResult r = sobol_indices_of(scaled, options);
+  SobolResult r = sobol_indices_of(scaled, options, largest);
   r.mean *= largest;
   r.variance *= largest * largest;
   return r;
@@ -525,7 +525,8 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
 
 namespace {
 
-SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options) {
+/// `y` are the outputs divided by `scale` (1: as given); messages name the outputs as given.
+SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options, double scale) {
   options.validate();
   const int d = y.dimension;
   const int n = y.base();
@@ -544,10 +545,11 @@ SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& opt
   const double shift = 0.5 * (y.a.mean() + y.b.mean());
   const Estimates full = estimate(y, rows, options.second_order, shift);
   if (negligible_variance(full.mean, full.variance))
-    throw NumericalError(fmt::format(
-        "the output is constant (mean {:.10g}, standard deviation {:.3g} over the {} rows of blocks A "
-        "and B{}): Sobol' indices are undefined",
-        full.mean, std::sqrt(std::max(full.variance, 0.0)), 2 * n, y.second_order() ? " and the others" : ""));
+    throw NumericalError(
+        fmt::format("the output is constant (mean {:.10g}, standard deviation {:.3g} over the {} rows of blocks A "
+                    "and B{}): Sobol' indices are undefined",
+                    scale * full.mean, scale * std::sqrt(std::max(full.variance, 0.0)), 2 * n,
+                    y.second_order() ? " and the others" : ""));
 
   const std::size_t s2_count = full.second.size();
   std::vector<std::vector<double>> rep_first(static_cast<std::size_t>(d)), rep_total(static_cast<std::size_t>(d)),

@@ -441,6 +441,14 @@ TEST(CliSensitivityErrors, ConstantOutputIsAnErrorOnBothPaths) {
       run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "y.csv").string()});
   EXPECT_EQ(s.exit_code, 2) << s.out;
   EXPECT_NE(s.err.find("column 'y': the output is constant"), std::string::npos) << s.err;
+  // A constant beyond 1e100 (scaled before its moments are taken) is named by its own mean, not the scaled one.
+  std::string large = "y\n";
+  for (int i = 0; i < design.rows(); ++i) large += "1e200\n";
+  write_file(dir / "large.csv", large);
+  const CommandResult l = run_demsa(
+      {"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "large.csv").string()});
+  EXPECT_EQ(l.exit_code, 2) << l.out;
+  EXPECT_NE(l.err.find("the output is constant (mean 1e+200,"), std::string::npos) << l.err;
 }
 
 TEST(CliSensitivity, OutputsWhoseVarianceOverflowsAreScaledOrRefusedWithTheCause) {

@@ -234,6 +234,19 @@ TEST(SaltelliErrors, ConstantUpToRoundOffIsRefused) {
   EXPECT_FALSE(negligible_variance(0.0, 1e-300));
 }
 
+TEST(SaltelliErrors, ConstantLargeOutputIsReportedWithItsTrueMean) {
+  // Outputs beyond k_large_output are scaled before the moments are taken; the message of a constant one still
+  // names the mean of the outputs as given, not of the scaled ones (1).
+  SobolOptions so;
+  so.bootstrap = 0;
+  try {
+    sobol_indices(split_responses(Eigen::VectorXd::Constant(20, 1e200), 2, false), so);
+    FAIL();
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("the output is constant (mean 1e+200,"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Saltelli, ReplicatedDesignIsRIndependentScramblings) {
   SaltelliOptions o;
   o.base = 64;
