@@ -1,6 +1,7 @@
 #include "sobol/saltelli.hpp"
 
 #include "sobol/design.hpp"
+#include "sobol/enum_names.hpp"
 #include "sobol/error.hpp"
 #include "sobol/random.hpp"
 
@@ -217,6 +218,26 @@ void SaltelliOptions::validate() const {
     throw InputError(fmt::format("saltelli base = {}: the design would have {} rows, more than {}", base, rows,
                                  std::numeric_limits<int>::max()));
 }
+
+int default_saltelli_replicates(int base) {
+  int replicates = k_default_saltelli_replicates;
+  while (replicates > 1 && (base % replicates != 0 || base / replicates < k_min_replicate_base)) replicates /= 2;
+  return replicates;
+}
+
+namespace {
+const EnumNames<SaltelliInterval>& interval_names() {
+  static const EnumNames<SaltelliInterval> names{"interval method",
+                                                 {{SaltelliInterval::replicates, "replicates"},
+                                                  {SaltelliInterval::bootstrap, "bootstrap"},
+                                                  {SaltelliInterval::none, "none"}}};
+  return names;
+}
+}  // namespace
+
+SaltelliInterval saltelli_interval_from_string(const std::string& name) { return interval_names().from_string(name); }
+std::string to_string(SaltelliInterval interval) { return interval_names().to_string(interval); }
+std::vector<std::string> saltelli_interval_names() { return interval_names().names(); }
 
 void SobolOptions::validate() const {
   if (bootstrap < 0) throw InputError(fmt::format("sobol bootstrap = {}: must be >= 0", bootstrap));
@@ -568,7 +589,8 @@ SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& opt
 
   int replicates = 0;
   if (!y.replicate.empty()) replicates = 1 + *std::max_element(y.replicate.begin(), y.replicate.end());
-  const bool by_replicates = replicates >= 2;
+  const bool by_replicates = options.interval == SaltelliInterval::replicates && replicates >= 2;
+  const bool by_bootstrap = options.interval == SaltelliInterval::bootstrap && options.bootstrap > 0;
   if (by_replicates) {
     // Randomised QMC (Owen 1997; L'Ecuyer & Lemieux 2002): the R replicates are independent scramblings, so their
     // estimates are i.i.d. and their spread measures the error of QMC sampling, which a bootstrap of the
@@ -586,7 +608,7 @@ SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& opt
                         m.size()));
       keep(e);
     }
-  } else {
+  } else if (by_bootstrap) {
     // Percentile bootstrap over the base rows (Archer, Saltelli, Sobol' 1997).
     Random rng(options.seed);
     std::vector<int> resample(static_cast<std::size_t>(n));
@@ -606,15 +628,21 @@ SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& opt
   result.evaluations = n * (y.second_order() ? 2 * d + 2 : d + 2);
   result.mean = full.mean;
   result.variance = full.variance;
-  result.bootstrap = by_replicates ? 0 : options.bootstrap;
+  result.bootstrap = by_bootstrap ? options.bootstrap : 0;
   result.replicates = by_replicates ? replicates : 0;
   result.confidence = options.confidence;
   result.seed = options.seed;
-  if (!by_replicates && options.bootstrap > 0)
+  if (by_bootstrap)
     result.note =
         "bootstrap intervals: they treat the base rows as independent random draws, which the rows of a scrambled "
         "Sobol' design are not, so for QMC they are conservative (often several times too wide); a design with "
         "independently scrambled replicates (`demsa design saltelli --replicates R`) gives intervals valid for QMC";
+  else if (options.interval == SaltelliInterval::replicates && !by_replicates)
+    result.note =
+        "no intervals: the design has no independently scrambled replicates, whose spread gives intervals valid for "
+        "QMC (`demsa design saltelli --replicates R` writes them); the bootstrap, by name, gives conservative ones "
+        "(often several times too wide)";
+  // Without replicates or resamples the lists are empty and interval() collapses the bounds onto the estimate.
   const auto interval_of = [&](double value, const std::vector<double>& reps) {
     return by_replicates ? t_interval(value, reps, options.confidence) : interval(value, reps, options.confidence);
   };
