@@ -96,7 +96,7 @@ Truth truth(Simulator s) {
   so.dimension = k_d;
   so.seed = 20261201;
   SobolOptions o;
-  o.bootstrap = 0;
+  o.interval = SaltelliInterval::none;
   const SobolResult r = sobol_indices(
       [s](const Eigen::MatrixXd& x) {
         Eigen::VectorXd y(x.rows());

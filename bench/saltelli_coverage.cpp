@@ -84,6 +84,7 @@ Score score(const TestFunction& f, int base, int replicates, int bootstrap, int 
     o.seed = static_cast<std::uint64_t>(seed);
     o.replicates = replicates;
     SobolOptions so;
+    so.interval = replicates > 1 ? SaltelliInterval::replicates : SaltelliInterval::bootstrap;
     so.bootstrap = bootstrap;
     so.seed = static_cast<std::uint64_t>(seed);
     const SobolResult r = sobol_indices(f.f, saltelli_design(o), so);

@@ -31,7 +31,7 @@ SobolResult point_indices(const Metamodel& model, const SaltelliDesign& design, 
     if (const auto* rsm = dynamic_cast<const PolynomialRsm*>(&model)) return rsm_exact_indices(*rsm);
   SobolOptions qmc;
   qmc.second_order = options.second_order;
-  qmc.bootstrap = 0;
+  qmc.interval = SaltelliInterval::none;  // point estimates: the metamodel's interval is made here
   qmc.seed = options.seed;
   qmc.stop = options.stop;
   return sobol_indices([&model](const Eigen::MatrixXd& x) { return model.predict(x); }, design, qmc);
@@ -93,7 +93,7 @@ void add_posterior_interval(const GaussianProcess& gp, const SaltelliDesign& des
   const int d = design.dimension;
   SobolOptions qmc;
   qmc.second_order = options.second_order;
-  qmc.bootstrap = 0;
+  qmc.interval = SaltelliInterval::none;  // point estimates: the metamodel's interval is made here
   qmc.stop = options.stop;
   const std::vector<IndexEstimate*> targets = estimates(result);
   std::vector<std::vector<double>> draws(targets.size());

@@ -1,6 +1,7 @@
 #include "sobol/saltelli.hpp"
 
 #include "sobol/design.hpp"
+#include "sobol/enum_names.hpp"
 #include "sobol/error.hpp"
 #include "sobol/random.hpp"
 
@@ -217,6 +218,26 @@ void SaltelliOptions::validate() const {
     throw InputError(fmt::format("saltelli base = {}: the design would have {} rows, more than {}", base, rows,
                                  std::numeric_limits<int>::max()));
 }
+
+int default_saltelli_replicates(int base) {
+  int replicates = k_default_saltelli_replicates;
+  while (replicates > 1 && (base % replicates != 0 || base / replicates < k_min_replicate_base)) replicates /= 2;
+  return replicates;
+}
+
+namespace {
+const EnumNames<SaltelliInterval>& interval_names() {
+  static const EnumNames<SaltelliInterval> names{"interval method",
+                                                 {{SaltelliInterval::replicates, "replicates"},
+                                                  {SaltelliInterval::bootstrap, "bootstrap"},
+                                                  {SaltelliInterval::none, "none"}}};
+  return names;
+}
+}  // namespace
+
+SaltelliInterval saltelli_interval_from_string(const std::string& name) { return interval_names().from_string(name); }
+std::string to_string(SaltelliInterval interval) { return interval_names().to_string(interval); }
+std::vector<std::string> saltelli_interval_names() { return interval_names().names(); }
 
 void SobolOptions::validate() const {
   if (bootstrap < 0) throw InputError(fmt::format("sobol bootstrap = {}: must be >= 0", bootstrap));
@@ -498,7 +519,7 @@ bool negligible_variance(double mean, double variance) {
 }
 
 namespace {
-SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options);
+SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options, double scale);
 }
 
 SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& options) {
@@ -511,13 +532,13 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
     if (v.size() > 0) largest = std::max(largest, v.cwiseAbs().maxCoeff());
   for (const Eigen::VectorXd& v : y.ba)
     if (v.size() > 0) largest = std::max(largest, v.cwiseAbs().maxCoeff());
-  if (!(largest > k_large_output) || !std::isfinite(largest)) return sobol_indices_of(y, options);
+  if (!(largest > k_large_output) || !std::isfinite(largest)) return sobol_indices_of(y, options, 1.0);
   SaltelliResponses scaled = y;
   scaled.a /= largest;
   scaled.b /= largest;
   for (Eigen::VectorXd& v : scaled.ab) v /= largest;
   for (Eigen::VectorXd& v : scaled.ba) v /= largest;
-  SobolResult r = sobol_indices_of(scaled, options);
+  SobolResult r = sobol_indices_of(scaled, options, largest);
   r.mean *= largest;
   r.variance *= largest * largest;
   return r;
@@ -525,7 +546,8 @@ SobolResult sobol_indices(const SaltelliResponses& y, const SobolOptions& option
 
 namespace {
 
-SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options) {
+/// `y` are the outputs divided by `scale` (1: as given); messages name the outputs as given.
+SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& options, double scale) {
   options.validate();
   const int d = y.dimension;
   const int n = y.base();
@@ -544,10 +566,11 @@ SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& opt
   const double shift = 0.5 * (y.a.mean() + y.b.mean());
   const Estimates full = estimate(y, rows, options.second_order, shift);
   if (negligible_variance(full.mean, full.variance))
-    throw NumericalError(fmt::format(
-        "the output is constant (mean {:.10g}, standard deviation {:.3g} over the {} rows of blocks A "
-        "and B{}): Sobol' indices are undefined",
-        full.mean, std::sqrt(std::max(full.variance, 0.0)), 2 * n, y.second_order() ? " and the others" : ""));
+    throw NumericalError(
+        fmt::format("the output is constant (mean {:.10g}, standard deviation {:.3g} over the {} rows of blocks A "
+                    "and B{}): Sobol' indices are undefined",
+                    scale * full.mean, scale * std::sqrt(std::max(full.variance, 0.0)), 2 * n,
+                    y.second_order() ? " and the others" : ""));
 
   const std::size_t s2_count = full.second.size();
   std::vector<std::vector<double>> rep_first(static_cast<std::size_t>(d)), rep_total(static_cast<std::size_t>(d)),
@@ -566,7 +589,8 @@ SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& opt
 
   int replicates = 0;
   if (!y.replicate.empty()) replicates = 1 + *std::max_element(y.replicate.begin(), y.replicate.end());
-  const bool by_replicates = replicates >= 2;
+  const bool by_replicates = options.interval == SaltelliInterval::replicates && replicates >= 2;
+  const bool by_bootstrap = options.interval == SaltelliInterval::bootstrap && options.bootstrap > 0;
   if (by_replicates) {
     // Randomised QMC (Owen 1997; L'Ecuyer & Lemieux 2002): the R replicates are independent scramblings, so their
     // estimates are i.i.d. and their spread measures the error of QMC sampling, which a bootstrap of the
@@ -584,7 +608,7 @@ SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& opt
                         m.size()));
       keep(e);
     }
-  } else {
+  } else if (by_bootstrap) {
     // Percentile bootstrap over the base rows (Archer, Saltelli, Sobol' 1997).
     Random rng(options.seed);
     std::vector<int> resample(static_cast<std::size_t>(n));
@@ -604,15 +628,21 @@ SobolResult sobol_indices_of(const SaltelliResponses& y, const SobolOptions& opt
   result.evaluations = n * (y.second_order() ? 2 * d + 2 : d + 2);
   result.mean = full.mean;
   result.variance = full.variance;
-  result.bootstrap = by_replicates ? 0 : options.bootstrap;
+  result.bootstrap = by_bootstrap ? options.bootstrap : 0;
   result.replicates = by_replicates ? replicates : 0;
   result.confidence = options.confidence;
   result.seed = options.seed;
-  if (!by_replicates && options.bootstrap > 0)
+  if (by_bootstrap)
     result.note =
         "bootstrap intervals: they treat the base rows as independent random draws, which the rows of a scrambled "
         "Sobol' design are not, so for QMC they are conservative (often several times too wide); a design with "
         "independently scrambled replicates (`demsa design saltelli --replicates R`) gives intervals valid for QMC";
+  else if (options.interval == SaltelliInterval::replicates && !by_replicates)
+    result.note =
+        "no intervals: the design has no independently scrambled replicates, whose spread gives intervals valid for "
+        "QMC (`demsa design saltelli --replicates R` writes them); the bootstrap, by name, gives conservative ones "
+        "(often several times too wide)";
+  // Without replicates or resamples the lists are empty and interval() collapses the bounds onto the estimate.
   const auto interval_of = [&](double value, const std::vector<double>& reps) {
     return by_replicates ? t_interval(value, reps, options.confidence) : interval(value, reps, options.confidence);
   };

@@ -1,5 +1,7 @@
 // `demsa compare A B`: particles of two dumps (or of the `*_final.dump` files of two case folders) matched by id;
-// for piles also the angle of repose and h_P. Exit 0 within tolerance, 1 beyond it (errors: cli.hpp).
+// for piles also the angle of repose and h_P, each pile as its case measures it (`demsa postprocess pile CASE`): on
+// its own pedestal and without its frozen base layer ([pile] base = "particles"), whose particles leave the counts
+// and the displacements too. Exit 0 within tolerance, 1 beyond it (errors: cli.hpp).
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/experiments/case_record.hpp"
@@ -36,29 +38,44 @@ struct CompareArgs {
   const CLI::Option* pedestal_top = nullptr;
 };
 
-/// The pile options of the dump `dump`: its case's own pedestal and measurement when a case.json of a pile case lies
-/// beside it (as `demsa postprocess pile CASE` measures it), else the command line's; a pedestal given on the command
-/// line wins.
-pp::PileAngleOptions pile_options_of(const CompareArgs& args, const fs::path& dump) {
-  pp::PileAngleOptions options = args.options.pile_options;
+/// How the pile of one dump is measured.
+struct CasePile {
+  pp::PileAngleOptions options;  ///< the pedestal and the measurement
+  long base_particles = 0;       ///< ids 1..base_particles are the case's frozen base layer, left out (0: none)
+};
+
+/// The pile of the dump `dump`: its case's own pedestal, measurement and base layer when a case.json of a pile case
+/// lies beside it (as `demsa postprocess pile CASE` measures it), else the command line's; a pedestal given on the
+/// command line wins.
+CasePile pile_of(const CompareArgs& args, const fs::path& dump) {
+  CasePile pile{args.options.pile_options};
   const fs::path folder = dump.parent_path().empty() ? fs::path(".") : dump.parent_path();
+  const fs::path file = folder / study::k_case_json;
   std::error_code ec;
-  if (!fs::exists(folder / study::k_case_json, ec)) return options;
+  if (!fs::exists(file, ec)) return pile;
   const nlohmann::json doc = experiments::read_case_json(folder);
-  const std::optional<std::string> name = experiments::case_string(doc, folder / study::k_case_json, "experiment");
-  if (name && *name != experiments::pile::experiment().name) return options;
-  pp::PileAngleOptions recorded = experiments::pile::case_angle_options(doc, folder / study::k_case_json);
+  const std::optional<std::string> name = experiments::case_string(doc, file, "experiment");
+  if (name && *name != experiments::pile::experiment().name) return pile;
+  pp::PileAngleOptions recorded = experiments::pile::case_angle_options(doc, file);
   if (args.pedestal_radius != nullptr && args.pedestal_radius->count() > 0)
-    recorded.pedestal_radius = options.pedestal_radius;
-  if (args.pedestal_top != nullptr && args.pedestal_top->count() > 0) recorded.pedestal_top = options.pedestal_top;
-  return recorded;
+    recorded.pedestal_radius = pile.options.pedestal_radius;
+  if (args.pedestal_top != nullptr && args.pedestal_top->count() > 0) recorded.pedestal_top = pile.options.pedestal_top;
+  pile.options = recorded;
+  pile.base_particles = experiments::pile::read_case_angle_settings(doc, file).base_particles.value_or(0);
+  return pile;
 }
 
 struct ComparedPair {
   fs::path a, b;
   pp::DumpComparison result;
-  pp::PileAngleOptions pile_a, pile_b;  ///< the pedestals the piles were measured on
+  CasePile pile_a, pile_b;  ///< the pedestals the piles were measured on, and the base layers left out
 };
+
+nlohmann::json pedestal_json(const CasePile& pile) {
+  return {{"radius_m", pile.options.pedestal_radius},
+          {"top_m", pile.options.pedestal_top},
+          {"base_particles", pile.base_particles}};
+}
 
 nlohmann::json to_json(const ComparedPair& c) {
   const pp::DumpComparison& r = c.result;
@@ -90,8 +107,8 @@ nlohmann::json to_json(const ComparedPair& c) {
                  {"height_a_m", r.pile->height_a},
                  {"height_b_m", r.pile->height_b},
                  {"height_difference_m", r.pile->height_difference},
-                 {"pedestal_a", {{"radius_m", c.pile_a.pedestal_radius}, {"top_m", c.pile_a.pedestal_top}}},
-                 {"pedestal_b", {{"radius_m", c.pile_b.pedestal_radius}, {"top_m", c.pile_b.pedestal_top}}}};
+                 {"pedestal_a", pedestal_json(c.pile_a)},
+                 {"pedestal_b", pedestal_json(c.pile_b)}};
   else
     j["pile"] = nullptr;
   return j;
@@ -123,7 +140,11 @@ void print_text(const ComparedPair& c) {
     fmt::print("  pile height h_P      {:.6g} m vs {:.6g} m (difference {:+.6g})\n", r.pile->height_a, r.pile->height_b,
                r.pile->height_difference);
     fmt::print("  pedestals            radius {:g} m, top {:g} m vs radius {:g} m, top {:g} m\n",
-               c.pile_a.pedestal_radius, c.pile_a.pedestal_top, c.pile_b.pedestal_radius, c.pile_b.pedestal_top);
+               c.pile_a.options.pedestal_radius, c.pile_a.options.pedestal_top, c.pile_b.options.pedestal_radius,
+               c.pile_b.options.pedestal_top);
+    if (c.pile_a.base_particles > 0 || c.pile_b.base_particles > 0)
+      fmt::print("  base layers          {} vs {} particles, left out (case.json)\n", c.pile_a.base_particles,
+                 c.pile_b.base_particles);
   }
   if (r.within_tolerance())
     fmt::print("  within tolerance\n");
@@ -157,20 +178,25 @@ int run_compare(const CompareArgs& args) {
   for (const auto& [pa, pb] : pairs) {
     pp::CompareOptions options = args.options;
     if (pa.filename() == "pile_final.dump") options.pile = true;
+    CasePile pile_a{options.pile_options}, pile_b{options.pile_options};
     if (options.pile) {
       // Each pile on its own case's pedestal: two cases of different studies stand on different ones.
-      options.pile_options = pile_options_of(args, pa);
-      options.pile_options_b = pile_options_of(args, pb);
+      pile_a = pile_of(args, pa);
+      pile_b = pile_of(args, pb);
+      options.pile_options = pile_a.options;
+      options.pile_options_b = pile_b.options;
     }
     validate_command_line(options, {{"position_tolerance", "--tol-pos"},
                                     {"radius_tolerance", "--tol-radius"},
                                     {"angle_tolerance", "--tol-angle"},
                                     {"pedestal_radius", "--pedestal-radius"},
                                     {"pedestal_top", "--pedestal-top"}});
-    const pp::Particles particles_a = pp::read_particles(pa);
-    const pp::Particles particles_b = pp::read_particles(pb);
-    compared.push_back({pa, pb, pp::compare_particles(particles_a, particles_b, options, pa.string(), pb.string()),
-                        options.pile_options, options.pile_options_b.value_or(options.pile_options)});
+    // A frozen base layer is not part of the pile: measured with it, its particles would count as the pile's and
+    // their zero displacements would dilute the RMS.
+    const pp::Particles particles_a = experiments::pile::without_base(pp::read_particles(pa), pile_a.base_particles);
+    const pp::Particles particles_b = experiments::pile::without_base(pp::read_particles(pb), pile_b.base_particles);
+    compared.push_back(
+        {pa, pb, pp::compare_particles(particles_a, particles_b, options, pa.string(), pb.string()), pile_a, pile_b});
   }
   bool within = true;
   for (const ComparedPair& c : compared) within = within && c.result.within_tolerance();

@@ -1,6 +1,8 @@
 // `demsa design lhs|sobol|saltelli`: a design of experiments as CSV, for any simulator (README "Usage"). Values are
 // on the unit cube unless parameters with bounds are given (--param NAME:LOW:HIGH[:log]); the space-filling
-// metrics (on the unit cube) go to standard output, as JSON with --json (for saltelli: only with --json).
+// metrics (on the unit cube) go to standard output, as JSON with --json (for saltelli: only with --json). A Saltelli
+// design comes in independently scrambled replicates by default (sobol::default_saltelli_replicates), from whose
+// spread `demsa sensitivity` takes its intervals.
 #include "sobol/design.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
@@ -47,7 +49,8 @@ struct DesignArgs {
   double phi_p = 50.0;
   // saltelli
   bool second_order = false;
-  int replicates = 1;  ///< independently scrambled replicates (column 'replicate' when > 1)
+  /// Independently scrambled replicates (column 'replicate' when > 1); 0: sobol::default_saltelli_replicates(N).
+  int replicates = 0;
 };
 
 // Points of the Sobol' sequence at most (sobol_sequence's limit, 30 binary digits per coordinate).
@@ -199,6 +202,11 @@ void check_saltelli(const DesignArgs& args, int dimension) {
     throw UserError(fmt::format(
         "{}: a Saltelli design supports at most {} parameters (A and B come from one {}-dimensional Sobol' sequence)",
         dimension_source(args, dimension), sobol::k_max_saltelli_dimension, 2 * sobol::k_max_saltelli_dimension));
+  if (args.replicates > 1 && (args.samples % args.replicates != 0 || args.samples / args.replicates < 2))
+    throw UserError(
+        fmt::format("--replicates {}: must divide the base N = {} and leave at least 2 rows to each "
+                    "replicate",
+                    args.replicates, args.samples));
   const long long blocks = args.second_order ? 2LL * dimension + 2 : dimension + 2LL;
   if (blocks * args.samples > INT_MAX)
     throw UserError(fmt::format("--base {}: the design would have {} x {} = {} rows, more than {}", args.samples,
@@ -286,6 +294,8 @@ void run_saltelli(const DesignArgs& given) {
   const Parameters p = parse_parameters(given);
   DesignArgs args = given;
   args.samples = saltelli_base(given.samples);
+  // Replicates by default: `demsa sensitivity` takes its intervals from their spread (sobol/saltelli.hpp).
+  if (args.replicates == 0) args.replicates = sobol::default_saltelli_replicates(args.samples);
   check_saltelli(args, static_cast<int>(p.names.size()));
   check_output_folder(args.output);
   sobol::SaltelliOptions options;
@@ -313,14 +323,29 @@ void run_saltelli(const DesignArgs& given) {
     // Only on request: the pair metrics take O(N^2) time (computed up to sobol::k_max_pair_metric_samples).
     const sobol::DesignMetrics m = sobol::design_metrics(d.a);
     warn_without_pair_metrics(m, d.a.rows());
-    const nlohmann::json j = {
-        {"design", "saltelli"},           {"file", args.output}, {"base", d.base},        {"dimension", d.dimension},
-        {"second_order", d.second_order}, {"rows", d.rows()},    {"parameters", p.names}, {"seed", d.seed},
-        {"metrics_of_a", metrics_json(m)}};
+    const nlohmann::json j = {{"design", "saltelli"},
+                              {"file", args.output},
+                              {"base", d.base},
+                              {"dimension", d.dimension},
+                              {"second_order", d.second_order},
+                              {"rows", d.rows()},
+                              {"parameters", p.names},
+                              {"seed", d.seed},
+                              {"replicates", d.replicates},
+                              {"metrics_of_a", metrics_json(m)}};
     fmt::print("{}\n", j.dump(2));
   } else {
     fmt::print("saltelli design: base {} x {} parameters{}, {} rows (seed {}) written to {}\n", d.base, d.dimension,
                d.second_order ? " with second order" : "", d.rows(), d.seed, args.output);
+    if (d.replicates > 1)
+      fmt::print(
+          "{} independently scrambled replicates of {} base rows (column 'replicate'): `demsa sensitivity` "
+          "gives Student-t intervals from their spread\n",
+          d.replicates, d.base / d.replicates);
+    else
+      fmt::print(
+          "one scrambled design (no replicates): `demsa sensitivity` gives its indices without intervals, or "
+          "with bootstrap ones by --interval bootstrap (conservative for QMC)\n");
     fmt::print("column 'block': 0 = A, 1 = B, 1+i = AB_i, 1+{}+i = BA_i; evaluate every row, keep the order\n",
                d.dimension);
   }
@@ -395,9 +420,14 @@ void register_design_command(CLI::App& app, CliState& state) {
              "one, with a warning");
   saltelli->add_flag("--second-order", args->second_order, "Add the BA_i blocks needed for second-order indices");
   saltelli
-      ->add_option("--replicates", args->replicates,
-                   "Split N into R independently scrambled designs (column 'replicate'): `demsa sensitivity` then "
-                   "gives Student-t intervals valid for QMC")
+      ->add_option(
+          "--replicates", args->replicates,
+          fmt::format("Split N into R independently scrambled designs (column 'replicate'), from whose "
+                      "spread `demsa sensitivity` gives Student-t intervals valid for QMC (default {}, fewer "
+                      "below N = {} so that each keeps {} rows; 1: one design, whose intervals only a "
+                      "bootstrap gives, conservative for QMC)",
+                      sobol::k_default_saltelli_replicates,
+                      sobol::k_default_saltelli_replicates * sobol::k_min_replicate_base, sobol::k_min_replicate_base))
       ->check(positive_number());
   saltelli->callback([args, &state] {
     run_saltelli(*args);

@@ -1,6 +1,8 @@
 // `demsa sensitivity`: Sobol' indices for any simulator (README "Usage"; paper §5–6), either
 //   --saltelli DESIGN.csv --responses Y.csv   outputs evaluated outside on a `demsa design saltelli` design (or
-//   --saltelli DESIGN.csv --response NAME     response columns appended to the design file, the SALib habit), or
+//   --saltelli DESIGN.csv --response NAME     response columns appended to the design file, the SALib habit),
+//                                             intervals from the design's replicates (--interval, default
+//                                             `replicates`; the bootstrap by name), or
 //   --data DATA.csv --inputs ... --response ... samples the user already has: metamodels fitted on the unit cube
 //                                             (scaled by --bounds or by the data's range), indices of each;
 //                                             --save-model writes each fitted model (analysis/model_file.hpp).
@@ -65,6 +67,8 @@ struct SensitivityArgs {
   std::string metamodels = "rsm2,rsm3,rbf-cubic,rbf-tps,gp";
   bool second_order = false;
   int bootstrap = k_mode_default;  ///< k_mode_default: 200 resamples for --saltelli, 100 refits for --data
+  std::string interval;            ///< --saltelli: sobol::SaltelliInterval by name ("": replicates, or bootstrap when
+                                   ///< --bootstrap is given)
   double confidence = 0.95;
   int base = 16384;
   std::uint64_t seed = 12345;
@@ -149,7 +153,26 @@ void write_json(const std::string& target, const nlohmann::json& j) {
 
 // ---------------------------------------------------------------- --saltelli DESIGN.csv --responses Y.csv
 
+/// The interval method of --saltelli: --interval by name; without it the replicates', or the bootstrap when
+/// --bootstrap gives its resamples (the bootstrap named by its option).
+sobol::SaltelliInterval saltelli_interval(const SensitivityArgs& args) {
+  const bool resamples_given = args.bootstrap != k_mode_default;
+  if (args.interval.empty())
+    return resamples_given ? sobol::SaltelliInterval::bootstrap : sobol::SaltelliInterval::replicates;
+  sobol::SaltelliInterval interval;
+  try {
+    interval = sobol::saltelli_interval_from_string(args.interval);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("--interval: {}", e.what()));
+  }
+  if (resamples_given && interval != sobol::SaltelliInterval::bootstrap)
+    throw UserError(fmt::format("--bootstrap {} gives the resamples of --interval bootstrap, not of --interval {}",
+                                args.bootstrap, args.interval));
+  return interval;
+}
+
 void run_saltelli(const SensitivityArgs& args) {
+  const sobol::SaltelliInterval interval = saltelli_interval(args);
   if (!args.save_model.empty())
     throw UserError("--save-model: a Saltelli design gives indices without a metamodel: nothing to save (use --data)");
   const std::vector<std::string> named = split_list(args.outputs);
@@ -238,6 +261,13 @@ void run_saltelli(const SensitivityArgs& args) {
           "and the extra rows cost accuracy instead of adding it (Ishigami, RMS error of S1 and ST over 50 seeds: "
           "1.4e-3 at N = 10000 against 1.0e-3 at N = 8192); `demsa design saltelli` rounds N up to a power of two",
           args.saltelli, base, replicates > 1 ? fmt::format(" of each of the {} replicates", replicates) : "");
+    if (replicates < 2 && interval == sobol::SaltelliInterval::replicates)
+      log::warn(
+          "{}: one scrambled design, without independently scrambled replicates (column 'replicate'): its indices "
+          "come without intervals. `demsa design saltelli` writes {} replicates by default, from whose spread the "
+          "intervals come; --interval bootstrap gives bootstrap intervals, conservative for QMC (often several times "
+          "too wide)",
+          args.saltelli, sobol::k_default_saltelli_replicates);
   }
 
   const CsvTable y = appended ? design : read_csv(args.responses);
@@ -249,6 +279,7 @@ void run_saltelli(const SensitivityArgs& args) {
 
   sobol::SobolOptions options;
   options.second_order = args.second_order;
+  options.interval = interval;
   options.bootstrap = args.bootstrap == k_mode_default ? 200 : args.bootstrap;
   options.confidence = args.confidence;
   options.seed = args.seed;
@@ -279,9 +310,11 @@ void run_saltelli(const SensitivityArgs& args) {
       throw UserError(args.responses, 0, fmt::format("column '{}': {}", name, e.what()));
     }
     // An index whose whole interval lies outside [0, 1] is not estimator noise: the responses' rows most likely do
-    // not belong to the design's rows (shuffled, sorted, from another design or seed).
+    // not belong to the design's rows (shuffled, sorted, from another design or seed). Without intervals (bounds on
+    // the estimate) a small index just below 0 is estimator noise: nothing to say.
     std::vector<std::string> outside;
-    for (std::size_t k = 0; k < names.size(); ++k)
+    const bool intervals = r.bootstrap > 0 || r.replicates > 0;
+    for (std::size_t k = 0; k < names.size() && intervals; ++k)
       for (const auto& [label, e] : {std::pair{"S1", r.first[k]}, std::pair{"ST", r.total[k]}})
         if (e.upper < 0.0 || e.lower > 1.0)
           outside.push_back(
@@ -686,7 +719,12 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
   sub->add_flag("--allow-extrapolation", args->allow_extrapolation,
                 "--data: proceed (with a warning) when the samples span less than half of an input's --bounds");
   sub->add_option("--bootstrap", args->bootstrap,
-                  "Bootstrap resamples (default 200 for --saltelli, 100 design refits for --data)");
+                  "Bootstrap resamples: with --saltelli those of --interval bootstrap (given alone, it chooses that "
+                  "interval; default 200), with --data the design refits of each metamodel (default 100)");
+  sub->add_option("--interval", args->interval,
+                  "With --saltelli: replicates (the default: Student-t over the design's independently scrambled "
+                  "replicates, valid for QMC; none without them), bootstrap (a percentile bootstrap of its rows, "
+                  "conservative for QMC: often several times too wide) or none");
   sub->add_option("--confidence", args->confidence, "Confidence level of the intervals")->capture_default_str();
   sub->add_option("--base", args->base, "QMC base sample size N for metamodel indices")->capture_default_str();
   sub->add_option("--seed", args->seed, "Seed of the QMC design and of the bootstrap")->capture_default_str();
@@ -707,6 +745,10 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
   sub->callback([args, &state] {
     if (!args->saltelli.empty() == !args->data.empty())
       throw UserError("give exactly one of --saltelli DESIGN.csv (with --responses) or --data DATA.csv");
+    if (!args->interval.empty() && !args->data.empty())
+      throw UserError(
+          "--interval goes with --saltelli: the intervals of --data are design-bootstrap refits of each metamodel "
+          "(--bootstrap)");
     if (!args->replicates.empty() && args->data.empty())
       throw UserError("--replicates goes with --data: the noise sets the nugget of the metamodels fitted to the data");
     check_numeric_options(*args);

@@ -57,7 +57,7 @@ TEST(CliDesign, SobolAndCentredOnTheUnitCube) {
 TEST(CliDesign, SaltelliWritesBlocks) {
   TempDir dir;
   const CommandResult r = run_demsa({"design", "saltelli", "-N", "32", "--param", "a:0:1", "--param", "b:-1:1",
-                                     "--second-order", "-o", (dir / "s.csv").string(), "--json"});
+                                     "--second-order", "--replicates", "1", "-o", (dir / "s.csv").string(), "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["rows"], 32 * 6);
@@ -69,6 +69,31 @@ TEST(CliDesign, SaltelliWritesBlocks) {
   // AB_1 row r takes a from B and b from A.
   EXPECT_EQ(t.values(64 + 5, 1), t.values(32 + 5, 1));
   EXPECT_EQ(t.values(64 + 5, 2), t.values(5, 2));
+}
+
+TEST(CliDesign, SaltelliComesInReplicatesByDefault) {
+  TempDir dir;
+  const std::string out = (dir / "s.csv").string();
+  CommandResult r = run_demsa({"design", "saltelli", "-N", "1024", "--dim", "2", "-o", out, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["replicates"], 8);
+  const CsvTable t = read_csv(out);
+  ASSERT_EQ(t.columns, (std::vector<std::string>{"block", "replicate", "x1", "x2"}));
+  EXPECT_EQ(t.values(0, 1), 1.0);
+  EXPECT_EQ(t.values(127, 1), 1.0);
+  EXPECT_EQ(t.values(128, 1), 2.0);
+  EXPECT_EQ(t.values(1023, 1), 8.0);
+  // Fewer below N = 128, each replicate keeping 16 rows; none at N = 16; the text says which.
+  r = run_demsa({"design", "saltelli", "-N", "32", "--dim", "2", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 independently scrambled replicates of 16 base rows"), std::string::npos) << r.out;
+  r = run_demsa({"design", "saltelli", "-N", "16", "--dim", "2", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("one scrambled design (no replicates)"), std::string::npos) << r.out;
+  EXPECT_EQ(read_csv(out).columns[1], "x1");
+  r = run_demsa({"design", "saltelli", "-N", "64", "--dim", "2", "--replicates", "3", "-o", out});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--replicates 3: must divide the base N = 64"), std::string::npos) << r.err;
 }
 
 TEST(CliDesignErrors, BadArguments) {

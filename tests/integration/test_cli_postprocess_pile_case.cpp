@@ -1,12 +1,15 @@
 // `demsa postprocess pile CASE` measures a pile with the pedestal and the measurement settings its case.json records
-// (written by `demsa case`), options override them, and a case.json without the pedestal is an error.
+// (written by `demsa case`), options override them, and a case.json without the pedestal is an error. `demsa compare`
+// measures each pile the same way: on its own pedestal, and without the base layer of a rough-base case.
 #include "support/test_support.hpp"
 #include "tests/postprocess/synthetic_cone.hpp"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -91,6 +94,73 @@ TEST(CliCompare, EachPileIsMeasuredOnItsOwnCasesPedestal) {
   EXPECT_DOUBLE_EQ(
       nlohmann::json::parse(given.out).at("comparisons").at(0).at("pile").at("pedestal_b").at("top_m").get<double>(),
       0.011);
+}
+
+/// A rough-base pile case (`[pile] base = "particles"`) in tmp/NAME whose final dump holds its base layer (ids
+/// 1..N as its case.json records, tops at the layer's recorded mean top) under a 30° cone standing on that top, every
+/// pile particle moved by `shift` along x. Returns N.
+long write_rough_base_case(const TempDir& tmp, const std::string& name, double shift) {
+  StudyToml study;
+  study.tables = "[pile]\nparticles = 300\npedestal_radius = 0.03\npedestal_height = 0.012\nbase = \"particles\"\n";
+  write_file(tmp / "study.toml", study.text());
+  const CommandResult c =
+      run_demsa({"case", (tmp / "study.toml").string(), "--sample", "0", "-o", (tmp / name).string()});
+  EXPECT_EQ(c.exit_code, 0) << c.err;
+  const nlohmann::json base = nlohmann::json::parse(read_file(tmp / name / "case.json")).at("pile").at("base");
+  const long n = base.at("particles").get<long>();
+  const double top = base.at("top_m").get<double>();
+  postprocess::Particles dump;
+  for (long k = 0; k < n; ++k) {  // a frozen layer on the pedestal, spread over it on a sunflower spiral
+    const double rho = 0.028 * std::sqrt((static_cast<double>(k) + 0.5) / static_cast<double>(n));
+    const double phi = 2.399963 * static_cast<double>(k), r = 1.5e-3;
+    dump.id.push_back(k + 1);
+    dump.type.push_back(1);
+    dump.x.push_back(rho * std::cos(phi));
+    dump.y.push_back(rho * std::sin(phi));
+    dump.z.push_back(top - r);
+    dump.radius.push_back(r);
+  }
+  SyntheticConeOptions options;
+  options.angle_deg = 30.0;
+  options.base_radius = 0.028;
+  options.pedestal_radius = 0.030;
+  options.pedestal_top = top;
+  options.cap_radius = 0.004;
+  const postprocess::Particles cone = make_synthetic_cone(options);
+  for (std::size_t j = 0; j < cone.size(); ++j) {
+    dump.id.push_back(n + cone.id[j]);
+    dump.type.push_back(cone.type[j]);
+    dump.x.push_back(cone.x[j] + shift);
+    dump.y.push_back(cone.y[j]);
+    dump.z.push_back(cone.z[j]);
+    dump.radius.push_back(cone.radius[j]);
+  }
+  write_file(tmp / name / "pile_final.dump", synthetic_dump_text(dump));
+  return n;
+}
+
+TEST(CliCompare, RoughBasePilesAreComparedWithoutTheirBaseLayers) {
+  TempDir tmp;
+  const long base = write_rough_base_case(tmp, "a", 0.0);
+  ASSERT_GT(base, 0);
+  write_rough_base_case(tmp, "b", 1e-4);
+  const CommandResult r =
+      run_demsa({"compare", (tmp / "a").string(), (tmp / "b").string(), "--json", "--tol-pos", "1e-3"});
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const nlohmann::json c = nlohmann::json::parse(r.out)["comparisons"][0];
+  // Measured as `demsa postprocess pile CASE` measures it: the pile's particles only, every one of them moved by
+  // 0.1 mm (the layer's would count as the pile's and dilute the RMS).
+  const nlohmann::json measured =
+      nlohmann::json::parse(run_demsa({"postprocess", "pile", (tmp / "a").string(), "--json"}).out);
+  EXPECT_EQ(c["particles_a"].get<std::size_t>(), measured["particles_total"].get<std::size_t>()) << c.dump();
+  EXPECT_NEAR(c["rms_displacement_m"].get<double>(), 1e-4, 1e-9) << c.dump();
+  EXPECT_EQ(c["pile"]["pedestal_a"]["base_particles"].get<long>(), base) << c.dump();
+  EXPECT_DOUBLE_EQ(c["pile"]["angle_a_deg"].get<double>(), measured["angle_deg"].get<double>());
+  EXPECT_DOUBLE_EQ(c["pile"]["height_a_m"].get<double>(), measured["pile_height_m"].get<double>());
+  const CommandResult text = run_demsa({"compare", (tmp / "a").string(), (tmp / "b").string(), "--tol-pos", "1e-3"});
+  EXPECT_NE(text.out.find(fmt::format("base layers          {} vs {} particles, left out", base, base)),
+            std::string::npos)
+      << text.out;
 }
 
 TEST(CliPostprocessPileCase, OptionsOverrideTheCase) {

@@ -32,7 +32,7 @@ TEST(CliSensitivity, IshigamiThroughTheCommandLine) {
   const std::string p = "-3.14159265358979323846:3.14159265358979323846";
   CommandResult r =
       run_demsa({"design", "saltelli", "-N", "2048", "--param", "x1:" + p, "--param", "x2:" + p, "--param", "x3:" + p,
-                 "--second-order", "--seed", "7", "-o", (dir / "design.csv").string()});
+                 "--second-order", "--seed", "7", "--replicates", "1", "-o", (dir / "design.csv").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // The simulator, outside demsa.
   const CsvTable design = read_csv(dir / "design.csv");
@@ -238,12 +238,15 @@ TEST(CliSensitivityErrors, SaltelliFilesThatDoNotMatch) {
   EXPECT_EQ(r.exit_code, 2);
 }
 
-/// One output per row of a design CSV (columns after 'block'): y = x1 + 2 x2 x3 + x3².
+/// One output per row of a design CSV (columns x1, x2, x3): y = x1 + 2 x2 x3 + x3².
 std::string responses_of(const std::filesystem::path& design) {
   const CsvTable d = read_csv(design);
+  const int x1 = d.column_index("x1");
   std::string y = "y\n";
-  for (int i = 0; i < d.rows(); ++i)
-    y += fmt::format("{}\n", d.values(i, 1) + 2 * d.values(i, 2) * d.values(i, 3) + d.values(i, 3) * d.values(i, 3));
+  for (int i = 0; i < d.rows(); ++i) {
+    const double a = d.values(i, x1), b = d.values(i, x1 + 1), c = d.values(i, x1 + 2);
+    y += fmt::format("{}\n", a + 2 * b * c + c * c);
+  }
   return y;
 }
 
@@ -371,6 +374,86 @@ TEST(CliSensitivity, ReplicatedDesignGivesStudentTIntervals) {
   EXPECT_NE(bad.err.find("column 'replicate'"), std::string::npos) << bad.err;
 }
 
+TEST(CliSensitivity, DefaultIntervalsComeFromTheReplicatesOfTheDefaultDesign) {
+  TempDir dir;
+  ishigami_files(dir, {"-N", "1024", "--seed", "5"});
+  const CsvTable design = read_csv(dir / "design.csv");
+  ASSERT_EQ(design.columns[1], "replicate");
+  EXPECT_EQ(design.values.col(1).maxCoeff(), 8.0);  // 8 replicates by default
+  const CommandResult r = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                     (dir / "y.csv").string(), "--json", (dir / "out.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Student-t intervals from 8 independently scrambled replicates"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  const nlohmann::json o = nlohmann::json::parse(read_file(dir / "out.json"))["outputs"][0];
+  EXPECT_EQ(o["replicates"], 8);
+  EXPECT_EQ(o["bootstrap"], 0);
+  EXPECT_LT(o["S1"]["x2"]["lower"].get<double>(), o["S1"]["x2"]["upper"].get<double>());
+  // The bootstrap by name, on the same design.
+  const CommandResult boot = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                        (dir / "y.csv").string(), "--interval", "bootstrap", "--json", "-"});
+  ASSERT_EQ(boot.exit_code, 0) << boot.err;
+  const nlohmann::json b = nlohmann::json::parse(boot.out)["outputs"][0];
+  EXPECT_EQ(b["bootstrap"], 200);
+  EXPECT_FALSE(b.contains("replicates"));
+}
+
+TEST(CliSensitivity, OneScrambledDesignHasNoIntervalsUnlessTheBootstrapIsNamed) {
+  TempDir dir;
+  ishigami_files(dir, {"-N", "256", "--replicates", "1"});
+  const CommandResult r = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                     (dir / "y.csv").string(), "--json", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("design.csv: one scrambled design, without independently scrambled replicates"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("--interval bootstrap"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("wholly outside"), std::string::npos) << r.err;  // no interval, nothing to say
+  const nlohmann::json o = nlohmann::json::parse(r.out)["outputs"][0];
+  EXPECT_EQ(o["bootstrap"], 0);
+  EXPECT_FALSE(o.contains("replicates"));
+  EXPECT_EQ(o["S1"]["x1"]["lower"], o["S1"]["x1"]["value"]);
+  EXPECT_NE(o["note"].get<std::string>().find("no intervals"), std::string::npos) << o.dump();
+  // --interval bootstrap, or --bootstrap B alone, names the bootstrap.
+  for (const std::vector<std::string>& named :
+       {std::vector<std::string>{"--interval", "bootstrap"}, std::vector<std::string>{"--bootstrap", "40"}}) {
+    std::vector<std::string> args{
+        "sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "y.csv").string(),
+        "--json",      "-"};
+    args.insert(args.end(), named.begin(), named.end());
+    const CommandResult boot = run_demsa(args);
+    ASSERT_EQ(boot.exit_code, 0) << boot.err;
+    EXPECT_EQ(boot.err.find("warning"), std::string::npos) << boot.err;
+    EXPECT_EQ(nlohmann::json::parse(boot.out)["outputs"][0]["bootstrap"], named[0] == "--bootstrap" ? 40 : 200);
+  }
+}
+
+TEST(CliSensitivityErrors, IntervalOptionsThatDoNotGoTogether) {
+  TempDir dir;
+  ishigami_files(dir, {"-N", "64"});
+  const std::vector<std::string> common{"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
+                                        (dir / "y.csv").string()};
+  const auto error_of = [&common](const std::vector<std::string>& extra) {
+    std::vector<std::string> args = common;
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CommandResult r = run_demsa(args);
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    return r.err;
+  };
+  EXPECT_NE(error_of({"--interval", "student"})
+                .find("--interval: unknown interval method 'student' (valid: "
+                      "replicates, bootstrap, none)"),
+            std::string::npos);
+  EXPECT_NE(error_of({"--interval", "replicates", "--bootstrap", "50"})
+                .find("--bootstrap 50 gives the resamples of --interval bootstrap, not of --interval replicates"),
+            std::string::npos);
+  write_file(dir / "data.csv", data_csv(60));
+  const CommandResult data = run_demsa({"sensitivity", "--data", (dir / "data.csv").string(), "--inputs", "a,b,c",
+                                        "--response", "y", "--interval", "bootstrap"});
+  EXPECT_EQ(data.exit_code, 2);
+  EXPECT_NE(data.err.find("--interval goes with --saltelli"), std::string::npos) << data.err;
+}
+
 TEST(CliSensitivity, BootstrapOnOneScrambledDesignSaysWhatItAssumes) {
   TempDir dir;
   ishigami_files(dir, {"-N", "256"});
@@ -384,9 +467,9 @@ TEST(CliSensitivity, BootstrapOnOneScrambledDesignSaysWhatItAssumes) {
 
 TEST(CliSensitivity, BaseThatIsNotAPowerOfTwoIsWarnedAbout) {
   TempDir dir;
-  // `demsa design saltelli` rounds N up to a power of two, so a design of N = 1000 is cut from one of 1024: the
-  // first 1000 rows of every block.
-  ishigami_files(dir, {"-N", "1024"});
+  // `demsa design saltelli` rounds N up to a power of two, so a design of N = 1000 is cut from one of 1024 (without
+  // replicates): the first 1000 rows of every block.
+  ishigami_files(dir, {"-N", "1024", "--replicates", "1"});
   {
     std::istringstream in(read_file(dir / "design.csv"));
     std::ostringstream cut, y;
@@ -411,7 +494,7 @@ TEST(CliSensitivity, BaseThatIsNotAPowerOfTwoIsWarnedAbout) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("the base N = 1000 is not a power of two"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("rounds N up to a power of two"), std::string::npos) << r.err;
-  ishigami_files(dir, {"-N", "1024"});
+  ishigami_files(dir, {"-N", "1024", "--replicates", "1"});
   const CommandResult fine = run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses",
                                         (dir / "y.csv").string(), "--bootstrap", "0"});
   EXPECT_EQ(fine.err.find("power of two"), std::string::npos) << fine.err;
@@ -441,6 +524,14 @@ TEST(CliSensitivityErrors, ConstantOutputIsAnErrorOnBothPaths) {
       run_demsa({"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "y.csv").string()});
   EXPECT_EQ(s.exit_code, 2) << s.out;
   EXPECT_NE(s.err.find("column 'y': the output is constant"), std::string::npos) << s.err;
+  // A constant beyond 1e100 (scaled before its moments are taken) is named by its own mean, not the scaled one.
+  std::string large = "y\n";
+  for (int i = 0; i < design.rows(); ++i) large += "1e200\n";
+  write_file(dir / "large.csv", large);
+  const CommandResult l = run_demsa(
+      {"sensitivity", "--saltelli", (dir / "design.csv").string(), "--responses", (dir / "large.csv").string()});
+  EXPECT_EQ(l.exit_code, 2) << l.out;
+  EXPECT_NE(l.err.find("the output is constant (mean 1e+200,"), std::string::npos) << l.err;
 }
 
 TEST(CliSensitivity, OutputsWhoseVarianceOverflowsAreScaledOrRefusedWithTheCause) {

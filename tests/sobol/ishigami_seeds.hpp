@@ -32,7 +32,7 @@ inline IshigamiSeedAccuracy ishigami_over_seeds(int base, const std::vector<std:
     o.seed = seed;
     SobolOptions so;
     so.second_order = true;
-    so.bootstrap = 0;
+    so.interval = SaltelliInterval::none;
     const SobolResult r = sobol_indices(ishigami, saltelli_design(o), so);
     double seed_worst = 0.0;
     for (std::size_t k = 0; k < 3; ++k) {

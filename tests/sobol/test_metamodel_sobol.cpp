@@ -56,7 +56,7 @@ TEST(RsmExact, EqualsQmcEstimateAtBase2To16) {
   so.seed = 5;
   SobolOptions o;
   o.second_order = true;
-  o.bootstrap = 0;
+  o.interval = SaltelliInterval::none;
   const SobolResult qmc =
       sobol_indices([&rsm](const Eigen::MatrixXd& u) { return rsm.predict(u); }, saltelli_design(so), o);
   for (int k = 0; k < 4; ++k) {

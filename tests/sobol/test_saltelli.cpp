@@ -127,6 +127,7 @@ TEST(Saltelli, BootstrapIntervalsCoverTheTruth) {
     o.dimension = 3;
     o.seed = 1000 + rep;
     SobolOptions so;
+    so.interval = SaltelliInterval::bootstrap;
     so.bootstrap = 200;
     so.seed = rep;
     const SobolResult r = sobol_indices(ishigami, saltelli_design(o), so);
@@ -234,6 +235,19 @@ TEST(SaltelliErrors, ConstantUpToRoundOffIsRefused) {
   EXPECT_FALSE(negligible_variance(0.0, 1e-300));
 }
 
+TEST(SaltelliErrors, ConstantLargeOutputIsReportedWithItsTrueMean) {
+  // Outputs beyond k_large_output are scaled before the moments are taken; the message of a constant one still
+  // names the mean of the outputs as given, not of the scaled ones (1).
+  SobolOptions so;
+  so.bootstrap = 0;
+  try {
+    sobol_indices(split_responses(Eigen::VectorXd::Constant(20, 1e200), 2, false), so);
+    FAIL();
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("the output is constant (mean 1e+200,"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Saltelli, ReplicatedDesignIsRIndependentScramblings) {
   SaltelliOptions o;
   o.base = 64;
@@ -281,6 +295,7 @@ TEST(Saltelli, ReplicatedIntervalsAreHonestForQmc) {
       o.seed = seed;
       o.replicates = replicates;
       SobolOptions so;
+      so.interval = replicates > 1 ? SaltelliInterval::replicates : SaltelliInterval::bootstrap;
       so.bootstrap = 200;
       so.seed = seed;
       const SobolResult r = sobol_indices(ishigami, saltelli_design(o), so);
@@ -302,6 +317,62 @@ TEST(Saltelli, ReplicatedIntervalsAreHonestForQmc) {
   EXPECT_GE(coverage, 0.9);
   EXPECT_LT(ratio, 7.0);
   EXPECT_LT(ratio, 0.7 * bootstrap_ratio);
+}
+
+TEST(Saltelli, IntervalsComeFromReplicatesUnlessTheBootstrapIsNamed) {
+  SaltelliOptions o;
+  o.base = 256;
+  o.dimension = 3;
+  o.seed = 4;
+  SobolOptions so;  // the default: the replicates' interval
+  EXPECT_EQ(so.interval, SaltelliInterval::replicates);
+  // One scrambled design: no replicates, so no interval, and the note says why; no bootstrap unless named.
+  const SobolResult one = sobol_indices(ishigami, saltelli_design(o), so);
+  EXPECT_EQ(one.bootstrap, 0);
+  EXPECT_EQ(one.replicates, 0);
+  EXPECT_EQ(one.first[0].lower, one.first[0].value);
+  EXPECT_EQ(one.total[2].upper, one.total[2].value);
+  EXPECT_NE(one.note.find("no intervals: the design has no independently scrambled replicates"), std::string::npos)
+      << one.note;
+  // Its replicates, by default.
+  o.replicates = k_default_saltelli_replicates;
+  const SobolResult replicated = sobol_indices(ishigami, saltelli_design(o), so);
+  EXPECT_EQ(replicated.replicates, 8);
+  EXPECT_EQ(replicated.bootstrap, 0);
+  EXPECT_TRUE(replicated.note.empty()) << replicated.note;
+  EXPECT_LT(replicated.first[0].lower, replicated.first[0].upper);
+  // The bootstrap by name, also on a replicated design.
+  so.interval = SaltelliInterval::bootstrap;
+  so.bootstrap = 50;
+  const SobolResult boot = sobol_indices(ishigami, saltelli_design(o), so);
+  EXPECT_EQ(boot.bootstrap, 50);
+  EXPECT_EQ(boot.replicates, 0);
+  EXPECT_NE(boot.note.find("bootstrap intervals"), std::string::npos) << boot.note;
+  EXPECT_LT(boot.first[0].lower, boot.first[0].upper);
+  so.interval = SaltelliInterval::none;
+  const SobolResult none = sobol_indices(ishigami, saltelli_design(o), so);
+  EXPECT_EQ(none.first[0].lower, none.first[0].upper);
+  EXPECT_TRUE(none.note.empty()) << none.note;
+
+  EXPECT_EQ(saltelli_interval_from_string("bootstrap"), SaltelliInterval::bootstrap);
+  EXPECT_EQ(to_string(SaltelliInterval::replicates), "replicates");
+  try {
+    saltelli_interval_from_string("student");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("(valid: replicates, bootstrap, none)"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Saltelli, DefaultReplicatesKeepSixteenRowsEach) {
+  EXPECT_EQ(default_saltelli_replicates(1 << 14), 8);
+  EXPECT_EQ(default_saltelli_replicates(128), 8);
+  EXPECT_EQ(default_saltelli_replicates(64), 4);
+  EXPECT_EQ(default_saltelli_replicates(32), 2);
+  EXPECT_EQ(default_saltelli_replicates(16), 1);
+  EXPECT_EQ(default_saltelli_replicates(2), 1);
+  EXPECT_EQ(default_saltelli_replicates(1000), 8);  // 125 rows each
+  EXPECT_EQ(default_saltelli_replicates(100), 4);   // 25 rows each; 8 does not divide 100
 }
 
 TEST(Saltelli, BaseRowReplicatesFromAFile) {
@@ -326,6 +397,7 @@ TEST(Saltelli, StopRequestEndsTheBootstrap) {
   o.base = 256;
   o.dimension = 3;
   SobolOptions so;
+  so.interval = SaltelliInterval::bootstrap;
   so.bootstrap = 1000000;
   int polls = 0;
   so.stop = [&polls] { return ++polls > 20; };
