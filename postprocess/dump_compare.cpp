@@ -106,9 +106,9 @@ DumpComparison compare_particles(const Particles& a, const Particles& b, const C
     const PileAngleResult pa = measure(a, options.pile_options, name_a);
     const PileAngleResult pb = measure(b, options.pile_options_b.value_or(options.pile_options), name_b);
     PileDifference d;
-    d.angle_a = pa.angle_mean;
-    d.angle_b = pb.angle_mean;
-    d.angle_difference = pb.angle_mean - pa.angle_mean;
+    d.angle_a = pa.angle;
+    d.angle_b = pb.angle;
+    d.angle_difference = pb.angle - pa.angle;
     d.height_a = pa.pile_height;
     d.height_b = pb.pile_height;
     d.height_difference = pb.pile_height - pa.pile_height;

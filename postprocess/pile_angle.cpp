@@ -334,16 +334,25 @@ PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOp
         "not a pile",
         options.min_points, *options.level_low, *options.level_high, result.pile_height, kept.size()));
 
-  // The angle of repose is the mean over the directions (paper §3.3); also their spread.
+  // The angle of repose is the mean over the directions (paper §3.3), or for the robust estimator their median (a
+  // mound or a hole on one side of the flank tilts the lines of the directions that cross it, the median of the
+  // directions not); also their spread about the mean.
   double sum = 0.0;
   for (double a : angles) sum += a;
-  result.angle_mean = sum / static_cast<double>(angles.size());
+  const double mean = sum / static_cast<double>(angles.size());
+  result.angle = mean;
+  if (robust) {
+    std::vector<double> sorted = angles;
+    std::sort(sorted.begin(), sorted.end());
+    const std::size_t n = sorted.size();
+    result.angle = n % 2 == 1 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  }
   double ss = 0.0;
-  for (double a : angles) ss += (a - result.angle_mean) * (a - result.angle_mean);
+  for (double a : angles) ss += (a - mean) * (a - mean);
   result.angle_sd = angles.size() > 1 ? std::sqrt(ss / static_cast<double>(angles.size() - 1)) : 0.0;
   result.angle_min = *std::min_element(angles.begin(), angles.end());
   result.angle_max = *std::max_element(angles.begin(), angles.end());
-  result.angle_error = angle_error(result.angle_mean, options.target_angle);
+  result.angle_error = angle_error(result.angle, options.target_angle);
   return result;
 }
 

@@ -57,7 +57,7 @@ nlohmann::json to_json(const pp::PileAngleResult& r, const std::string& dump, co
   j["pile_height_m"] = r.pile_height;
   j["level_heights_m"] = r.level_heights;
   j["directions_used"] = r.directions_used;
-  j["angle_deg"] = r.angle_mean;
+  j["angle_deg"] = r.angle;
   j["angle_sd_deg"] = r.angle_sd;
   j["angle_min_deg"] = r.angle_min;
   j["angle_max_deg"] = r.angle_max;
@@ -237,7 +237,7 @@ void run_pile(const PileArgs& a) {
   fmt::print("levels                 {} between {:.4g} m and {:.4g} m above the pedestal top\n", r.level_heights.size(),
              r.level_heights.front(), r.level_heights.back());
   fmt::print("directions used        {} of {}\n", r.directions_used, options.directions);
-  fmt::print("angle of repose        {:.3f} deg (sd {:.3f}, range {:.3f} .. {:.3f})\n", r.angle_mean, r.angle_sd,
+  fmt::print("angle of repose        {:.3f} deg (sd {:.3f}, range {:.3f} .. {:.3f})\n", r.angle, r.angle_sd,
              r.angle_min, r.angle_max);
   fmt::print("E_phi vs {:.4g} deg     {:.4f} deg^2\n", options.target_angle, r.angle_error);
 }

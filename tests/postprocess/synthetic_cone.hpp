@@ -4,9 +4,11 @@
 // on the pedestal top, its apex rounded by a spherical cap tangent to the flank (the shape of the paper's Fig. 1b).
 // The cone is filled by random sequential addition (Feder 1980, J. Theor. Biol. 87, 237; Widom 1966): spheres
 // at random positions are kept when they overlap no earlier sphere and lie inside the outline, until `attempts`
-// positions have been tried. Surface roughness: every sphere may stick out of the outline by its own amount drawn
-// uniformly from [0, jitter], so the flank's particles stand out by up to `jitter` at random places, as on a real
-// pile's ragged flank; jitter = 0 gives a smooth cone. A few particles lie on the ground beside the pedestal.
+// positions have been tried. Surface roughness, each kind on its own or together: every shell sphere moved along the
+// outline's normal by its own offset, uniform in [-jitter, +jitter]; one-sided, sticking out by uniform [0, outward];
+// holes, a share `missing` of the shell's spheres left out; mounds, `bumps` raised patches of the flank a few particle
+// sizes across. jitter = outward = missing = bumps = 0 gives a smooth cone. A few particles lie on the ground beside
+// the pedestal.
 #include "postprocess/dump.hpp"
 
 #include <fmt/core.h>
@@ -29,7 +31,12 @@ struct SyntheticConeOptions {
   double pedestal_top = 0.005;    ///< z of the pedestal top [m]
   double pedestal_radius = 0.05;  ///< particles on the ground lie beyond it [m]
   double cap_radius = 0.006;      ///< radius of the rounded apex [m]
-  double jitter = 0.0;            ///< largest distance a sphere may stick out of the outline [m]
+  double jitter = 0.0;            ///< shell spheres move along the outline's normal by uniform [-jitter, +jitter] [m]
+  /// Other kinds of roughness (bench/angle_estimators.cpp compares the estimators on each):
+  double outward = 0.0;  ///< shell spheres stick out of the outline by uniform [0, outward] (one-sided) [m]
+  double missing = 0.0;  ///< share of the shell's spheres left out (holes in the surface layer), in [0, 1)
+  int bumps = 0;         ///< mounds on the flank: the outline raised by bump_height cos²(π d / (2 bump_radius))
+  double bump_radius = 0.008, bump_height = 0.003;  ///< of each mound, d the distance from its centre [m]
   double r_mean = 2.0e-3, r_sd = 0.5e-3, r_min = 1.0e-3, r_max = 3.5e-3;  ///< radius distribution [m]
   double spacing = 2.5e-3;  ///< least distance between the tangent points of the surface shell spheres [m]
   int attempts = 100000;    ///< random positions tried inside the shell
@@ -61,8 +68,9 @@ inline postprocess::Particles make_synthetic_cone(const SyntheticConeOptions& o)
     }
   };
   const double t = o.angle_deg * std::numbers::pi / 180.0;
-  const double height = o.base_radius * std::tan(t) + o.jitter;
-  const double reach = o.base_radius + o.jitter;
+  const double rough = o.jitter + o.outward + (o.bumps > 0 ? o.bump_height : 0.0);
+  const double height = o.base_radius * std::tan(t) + rough;
+  const double reach = o.base_radius + rough;
 
   postprocess::Particles p;
   // Overlap search on a cell grid of side 2 r_max: a sphere can only touch spheres in its own and adjacent cells.
@@ -124,6 +132,14 @@ inline postprocess::Particles make_synthetic_cone(const SyntheticConeOptions& o)
            static_cast<std::int64_t>(std::floor(z / o.spacing));
   };
   const int shell_attempts = static_cast<int>(40.0 * 2.0 * o.base_radius * outline_length / (o.spacing * o.spacing));
+  // The mounds' centres: points of the flank between 20 % and 80 % of its length, at random azimuths.
+  std::vector<std::array<double, 3>> bump_centres;
+  for (int b = 0; b < o.bumps; ++b) {
+    const double s = flank_length * (0.2 + 0.6 * unit(rng));
+    const double az = 2.0 * std::numbers::pi * unit(rng);
+    const double rho = o.base_radius - s * std::cos(t);
+    bump_centres.push_back({rho * std::cos(az), rho * std::sin(az), s * std::sin(t)});
+  }
   for (int attempt = 0; attempt < shell_attempts; ++attempt) {
     const double s = outline_length * unit(rng);
     double rho = 0, z = 0, nr = 0, nz = 0;  // point of the outline and its outward unit normal
@@ -162,7 +178,14 @@ inline postprocess::Particles make_synthetic_cone(const SyntheticConeOptions& o)
     tangent_grid[k0].push_back(tangents.size());
     tangents.push_back({tx, ty, z});
     const double r = radius();
-    const double depth = r - o.jitter * (2.0 * unit(rng) - 1.0);
+    double raise = o.jitter * (2.0 * unit(rng) - 1.0) + o.outward * unit(rng);
+    for (const auto& c : bump_centres) {
+      const double d = std::hypot(c[0] - tx, c[1] - ty, c[2] - z);
+      if (d < o.bump_radius)
+        raise += o.bump_height * std::pow(std::cos(std::numbers::pi * d / (2.0 * o.bump_radius)), 2);
+    }
+    if (o.missing > 0.0 && unit(rng) < o.missing) continue;  // a hole: the tangent point stays taken
+    const double depth = r - raise;
     double cr = rho - depth * nr;
     double cz = z - depth * nz;
     if (cz < r) {  // rests on the pedestal top, at the same depth below the flank
@@ -177,6 +200,7 @@ inline postprocess::Particles make_synthetic_cone(const SyntheticConeOptions& o)
     const double x = o.base_radius * (2.0 * unit(rng) - 1.0);
     const double y = o.base_radius * (2.0 * unit(rng) - 1.0);
     const double z = height * unit(rng);
+    // Under a hole or a mound the inside reaches no further than under the plain outline.
     if (synthetic_cone_depth(o, std::hypot(x, y), z) < r) continue;
     if (!overlaps(x, y, z, r)) keep(x, y, z, r);
   }

@@ -33,7 +33,7 @@ double mean_error(AngleEstimator estimator, double angle, double jitter_mm) {
     const PileAngleResult r = measure_pile_angle(test::make_synthetic_cone(cone), options);
     EXPECT_EQ(r.options.estimator, estimator);
     EXPECT_GT(r.directions_used, 170);
-    sum += r.angle_mean - angle;
+    sum += r.angle - angle;
   }
   return sum / k_seeds;
 }
@@ -146,7 +146,7 @@ TEST(RobustEstimator, ExactConeAndSurfacePointsEcho) {
   const PileAngleResult res = measure_pile_angle(p, o);
   EXPECT_EQ(res.options.point, BoundaryPointKind::surface);
   EXPECT_EQ(res.directions_used, 36);
-  EXPECT_NEAR(res.angle_mean, 30.0, 1e-9);
+  EXPECT_NEAR(res.angle, 30.0, 1e-9);
   EXPECT_NEAR(res.lines[0].height_low, 0.2 * h, 1e-12);
   EXPECT_NEAR(res.lines[0].radial_low, (h - 0.2 * h) / std::tan(theta), 1e-12);
   EXPECT_NEAR(res.lines[0].rms_distance, 0.0, 1e-12);

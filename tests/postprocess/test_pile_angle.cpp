@@ -21,13 +21,13 @@ TEST_P(SyntheticConeAngle, MeasuredAngleWithinOneDegree) {
   pile.angle_deg = GetParam();
   const Particles particles = test::make_synthetic_pile(pile);
   const PileAngleResult r = measure_pile_angle(particles, {});
-  EXPECT_NEAR(r.angle_mean, pile.angle_deg, 1.0) << "sd " << r.angle_sd << " used " << r.directions_used;
+  EXPECT_NEAR(r.angle, pile.angle_deg, 1.0) << "sd " << r.angle_sd << " used " << r.directions_used;
   EXPECT_EQ(r.directions_used, 180);
   EXPECT_LT(r.particles_on_pedestal, r.particles_total);  // the rolled-off ones are dropped
   // h_P: the outline's top plus at most the noise.
   const double top = test::synthetic_pile_profile(pile, 0.0);
   EXPECT_NEAR(r.pile_height, top, 0.5e-3);
-  EXPECT_DOUBLE_EQ(r.angle_error, (33.5 - r.angle_mean) * (33.5 - r.angle_mean));
+  EXPECT_DOUBLE_EQ(r.angle_error, (33.5 - r.angle) * (33.5 - r.angle));
 }
 
 TEST_P(SyntheticConeAngle, OtherSeedAndFinerLevels) {
@@ -37,7 +37,7 @@ TEST_P(SyntheticConeAngle, OtherSeedAndFinerLevels) {
   PileAngleOptions options;
   options.levels = 20;
   const PileAngleResult r = measure_pile_angle(test::make_synthetic_pile(pile), options);
-  EXPECT_NEAR(r.angle_mean, pile.angle_deg, 1.0) << "sd " << r.angle_sd;
+  EXPECT_NEAR(r.angle, pile.angle_deg, 1.0) << "sd " << r.angle_sd;
 }
 
 INSTANTIATE_TEST_SUITE_P(PaperRange, SyntheticConeAngle, ::testing::Values(25.0, 30.0, 33.5, 38.0));
@@ -55,8 +55,8 @@ TEST(PileAngle, RealLiggghtsPile) {
   EXPECT_EQ(r.particles_on_pedestal, 591u);
   // h_P independently: the highest z + r above 5 mm (pileinfo of the run: 21.65 mm).
   EXPECT_NEAR(r.pile_height, 0.02165, 0.00001);
-  EXPECT_GT(r.angle_mean, 20.0);
-  EXPECT_LT(r.angle_mean, 45.0);
+  EXPECT_GT(r.angle, 20.0);
+  EXPECT_LT(r.angle, 45.0);
   EXPECT_GT(r.directions_used, 150);
 }
 
@@ -114,7 +114,7 @@ TEST_P(ExactCone, EveryDirectionMeasuresTheFlank) {
   const PileAngleResult res = measure_pile_angle(p, o);
   EXPECT_NEAR(res.pile_height, h, 1e-15);
   EXPECT_EQ(res.directions_used, 36);
-  EXPECT_NEAR(res.angle_mean, 30.0, 1e-9);
+  EXPECT_NEAR(res.angle, 30.0, 1e-9);
   EXPECT_NEAR(res.angle_sd, 0.0, 1e-9);
   ASSERT_EQ(res.boundary.size(), 36u * 5u);
   EXPECT_EQ(res.boundary[0].direction, 0);

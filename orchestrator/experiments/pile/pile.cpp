@@ -138,7 +138,7 @@ std::map<std::string, double> measure(const fs::path& folder, const nlohmann::js
   const pp::Particles particles = without_base(pp::read_particles(folder / k_final_dump, 1), base.value_or(0));
   const pp::PileAngleResult result = pp::measure_pile_angle(particles, options);
   std::map<std::string, double> values;
-  values[std::string(k_angle)] = result.angle_mean;
+  values[std::string(k_angle)] = result.angle;
   values[std::string(k_pile_height)] = result.pile_height;
   values[std::string(k_angle_sd)] = result.angle_sd;
   values[std::string(k_particles_on_pedestal)] = static_cast<double>(result.particles_on_pedestal);
@@ -195,7 +195,7 @@ CaseReport case_report(const fs::path& folder, const std::string& relative, int 
   PileSideView view;
   view.title = fmt::format("sample {}", sample);
   view.directions = options.directions;
-  view.angle_deg = r.angle_mean;
+  view.angle_deg = r.angle;
   view.height = r.pile_height;
   view.pedestal_radius = options.pedestal_radius;
   view.pedestal_height = options.pedestal_top;
@@ -213,7 +213,7 @@ CaseReport case_report(const fs::path& folder, const std::string& relative, int 
       "Case `{}`: {} particles on the pedestal, pile height h_P = {:.1f} mm, angle of repose φ = {:.2f}° "
       "(standard deviation {:.2f}° over {} of {} directions, range {:.2f}°–{:.2f}°; {}), E_φ = {:.3g} deg² "
       "against φ̂ = {:g}°.",
-      relative, r.particles_on_pedestal, r.pile_height * 1e3, r.angle_mean, r.angle_sd, r.directions_used,
+      relative, r.particles_on_pedestal, r.pile_height * 1e3, r.angle, r.angle_sd, r.directions_used,
       options.directions, r.angle_min, r.angle_max,
       options.estimator == pp::AngleEstimator::robust ? "robust estimator: Theil–Sen lines through the surface points"
                                                       : "the paper's estimator, §3.3",

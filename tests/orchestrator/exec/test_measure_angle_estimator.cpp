@@ -89,8 +89,8 @@ TEST(AngleEstimatorSetting, MeasureCaseUsesIt) {
   options.level_low = postprocess::k_robust_level_low;  // the robust estimator's own band of levels
   options.level_high = postprocess::k_robust_level_high;
   // The dump holds 9 significant digits: the same angle to well below a thousandth of a degree.
-  EXPECT_NEAR(robust, postprocess::measure_pile_angle(particles, options).angle_mean, 1e-3);
-  EXPECT_NEAR(paper, postprocess::measure_pile_angle(particles, {}).angle_mean, 1e-3);
+  EXPECT_NEAR(robust, postprocess::measure_pile_angle(particles, options).angle, 1e-3);
+  EXPECT_NEAR(paper, postprocess::measure_pile_angle(particles, {}).angle, 1e-3);
   EXPECT_GT(robust - paper, 0.3);  // 2 mm of jitter: the paper's estimator reads lower
 }
 

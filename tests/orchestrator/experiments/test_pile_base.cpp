@@ -136,7 +136,7 @@ TEST(PileBase, TheMeasurementLeavesTheLayerOut) {
   postprocess::PileAngleOptions options;
   options.pedestal_top = 0.009;
   const postprocess::PileAngleResult expected = postprocess::measure_pile_angle(pile, options);
-  EXPECT_NEAR(values.at(std::string(pile::k_angle)), expected.angle_mean, 1e-3);
+  EXPECT_NEAR(values.at(std::string(pile::k_angle)), expected.angle, 1e-3);
   EXPECT_NEAR(values.at(std::string(pile::k_pile_height)), expected.pile_height, 1e-9);
   EXPECT_EQ(values.at(std::string(pile::k_particles_on_pedestal)), static_cast<double>(expected.particles_on_pedestal));
 }
