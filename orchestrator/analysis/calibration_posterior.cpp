@@ -169,21 +169,6 @@ void PosteriorOptions::validate() const {
 
 namespace {
 
-/// A target's name, "NAME" or "STUDY:NAME" (STUDY: a study's `[study] name`).
-struct QualifiedName {
-  std::string study;  // empty: any study that measures NAME
-  std::string name;
-};
-
-QualifiedName qualified_name(const std::string& text) {
-  const auto colon = text.find(':');
-  if (colon == std::string::npos) return {"", text};
-  QualifiedName q{trim(text.substr(0, colon)), trim(text.substr(colon + 1))};
-  if (q.study.empty() || q.name.empty())
-    throw UserError(fmt::format("--target {}: expected STUDY:NAME (STUDY: a study's [study] name)", text));
-  return q;
-}
-
 /// The studies a target is matched to: the one named by its STUDY: prefix, else the only study that measures its
 /// name. A bare name that several studies measure (two piles both have `angle`) is refused: the measured value of
 /// one lab test belongs to one experiment.
@@ -269,7 +254,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   std::vector<sobol::GaussianTarget> gaussian;
   std::set<std::pair<std::string, std::string>> matched;  // (study folder, observable): one target each
   for (const ResolvedTarget& t : measured) {
-    const QualifiedName target = qualified_name(t.measured.name);
+    const QualifiedName target = qualified_name("--target", t.measured.name);
     for (const JointStudy* study : studies_measuring(studies, target, t.measured.name)) {
       const JointStudy& s = *study;
       if (!matched.insert({s.dir.string(), target.name}).second)

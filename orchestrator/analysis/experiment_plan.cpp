@@ -33,28 +33,8 @@ namespace {
 
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 
-/// "NAME" or "STUDY:NAME".
-struct Qualified {
-  std::string study, name;
-  bool matches(const JointStudy& s, const std::string& observable) const {
-    return name == observable && (study.empty() || study == s.config.name);
-  }
-};
-
-Qualified qualified(const std::string& option, const std::string& text) {
-  const auto colon = text.find(':');
-  if (colon == std::string::npos) {
-    if (trim(text).empty()) throw UserError(fmt::format("{} '{}': no observable named", option, text));
-    return {"", trim(text)};
-  }
-  Qualified q{trim(text.substr(0, colon)), trim(text.substr(colon + 1))};
-  if (q.study.empty() || q.name.empty())
-    throw UserError(fmt::format("{} '{}': expected NAME or STUDY:NAME (STUDY: a study's [study] name)", option, text));
-  return q;
-}
-
 struct SdOverride {
-  Qualified target;
+  QualifiedName target;
   double sd = 0.0;
   std::string text;
   bool used = false;
@@ -64,7 +44,7 @@ SdOverride parse_sd(const std::string& text) {
   const auto eq = text.rfind('=');
   if (eq == std::string::npos) throw UserError(fmt::format("--sd '{}': expected NAME=SD or STUDY:NAME=SD", text));
   SdOverride o;
-  o.target = qualified("--sd", text.substr(0, eq));
+  o.target = qualified_name("--sd", text.substr(0, eq));
   const std::optional<double> v = parse_number(trim(text.substr(eq + 1)));
   if (!v || !std::isfinite(*v) || !(*v > 0))
     throw UserError(
@@ -146,8 +126,8 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
 
   std::vector<SdOverride> sds;
   for (const std::string& text : options.sds) sds.push_back(parse_sd(text));
-  std::vector<Qualified> observe;
-  for (const std::string& text : options.observe) observe.push_back(qualified("--observe", text));
+  std::vector<QualifiedName> observe;
+  for (const std::string& text : options.observe) observe.push_back(qualified_name("--observe", text));
   for (size_t k = 0; k < observe.size(); ++k)
     if (std::none_of(studies.begin(), studies.end(), [&](const JointStudy& s) {
           return observe[k].matches(s, observe[k].name) && s.measures(observe[k].name);
@@ -173,7 +153,7 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       for (const std::string& name : experiments::of(s.config).lab_observables(s.config))
         if (s.measures(name)) names.push_back(name);
     } else {
-      for (const Qualified& q : observe)
+      for (const QualifiedName& q : observe)
         if (q.matches(s, q.name) && s.measures(q.name) && std::find(names.begin(), names.end(), q.name) == names.end())
           names.push_back(q.name);
     }
@@ -266,7 +246,7 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   for (const std::string& text : options.near)
     for (const MeasuredValue& m : parse_measured("--near", text)) {
       if (!(m.sd > 0)) throw UserError(fmt::format("--near '{}': give the value's spread, NAME=V±E", text));
-      const Qualified q = qualified("--near", m.name);
+      const QualifiedName q = qualified_name("--near", m.name);
       int found = -1;
       for (int k = 0; k < n_targets; ++k) {
         const PlanObservable& po = outcome.observables[static_cast<size_t>(k)];

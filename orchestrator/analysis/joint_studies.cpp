@@ -5,6 +5,7 @@
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
 
@@ -19,6 +20,22 @@ namespace fs = std::filesystem;
 
 bool JointStudy::measures(const std::string& name) const {
   return std::find(available.begin(), available.end(), name) != available.end();
+}
+
+bool QualifiedName::matches(const JointStudy& s, const std::string& observable) const {
+  return name == observable && (study.empty() || study == s.config.name);
+}
+
+QualifiedName qualified_name(const std::string& option, const std::string& text) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) {
+    if (trim(text).empty()) throw UserError(fmt::format("{} '{}': no observable named", option, text));
+    return {"", trim(text)};
+  }
+  QualifiedName q{trim(text.substr(0, colon)), trim(text.substr(colon + 1))};
+  if (q.study.empty() || q.name.empty())
+    throw UserError(fmt::format("{} '{}': expected NAME or STUDY:NAME (STUDY: a study's [study] name)", option, text));
+  return q;
 }
 
 std::vector<JointStudy> load_joint_studies(const std::vector<fs::path>& dirs, const std::string& command) {
