@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer target for the dump reader (bench/fuzz_dump_reader.cpp + postprocess/dump.cpp) with clang++,
+# Builds the libFuzzer target for the dump reader (bench/fuzz_dump_reader.cpp + postprocess/dump.cpp and text.cpp) with clang++,
 # AddressSanitizer and UndefinedBehaviorSanitizer, and runs it for FUZZ_SECONDS (default 60) on one core.
 # Seeds: the real LIGGGHTS pile dump of the tests and a few small frames. Not part of CI.
 # Usage: bench/fuzz-dump-reader.sh [work-dir]   (default: $TMPDIR/demsa-fuzz-dump)
@@ -14,7 +14,8 @@ if [[ -z "$cxx" ]]; then
 fi
 mkdir -p "$work/corpus" "$work/artifacts"
 "$cxx" -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -I"$src" "$src/bench/fuzz_dump_reader.cpp" "$src/postprocess/dump.cpp" -lfmt -o "$work/fuzz_dump_reader"
+  -I"$src" "$src/bench/fuzz_dump_reader.cpp" "$src/postprocess/dump.cpp" "$src/postprocess/text.cpp" -lfmt \
+  -o "$work/fuzz_dump_reader"
 # Seed corpus (small inputs; libFuzzer mutates them).
 head -c 4000 "$src/tests/data/postprocess/liggghts_pile/pile_final.dump" > "$work/corpus/pile_head.dump"
 printf 'ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\nITEM: ATOMS id type x y z radius\n1 1 0.5 0.5 0.5 0.1\n2 1 0.25 0.5 0.75 0.05\n' \

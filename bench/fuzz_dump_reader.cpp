@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -13,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   DumpReaderOptions options;
   options.max_line_bytes = 4096;
   try {
-    DumpReader reader(text, "fuzz.dump", options);
+    DumpReader reader(std::string(text), "fuzz.dump", options);
     DumpFrame frame;
     while (reader.next(frame)) {
       try {
