@@ -8,9 +8,9 @@
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
 #include "sobol/ensemble_sampler.hpp"
+#include "sobol/metamodel_sobol.hpp"
 #include "sobol/posterior.hpp"
 #include "sobol/random.hpp"
-#include "sobol/saltelli.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -56,20 +56,18 @@ SdOverride parse_sd(const std::string& text) {
   return o;
 }
 
-/// Total indices of a fitted metamodel on its study's unit cube: QMC Saltelli estimate (sobol/saltelli.hpp; Saltelli
-/// et al. 2010 estimators) at N = 2048 without intervals, enough to sort parameters at the k_plan_sensitive line.
+/// Total indices of a fitted metamodel on its study's unit cube: the QMC Saltelli estimate of sobol::metamodel_sobol at
+/// N = 2048 without intervals, enough to sort parameters at the k_plan_sensitive line.
 std::vector<double> total_indices(const sobol::Metamodel& model, int dimension, std::uint64_t seed) {
-  sobol::SaltelliOptions design;
-  design.base = 2048;
-  design.dimension = dimension;
-  design.seed = seed;
-  sobol::SobolOptions options;
+  sobol::MetamodelSobolOptions options;
+  options.base = 2048;
   options.bootstrap = 0;
+  options.seed = seed;
+  options.exact_for_rsm = false;
   try {
-    const sobol::SobolResult r = sobol::sobol_indices([&](const Eigen::MatrixXd& x) { return model.predict(x); },
-                                                      sobol::saltelli_design(design), options);
     std::vector<double> st;
-    for (const sobol::IndexEstimate& e : r.total) st.push_back(std::clamp(e.value, 0.0, 1.0));
+    for (const sobol::IndexEstimate& e : sobol::metamodel_sobol(model, options).total)
+      st.push_back(std::clamp(e.value, 0.0, 1.0));
     return st;
   } catch (const sobol::NumericalError&) {
     return std::vector<double>(static_cast<size_t>(dimension), 0.0);  // a constant response: no parameter matters
