@@ -24,6 +24,8 @@ std::string analysis_to_json(const AnalysisSummary& summary) {
            {"parameters", summary.parameters},
            {"samples_used", summary.samples_used},
            {"samples_left_out", summary.samples_left_out},
+           {"samples_unsettled", summary.samples_unsettled},
+           {"unsettled", summary.unsettled},
            {"seed", summary.seed},
            {"bootstrap", summary.bootstrap},
            {"base_samples", summary.base_samples},
@@ -81,6 +83,9 @@ AnalysisSummary read_analysis(const std::filesystem::path& file) {
     summary.parameters = j.at("parameters").get<std::vector<std::string>>();
     summary.samples_used = j.at("samples_used").get<std::vector<int>>();
     summary.samples_left_out = j.at("samples_left_out").get<std::vector<int>>();
+    // Written since the pile in time; an older analysis.json has neither.
+    summary.samples_unsettled = j.value("samples_unsettled", std::vector<int>{});
+    summary.unsettled = j.value("unsettled", std::string());
     summary.seed = j.at("seed").get<std::uint64_t>();
     summary.bootstrap = j.at("bootstrap").get<int>();
     summary.base_samples = j.at("base_samples").get<int>();

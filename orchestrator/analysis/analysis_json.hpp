@@ -68,6 +68,10 @@ struct AnalysisSummary {
   std::vector<std::string> parameters;  ///< varied parameters, in the study's order
   std::vector<int> samples_used;        ///< done samples
   std::vector<int> samples_left_out;    ///< not done (failed or never run)
+  /// Done samples stored as unsettled (still moving at the end: study::unsettled_samples), analysed all the same,
+  /// and the same as a list for people with their drifts (experiments::unsettled_text).
+  std::vector<int> samples_unsettled;
+  std::string unsettled;
   std::vector<ObservableAnalysis> observables;
   std::uint64_t seed = 0;  ///< the study seed, used for the QMC designs and the bootstrap
   int bootstrap = 0;

@@ -136,6 +136,8 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     else
       summary.samples_left_out.push_back(s.sample);
   }
+  summary.samples_unsettled = unsettled_samples(observables);
+  summary.unsettled = experiments::unsettled_text(observables);
   if (summary.samples_used.size() < 2)
     throw UserError(fmt::format("{}: {} of {} samples done; the analysis needs at least 2", dir.string(),
                                 summary.samples_used.size(), samples.size()));

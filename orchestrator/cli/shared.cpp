@@ -86,6 +86,9 @@ void print_analysis_tables(const analysis::AnalysisSummary& summary) {
     fmt::print("\n{}", analysis::s1_table_text(summary, o));
   if (!summary.samples_left_out.empty())
     fmt::print("\nleft out of the analysis (not done): samples {}\n", sample_list(summary.samples_left_out));
+  if (!summary.samples_unsettled.empty())
+    fmt::print("\nunsettled, still moving at the end of settling (analysed all the same): sample {}\n",
+               summary.unsettled);
   fmt::print("\ntables, metamodels and indices with confidence intervals: {}\n", summary.out_dir.string());
 }
 

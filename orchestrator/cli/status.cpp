@@ -93,7 +93,8 @@ int do_status(const StatusArgs& args) {
     parallel = 1;  // status still works on a study whose file no longer parses here
   }
   // Piles that reached settle_time still moving: counted, but flagged.
-  const std::vector<int> unsettled = unsettled_samples(store.observables());
+  const std::map<int, std::map<std::string, double>> observables = store.observables();
+  const std::vector<int> unsettled = unsettled_samples(observables);
   const double eta = estimate_remaining(
       c.samples + c.replicates - c.done - c.replicates_done - (holder ? 0 : c.failed + c.replicates_failed), parallel,
       c.mean_done_wall);
@@ -137,12 +138,9 @@ int do_status(const StatusArgs& args) {
     if (done.count(sample)) continue;
     fmt::print("  sample {} attempt {}: {}: {}\n", sample, r.attempt, to_string(r.failure), r.message);
   }
-  if (!unsettled.empty()) {
-    std::string list;
-    for (int sample : unsettled) list += (list.empty() ? "" : ", ") + std::to_string(sample);
-    fmt::print("unsettled {} of {} done: sample {} reached [pile] settle_time still moving (measured and counted)\n",
-               unsettled.size(), c.done, list);
-  }
+  if (!unsettled.empty())
+    fmt::print("unsettled {} of {} done: sample {} still moving at the end of settling (measured and counted)\n",
+               unsettled.size(), c.done, experiments::unsettled_text(observables));
   return k_exit_ok;
 }
 

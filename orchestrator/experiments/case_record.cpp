@@ -6,6 +6,8 @@
 
 #include <fmt/core.h>
 
+#include <charconv>
+
 #include <cmath>
 #include <fstream>
 #include <vector>
@@ -41,10 +43,18 @@ nlohmann::json read_case_json(const fs::path& case_dir) {
 
 namespace {
 
-/// The node at `path` (keys separated by '.'), or nullptr when a key is missing or a step is not an object.
+/// The node at `path` (keys separated by '.'; in a list, a key is the element's index from 0), or nullptr when a key
+/// is missing or a step is neither an object nor a list.
 const nlohmann::json* find(const nlohmann::json& doc, const std::string& path) {
   const nlohmann::json* node = &doc;
   for (const std::string& key : util::split(path, '.')) {
+    if (node->is_array()) {
+      std::size_t index = 0;
+      const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), index);
+      if (key.empty() || ec != std::errc{} || end != key.data() + key.size() || index >= node->size()) return nullptr;
+      node = &(*node)[index];
+      continue;
+    }
     if (!node->is_object() || !node->contains(key)) return nullptr;
     node = &(*node)[key];
   }

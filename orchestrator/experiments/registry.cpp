@@ -5,6 +5,7 @@
 #include "orchestrator/experiments/incline/incline.hpp"
 #include "orchestrator/experiments/oedometer/oedometer.hpp"
 #include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/study/observables.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
 
@@ -84,6 +85,21 @@ std::vector<std::string> observable_names(const study::StudyConfig& config) {
   std::vector<std::string> names;
   for (const study::Observable& o : of(config).observables(config)) names.push_back(o.name);
   return names;
+}
+
+std::string unsettled_text(const std::map<int, std::map<std::string, double>>& observables) {
+  std::string text;
+  for (const int sample : study::unsettled_samples(observables)) {
+    std::string drifts;
+    for (const auto& [name, value] : observables.at(sample)) {
+      if (!name.ends_with(study::k_drift_suffix)) continue;
+      const study::Observable o = describe_observable(name);
+      drifts += fmt::format("{}{} {:+.3g}{}", drifts.empty() ? "" : ", ", name, value * o.factor,
+                            o.unit.empty() ? "" : fmt::format(" {}", o.unit));
+    }
+    text += fmt::format("{}{}{}", text.empty() ? "" : ", ", sample, drifts.empty() ? "" : fmt::format(" ({})", drifts));
+  }
+  return text;
 }
 
 study::Observable describe_observable(std::string_view name) {

@@ -8,6 +8,7 @@
 #include "orchestrator/study/settings.hpp"
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,5 +41,9 @@ std::vector<std::string> observable_names(const study::StudyConfig& config);
 /// The label, unit and display factor of an observable name of any experiment; a name no experiment knows is its own
 /// label, without unit.
 study::Observable describe_observable(std::string_view name);
+
+/// The unsettled samples of `observables` (study::unsettled_samples) as a list for people: "3 (angle_drift −4.21 °/s),
+/// 7", each with the drifts it stored (study::k_drift_suffix) and their units; "" when there are none.
+std::string unsettled_text(const std::map<int, std::map<std::string, double>>& observables);
 
 }  // namespace demsa::experiments

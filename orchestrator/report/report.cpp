@@ -405,14 +405,12 @@ ReportSection summary_section(const StudyData& s) {
     section.tables.push_back(failures);
   // Piles that reached settle_time still moving are measured and counted, but said here.
   const std::vector<int> unsettled = unsettled_samples(s.observables);
-  if (!unsettled.empty()) {
-    std::string list;
-    for (int sample : unsettled) list += (list.empty() ? "" : ", ") + std::to_string(sample);
+  if (!unsettled.empty())
     section.paragraphs.push_back(fmt::format(
-        "**Unsettled: {} of {} done samples** (sample {}) reached `[pile] settle_time` with more particles on the "
-        "pedestal moving than the settling criterion allows; they are measured and counted in the analysis.",
-        unsettled.size(), s.counts.done, list));
-  }
+        "**Unsettled: {} of {} done samples** (sample {}) were still moving at the end of settling: more particles "
+        "moving than the settling criterion allows at the cap, or an angle that still drifted by more than `[pile] "
+        "drift_limit`; they are measured and counted in the analysis.",
+        unsettled.size(), s.counts.done, experiments::unsettled_text(s.observables)));
   return section;
 }
 

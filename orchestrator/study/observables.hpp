@@ -15,6 +15,10 @@ namespace demsa::study {
 /// criterion is off). `demsa status` and the report flag the samples stored with 0.
 inline constexpr std::string_view k_settled = "settled";
 
+/// Stored beside k_settled by an experiment that follows an observable in time: NAME_drift, the rate at which NAME
+/// still changed at the end of the run (the pile's `angle_drift`, °/s). The flags of unsettled samples show it.
+inline constexpr std::string_view k_drift_suffix = "_drift";
+
 /// The samples whose done run recorded an unsettled pile (k_settled = 0), from Store::observables().
 std::vector<int> unsettled_samples(const std::map<int, std::map<std::string, double>>& observables);
 

@@ -10,7 +10,10 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -63,6 +66,9 @@ std::optional<PileSettling> read_settling(const fs::path& folder) {
   s.on_pedestal = static_cast<long>(get("on_pedestal"));
   s.fast_on_pedestal = static_cast<long>(get("fast_on_pedestal"));
   s.removed = static_cast<long>(get("removed"));
+  // Written since the pile in time; older cases have neither.
+  if (values.count("start_step")) s.start_step = static_cast<long>(get("start_step"));
+  if (values.count("check_steps")) s.check_steps = static_cast<long>(get("check_steps"));
   return s;
 }
 
@@ -132,26 +138,162 @@ pp::Particles without_base(const pp::Particles& particles, long base_particles) 
 
 namespace {
 
+/// A list of case.json at `path` (e.g. "pile.history.snapshot_checks"): its length, 0 when it is missing; throws
+/// util::UserError when it is not a list or longer than `most`.
+std::size_t case_list_size(const nlohmann::json& doc, const fs::path& file, const std::string& path, std::size_t most) {
+  const nlohmann::json* node = &doc;
+  std::size_t from = 0;
+  while (from <= path.size()) {
+    const std::size_t dot = std::min(path.find('.', from), path.size());
+    const std::string key = path.substr(from, dot - from);
+    if (!node->is_object() || !node->contains(key)) return 0;
+    node = &(*node)[key];
+    from = dot + 1;
+  }
+  if (!node->is_array() || node->size() > most)
+    throw util::UserError(
+        file.string(), 0,
+        fmt::format("{} = {}: not a list of at most {} values", path, node->dump().substr(0, 80), most));
+  return node->size();
+}
+
+/// The pile of one dump measured by both estimators; NaN angles when it holds no pile to measure (a snapshot taken
+/// while the last disc still falls onto an empty pedestal).
+PileMoment measure_moment(const fs::path& dump, long base, pp::PileAngleOptions options) {
+  const pp::Particles particles = without_base(pp::read_particles(dump, 1), base);
+  PileMoment m;
+  const pp::AngleEstimator study = options.estimator;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const pp::AngleEstimator estimator : {pp::AngleEstimator::paper, pp::AngleEstimator::robust}) {
+    options.estimator = estimator;
+    double angle = nan;
+    try {
+      const pp::PileAngleResult r = pp::measure_pile_angle(particles, options);
+      angle = r.angle;
+      if (estimator == study) {
+        m.height = r.pile_height;
+        m.on_pedestal = static_cast<long>(r.particles_on_pedestal);
+      }
+    } catch (const pp::InputError&) {
+      if (estimator == study) m.on_pedestal = static_cast<long>(pp::pedestal_particles(particles, options).size());
+    }
+    (estimator == pp::AngleEstimator::paper ? m.angle_paper : m.angle_robust) = angle;
+    if (estimator == study) m.angle = angle;
+  }
+  return m;
+}
+
+/// The pile in time of a finished case: measured on its snapshots when they are there (written to pile_history.csv,
+/// the snapshots then removed unless kept), read back from pile_history.csv when they are not; empty for a case
+/// without snapshots. The final dump is the last moment when it lies after the last snapshot.
+std::vector<PileMoment> case_history(const fs::path& folder, const nlohmann::json& doc,
+                                     const pp::PileAngleOptions& options, long base, const PileSettling& settling,
+                                     const PileMoment& final_moment) {
+  const fs::path file = folder / k_case_json;
+  const std::size_t n = case_list_size(doc, file, "pile.history.snapshot_checks", k_max_snapshots + 1);
+  if (n == 0 || !settling.start_step) return {};
+  const long check_steps = case_integer(doc, file, "pile.history.check_steps", 1, 1L << 50).value_or(0);
+  const double dt = case_number(doc, file, "dt", 1e-15, 1e3).value_or(0);
+  if (check_steps == 0 || dt == 0)
+    throw util::UserError(file.string(), 0, "records snapshots but no pile.history.check_steps or dt");
+  // Snapshots after the end of settling are of an earlier, longer attempt.
+  const long end_check = (settling.end_step - *settling.start_step) / check_steps;
+  std::vector<long> checks;
+  for (std::size_t i = 0; i < n; ++i) {
+    const long k = *case_integer(doc, file, fmt::format("pile.history.snapshot_checks.{}", i), 0, 1L << 50);
+    if (k <= end_check) checks.push_back(k);
+  }
+  std::error_code ec;
+  const bool any =
+      std::any_of(checks.begin(), checks.end(), [&](long k) { return fs::exists(folder / snapshot_file(k), ec); });
+  std::vector<PileMoment> moments;
+  if (!any && fs::exists(folder / k_history_csv, ec)) return read_history(folder);
+  for (const long k : checks) {
+    const fs::path dump = folder / snapshot_file(k);
+    if (!fs::exists(dump, ec))
+      throw pp::InputError(
+          fmt::format("{}: missing: the case wrote a snapshot at every check of "
+                      "pile.history.snapshot_checks up to the end of settling (check {})",
+                      dump.string(), end_check));
+    PileMoment m = measure_moment(dump, base, options);
+    m.check = k;
+    m.time = static_cast<double>(k * check_steps) * dt;
+    moments.push_back(m);
+  }
+  if (moments.empty() || final_moment.time > moments.back().time + 0.5 * dt) moments.push_back(final_moment);
+  write_history(folder, moments);
+  const bool keep = doc["pile"]["history"].value("keep_snapshots", false);
+  if (!keep)
+    for (const long k : checks) fs::remove(folder / snapshot_file(k), ec);
+  return moments;
+}
+
+/// `t` rounded to 9 significant digits: 5 × 0.01 s reads 0.05 s, not 0.05000000000000000278.
+double round_time(double t) { return std::stod(fmt::format("{:.9g}", t)); }
+
 std::map<std::string, double> measure(const fs::path& folder, const nlohmann::json& case_json) {
-  const pp::PileAngleOptions options = case_angle_options(case_json, folder / k_case_json);
-  const std::optional<long> base = read_case_angle_settings(case_json, folder / k_case_json).base_particles;
-  const pp::Particles particles = without_base(pp::read_particles(folder / k_final_dump, 1), base.value_or(0));
+  const fs::path file = folder / k_case_json;
+  const pp::PileAngleOptions options = case_angle_options(case_json, file);
+  const long base = read_case_angle_settings(case_json, file).base_particles.value_or(0);
+  const pp::Particles particles = without_base(pp::read_particles(folder / k_final_dump, 1), base);
   const pp::PileAngleResult result = pp::measure_pile_angle(particles, options);
   std::map<std::string, double> values;
   values[std::string(k_angle)] = result.angle;
   values[std::string(k_pile_height)] = result.pile_height;
   values[std::string(k_angle_sd)] = result.angle_sd;
   values[std::string(k_particles_on_pedestal)] = static_cast<double>(result.particles_on_pedestal);
-  if (const std::optional<PileSettling> settling = read_settling(folder)) {
-    if (settling->criterion) values[std::string(k_settled)] = settling->settled ? 1.0 : 0.0;
-    values[std::string(k_removed_off_pedestal)] = static_cast<double>(settling->removed);
+  const std::optional<PileSettling> settling = read_settling(folder);
+  if (!settling) return values;
+  std::optional<bool> settled;
+  if (settling->criterion) settled = settling->settled;
+  values[std::string(k_removed_off_pedestal)] = static_cast<double>(settling->removed);
+
+  // The pile in time (settling snapshots): the series, the angle at the measure times, the drift.
+  if (settling->start_step) {
+    const double dt = case_number(case_json, file, "dt", 1e-15, 1e3).value_or(0);
+    PileMoment last = measure_moment(folder / k_final_dump, base, options);
+    last.time = static_cast<double>(settling->end_step - *settling->start_step) * dt;
+    const std::vector<PileMoment> moments = case_history(folder, case_json, options, base, *settling, last);
+    // The series is stored by the nominal time of each check, k × settle_check_time (the measured time in
+    // pile_history.csv differs by the rounding of a check to whole steps).
+    const double check_time = case_number(case_json, file, "pile.history.check_time_s", 1e-15, 1e4).value_or(0);
+    for (const PileMoment& m : moments)
+      if (m.check >= 0 && std::isfinite(m.angle) && check_time > 0)
+        values[timed_observable(k_angle_series, round_time(static_cast<double>(m.check) * check_time))] = m.angle;
+    const std::size_t n = case_list_size(case_json, file, "pile.history.measure_checks", 100);
+    if (case_list_size(case_json, file, "pile.history.measure_times_s", 100) != n)
+      throw util::UserError(file.string(), 0,
+                            "pile.history.measure_times_s and pile.history.measure_checks differ in length");
+    for (std::size_t i = 0; i < n; ++i) {
+      const long k = *case_integer(case_json, file, fmt::format("pile.history.measure_checks.{}", i), 0, 1L << 50);
+      const double t = *case_number(case_json, file, fmt::format("pile.history.measure_times_s.{}", i), 0, 1e4);
+      const auto at = std::find_if(moments.begin(), moments.end(), [k](const PileMoment& m) { return m.check == k; });
+      if (at == moments.end())
+        throw pp::InputError(fmt::format("{}: no snapshot at check {} (measure time {} s): settling ended before it",
+                                         folder.string(), k, t));
+      if (std::isfinite(at->angle)) values[timed_observable(k_angle_at, t)] = at->angle;
+    }
+    const double window =
+        case_number(case_json, file, "pile.angle_measurement.drift_window_s", 1e-12, 1e4).value_or(0.2);
+    const double limit =
+        case_number(case_json, file, "pile.angle_measurement.drift_limit_deg_s", 1e-12, 1e6).value_or(1.0);
+    const double drift = angle_drift(moments, window);
+    if (std::isfinite(drift)) {
+      values[std::string(k_angle_drift)] = drift;
+      settled = settled.value_or(true) && std::abs(drift) <= limit;
+    }
   }
+  if (settled) values[std::string(k_settled)] = *settled ? 1.0 : 0.0;
   return values;
 }
 
 std::optional<Observable> describe(std::string_view name);
 
-std::vector<Observable> observables(const StudyConfig&) { return {*describe(k_angle), *describe(k_pile_height)}; }
+std::vector<Observable> observables(const StudyConfig& config) {
+  std::vector<Observable> list{*describe(k_angle), *describe(k_pile_height)};
+  for (const double t : settings(config).measure_times) list.push_back(*describe(timed_observable(k_angle_at, t)));
+  return list;
+}
 
 std::optional<Observable> describe(std::string_view name) {
   const std::string n(name);
@@ -160,6 +302,15 @@ std::optional<Observable> describe(std::string_view name) {
   if (name == k_pile_height) return Observable{n, "pile height", "mm", 1e3, "m"};
   if (name == k_particles_on_pedestal) return Observable{n, "particles on the pedestal", "", 1.0, ""};
   if (name == k_removed_off_pedestal) return Observable{n, "particles removed off the pedestal", "", 1.0, ""};
+  if (name == k_angle_drift) return Observable{n, "drift of the angle at the end of settling", "°/s", 1.0, "°/s"};
+  for (const auto& [prefix, label] : {std::pair{k_angle_at, "angle of repose"}, std::pair{k_angle_series, "angle"}}) {
+    if (!name.starts_with(prefix)) continue;
+    const std::string time(name.substr(prefix.size()));
+    char* end = nullptr;
+    const double t = std::strtod(time.c_str(), &end);
+    if (time.empty() || end != time.c_str() + time.size() || !(t >= 0) || !std::isfinite(t)) return std::nullopt;
+    return Observable{n, fmt::format("{} {} s after the last disc", label, time), "°", 1.0, "°"};
+  }
   return std::nullopt;
 }
 

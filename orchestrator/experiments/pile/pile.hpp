@@ -43,6 +43,13 @@ struct PileSettings {
   /// "paper" (§3.3) or "robust": the angle estimator of the measurement (postprocess::AngleEstimator)
   std::string angle_estimator = "paper";
   PileBase base = PileBase::wall;  ///< the pedestal top: its wall, or a frozen layer of the material's particles
+
+  // The pile in time: snapshots during settling, measured like the final pile.
+  double history_interval = 0.1;      ///< a snapshot every this long after the last disc [s]; 0 = none
+  bool keep_snapshots = false;        ///< keep the snapshot dumps once measured
+  std::vector<double> measure_times;  ///< angle@T: the angle T seconds after the last disc, for each T [s]
+  double drift_window = 0.2;          ///< angle_drift: the robust slope of the angle over the last this long [s]
+  double drift_limit = 1.0;           ///< settled also requires |angle_drift| at most this [deg/s]
 };
 
 /// The [pile] settings of a study.
@@ -59,11 +66,24 @@ inline constexpr std::string_view k_pile_height = "pile_height";  ///< h_P [m]
 inline constexpr std::string_view k_particles_on_pedestal = "particles_on_pedestal";
 /// Particles removed off the pedestal during the run ([pile] remove_fallen); recorded, not analysed.
 inline constexpr std::string_view k_removed_off_pedestal = "removed_off_pedestal";
+/// The angle's drift at the end of settling: the Theil–Sen slope of the angle over the last [pile] drift_window
+/// [deg/s]; recorded, not analysed.
+inline constexpr std::string_view k_angle_drift = "angle_drift";
+/// angle@T: the angle T seconds after the last disc ([pile] measure_times), analysed like the final angle.
+inline constexpr std::string_view k_angle_at = "angle@";
+/// angle_series@T: the angle of every snapshot of the settling ([pile] history_interval); recorded, not analysed.
+inline constexpr std::string_view k_angle_series = "angle_series@";
+
+/// The name of the observable `prefix` at time `t` [s]: "angle@0.6" (the shortest text that reads back as t).
+std::string timed_observable(std::string_view prefix, double t);
 
 // ---------------------------------------------------------------- files of a pile case
-inline constexpr const char* k_final_dump = "pile_final.dump";  ///< id type x y z radius vx vy vz
-inline constexpr const char* k_settling = "pile_settling.txt";  ///< how settling ended, particles removed
-inline constexpr const char* k_pedestal_stl = "pedestal.stl";   ///< the pedestal mesh
+inline constexpr const char* k_final_dump = "pile_final.dump";    ///< id type x y z radius vx vy vz
+inline constexpr const char* k_settling = "pile_settling.txt";    ///< how settling ended, particles removed
+inline constexpr const char* k_pedestal_stl = "pedestal.stl";     ///< the pedestal mesh
+inline constexpr const char* k_history_csv = "pile_history.csv";  ///< the measured snapshots of the settling
+/// The snapshot of the particles at settling check K (0: the end of the last disc): pile_snapshot_K.dump.
+std::string snapshot_file(long check);
 
 // ---------------------------------------------------------------- assembly (paper §3.1)
 /// One horizontal disc of the pile: particle centres in the plane z = 0 (the height is set by the schedule).
@@ -110,14 +130,16 @@ double disc_append_interval(double r_upper, double gravity);
 // ---------------------------------------------------------------- measurement
 /// How the settling of a pile ended, as pile.liggghts writes it to pile_settling.txt (`key value` lines).
 struct PileSettling {
-  bool criterion = false;     ///< the settling criterion was on ([pile] settle_speed > 0)
-  bool settled = false;       ///< ... and met before settle_time
-  long end_step = 0;          ///< step at which settling ended
-  double fastest = 0.0;       ///< fastest particle on the pedestal then [m/s]
-  double speed_limit = 0.0;   ///< the criterion's speed [m/s]
-  long on_pedestal = 0;       ///< particles on the pedestal then
-  long fast_on_pedestal = 0;  ///< ... of them faster than speed_limit
-  long removed = 0;           ///< particles removed off the pedestal during the run
+  bool criterion = false;           ///< the settling criterion was on ([pile] settle_speed > 0)
+  bool settled = false;             ///< ... and met before settle_time
+  long end_step = 0;                ///< step at which settling ended
+  double fastest = 0.0;             ///< fastest particle on the pedestal then [m/s]
+  double speed_limit = 0.0;         ///< the criterion's speed [m/s]
+  long on_pedestal = 0;             ///< particles on the pedestal then
+  long fast_on_pedestal = 0;        ///< ... of them faster than speed_limit
+  long removed = 0;                 ///< particles removed off the pedestal during the run
+  std::optional<long> start_step;   ///< the step at which settling began (the end of the last disc)
+  std::optional<long> check_steps;  ///< steps between settling checks
 };
 
 /// Reads FOLDER/pile_settling.txt; nothing when the file does not exist. Throws postprocess::ParseError (file:line)
@@ -148,6 +170,39 @@ CaseAngleSettings read_case_angle_settings(const nlohmann::json& case_json, cons
 /// (on a base layer, heights start at the layer's mean top). Throws util::UserError naming case.json when it records
 /// no pedestal.
 postprocess::PileAngleOptions case_angle_options(const nlohmann::json& case_json, const std::filesystem::path& file);
+
+// ---------------------------------------------------------------- the pile in time
+/// Which settling checks of a case write a snapshot (pile_history.liggghts): check 0 (the end of the last disc), every
+/// `every` checks up to `checks` (none when `every` is 0), and the check of each measure time; sorted, unique. The
+/// check of time T is round(T / check_time).
+struct SnapshotPlan {
+  std::vector<long> checks;          ///< the checks that write a snapshot
+  std::vector<long> measure_checks;  ///< the check of each of [pile] measure_times, in its order
+  long min_checks = 0;               ///< the criterion may not end settling before this check
+};
+SnapshotPlan snapshot_plan(const PileSettings& settings, long checks, long check_steps, double dt);
+
+/// The most snapshots a case may write ([pile] history_interval and settle_time): each is a dump of every particle.
+inline constexpr long k_max_snapshots = 2000;
+
+/// One moment of a pile's settling, measured on a snapshot (or the final dump).
+struct PileMoment {
+  long check = -1;            ///< the settling check of the snapshot; -1: the final dump
+  double time = 0.0;          ///< seconds after the last disc
+  double angle = 0.0;         ///< by the study's estimator [deg]
+  double angle_paper = 0.0;   ///< by the paper's estimator (§3.3) [deg]
+  double angle_robust = 0.0;  ///< by the robust estimator [deg]
+  double height = 0.0;        ///< h_P [m]
+  long on_pedestal = 0;       ///< particles on the pedestal
+};
+
+/// The drift of the angle at the end of a series: the Theil–Sen slope (Theil 1950, Sen 1968) of angle on time over
+/// the moments within `window` seconds of the last one [deg/s]; NaN with fewer than two such moments.
+double angle_drift(const std::vector<PileMoment>& moments, double window);
+
+/// Writes the series as FOLDER/pile_history.csv; reads it back (throws postprocess::ParseError at file:line).
+void write_history(const std::filesystem::path& folder, const std::vector<PileMoment>& moments);
+std::vector<PileMoment> read_history(const std::filesystem::path& folder);
 
 /// The particles of `particles` but the base layer's (ids 1..base_particles; all of them when it is 0).
 postprocess::Particles without_base(const postprocess::Particles& particles, long base_particles);

@@ -156,6 +156,47 @@ std::vector<Setting> pile_settings() {
                "the pile's base contacts are particle-particle). The layer is drawn once from the study seed "
                "(identical for every sample), frozen, and left out of the measurement, which measures heights from "
                "its mean top"));
+  add(Row("pile", "history_interval")
+          .number(PILE(history_interval), k_duration_bounds)
+          .unit("s")
+          .cases("pile.history_interval")
+          .canonical(unless_default("pile.history_interval", PILE(history_interval)))
+          .doc("the pile in time: a snapshot of the particles every this long during settling (rounded to a whole "
+               "number of settling checks, at least one), from the end of the last disc; each is measured like the "
+               "final pile (both estimators, height, particles on the pedestal) into the case's "
+               "`pile_history.csv` and the store (`angle_series@T`), and gives `angle_drift`; 0 = none"));
+  add(Row("pile", "keep_snapshots")
+          .boolean(PILE(keep_snapshots))
+          .doc("keep the snapshot dumps (`pile_snapshot_K.dump`, K the settling check) once measured; by default "
+               "they are removed, their measurement stays in `pile_history.csv`"));
+  add(Row("pile", "measure_times")
+          .numbers(PILE(measure_times), k_duration_bounds)
+          .check([](const SettingValue& v) {
+            const auto& times = std::get<std::vector<double>>(v);
+            if (times.size() > 100) throw SettingError(fmt::format("{} times; at most 100", times.size()));
+            for (std::size_t i = 1; i < times.size(); ++i)
+              if (!(times[i] > times[i - 1]))
+                throw SettingError(fmt::format("times must increase: {} s follows {} s", times[i], times[i - 1]));
+          })
+          .range("up to 100, increasing, each in [0, `settle_time`]")
+          .unit("s")
+          .cases("pile.measure_times")
+          .doc("the angle at these times after the last disc, from the same runs: observables `angle@T` (e.g. "
+               "`angle@0.6`), analysed like `angle` (each taken at the settling check nearest to T; settling runs "
+               "at least to the last of them)"));
+  add(Row("pile", "drift_window")
+          .number(PILE(drift_window), between(0, false, k_max_duration, true))
+          .unit("s")
+          .measurement("pile.drift_window")
+          .doc("`angle_drift` is the Theil–Sen slope of the angle over the snapshots within this long of the end "
+               "of settling"));
+  add(Row("pile", "drift_limit")
+          .number(PILE(drift_limit), between(0, false, 1e6, true))
+          .unit("deg/s")
+          .measurement("pile.drift_limit")
+          .doc("a pile is settled only when \\|`angle_drift`\\| is at most this (besides the speed criterion, when "
+               "it is on); a pile whose angle still moves at the end is stored with `settled` = 0 and flagged, with "
+               "its drift, by `demsa status`, the analysis and the report"));
 
   return finish_rows(rows);
 }
@@ -223,6 +264,21 @@ void check_pile(const StudyConfig& config, const SectionCheck& at) {
   if (p.disc_radius + p.radii.r_max > p.domain_half_width || p.pedestal_radius >= p.domain_half_width)
     at.fail("domain_half_width",
             fmt::format("{} m must exceed the disc radius + r_max and the pedestal radius", p.domain_half_width));
+  for (const double t : p.measure_times)
+    if (t > p.settle_time * (1 + 1e-12))
+      at.fail("measure_times",
+              fmt::format("{} s lies beyond settle_time = {} s, the end of settling: raise settle_time "
+                          "or measure earlier",
+                          t, p.settle_time));
+  if (p.history_interval > 0) {
+    const double every = std::max(1.0, std::round(p.history_interval / p.settle_check_time));
+    const double snapshots = std::ceil(p.settle_time / p.settle_check_time) / every + 1;
+    if (snapshots > static_cast<double>(k_max_snapshots))
+      at.fail("history_interval",
+              fmt::format("{} s over settle_time = {} s is {:.0f} snapshots, more than {}: each is a dump of every "
+                          "particle; take a longer interval",
+                          p.history_interval, p.settle_time, snapshots, k_max_snapshots));
+  }
   if (p.base == PileBase::particles) {
     // The base layer's hexagonal lattice (build_base_layer) has about pi R^2 / (pitch^2 sqrt(3)/2) sites.
     const double pitch = k_base_pitch * p.radii.mean;
