@@ -665,6 +665,129 @@ ReportSection case_section(const StudyData& s, int sample, const Plotter& plotte
   return section;
 }
 
+/// The observables measured at several times, NAME@T (the pile's angle@0.6 of [pile] measure_times), by family: NAME
+/// -> (T, its analysis), in order of T. A family of one time is left out.
+std::map<std::string, std::vector<std::pair<double, const ObservableAnalysis*>>> timed_families(
+    const AnalysisSummary& analysis) {
+  std::map<std::string, std::vector<std::pair<double, const ObservableAnalysis*>>> families;
+  for (const ObservableAnalysis& o : analysis.observables) {
+    const std::size_t at = o.name.rfind('@');
+    if (at == std::string::npos || at == 0) continue;
+    const std::string time = o.name.substr(at + 1);
+    char* end = nullptr;
+    const double t = std::strtod(time.c_str(), &end);
+    if (time.empty() || end != time.c_str() + time.size() || !std::isfinite(t)) continue;
+    families[o.name.substr(0, at)].emplace_back(t, &o);
+  }
+  for (auto it = families.begin(); it != families.end();) {
+    std::sort(it->second.begin(), it->second.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    it = it->second.size() < 2 ? families.erase(it) : std::next(it);
+  }
+  return families;
+}
+
+/// "0.63 [0.55, 0.70]"; "n/a" for NaN.
+std::string index_text(const sobol::IndexEstimate& e) {
+  if (!std::isfinite(e.value)) return "n/a";
+  if (!std::isfinite(e.lower) || !std::isfinite(e.upper)) return fmt::format("{:.2f}", e.value);
+  return fmt::format("{:.2f} [{:.2f}, {:.2f}]", e.value, e.lower, e.upper);
+}
+
+/// One family of timed observables (timed_families): S1 and ST of each parameter against time, from the metamodel
+/// fitted at every time with the best mean Q², as tables with their intervals and as two plots.
+ReportSection timed_section(const std::string& family,
+                            const std::vector<std::pair<double, const ObservableAnalysis*>>& times,
+                            const std::vector<std::string>& names, const Plotter& plotter, const fs::path& out,
+                            ReportSummary& summary) {
+  ReportSection section;
+  section.heading = fmt::format("`{}` against time: which parameter matters when", family);
+  // The metamodel fitted at every time, with the best mean Q² over the times (a Q² that is not finite, of a model with
+  // as many terms as samples, counts as the worst).
+  std::map<std::string, std::pair<int, double>> q2;  // model -> (times fitted, sum of Q²)
+  for (const auto& [t, o] : times)
+    for (const ModelAnalysis& m : o->models)
+      if (m.ok) {
+        q2[m.model].first += 1;
+        q2[m.model].second += std::isfinite(m.quality.q2) ? m.quality.q2 : -1e300;
+      }
+  std::string model;
+  double best = -std::numeric_limits<double>::infinity();
+  for (const auto& [name, fitted] : q2)
+    if (fitted.first == static_cast<int>(times.size()) && (model.empty() || fitted.second / fitted.first > best)) {
+      best = fitted.second / fitted.first;
+      model = name;
+    }
+  if (best < -1e299) best = k_nan;
+  if (model.empty()) {
+    section.paragraphs.push_back("No metamodel was fitted at every time: no indices against time.");
+    return section;
+  }
+  const Observable label = experiments::describe_observable(times.front().second->name);
+  double confidence = k_nan;
+  for (const ModelAnalysis& m : times.front().second->models)
+    if (m.model == model) confidence = m.indices.confidence;
+  section.paragraphs.push_back(fmt::format(
+      "The same runs measured at {} times (the observables `{}@T`); indices of the {} metamodel ({}), with their "
+      "{:.0f}% intervals. Where the ranking changes with time, the answer to \"which parameter matters\" depends on "
+      "when the pile is measured.",
+      times.size(), family, model_title(model),
+      std::isfinite(best)
+          ? fmt::format("mean Q² {:.3f} over the times, the best of the metamodels fitted at every time", best)
+          : std::string("fitted at every time; Q² not defined"),
+      confidence * 100));
+  std::vector<std::string> symbols;
+  for (const std::string& p : names) symbols.push_back(parameter_text(p).symbol);
+  ReportTable first;
+  ReportTable total;
+  first.caption = fmt::format("S1 of `{}` against time ({})", family, model_title(model));
+  total.caption = fmt::format("ST of `{}` against time ({})", family, model_title(model));
+  first.header = {"time [s]", fmt::format("mean ± sd [{}]", label.unit)};
+  for (const std::string& sym : symbols) first.header.push_back(sym);
+  total.header = first.header;
+  LinePlot s1_plot;
+  LinePlot st_plot;
+  s1_plot.title = fmt::format("S1 of {} against time ({})", family, model_title(model));
+  st_plot.title = fmt::format("ST of {} against time ({})", family, model_title(model));
+  s1_plot.x_label = st_plot.x_label = "time after the last disc [s]";
+  s1_plot.y_label = "S1";
+  st_plot.y_label = "ST";
+  // matplotlib's tab10: one distinct colour per parameter.
+  static const char* const colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                        "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  for (std::size_t k = 0; k < symbols.size(); ++k) {
+    s1_plot.series.push_back({symbols[k], {}, {}, colours[k % std::size(colours)], false});
+    st_plot.series.push_back({symbols[k], {}, {}, colours[k % std::size(colours)], false});
+  }
+  for (const auto& [t, o] : times) {
+    const auto m =
+        std::find_if(o->models.begin(), o->models.end(), [&](const ModelAnalysis& a) { return a.model == model; });
+    std::vector<std::string> row1{short_number(t), fmt::format("{} ± {}", short_number(o->mean * label.factor),
+                                                               short_number(o->sd * label.factor))};
+    std::vector<std::string> row2 = row1;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const bool have = k < m->indices.first.size() && k < m->indices.total.size();
+      const sobol::IndexEstimate s1 = have ? m->indices.first[k] : sobol::IndexEstimate{k_nan, k_nan, k_nan};
+      const sobol::IndexEstimate st = have ? m->indices.total[k] : sobol::IndexEstimate{k_nan, k_nan, k_nan};
+      row1.push_back(index_text(s1));
+      row2.push_back(index_text(st));
+      s1_plot.series[k].x.push_back(t);
+      s1_plot.series[k].y.push_back(s1.value);
+      st_plot.series[k].x.push_back(t);
+      st_plot.series[k].y.push_back(st.value);
+    }
+    first.rows.push_back(row1);
+    total.rows.push_back(row2);
+  }
+  section.tables.push_back(first);
+  section.tables.push_back(total);
+  for (const auto& [plot, suffix] : {std::pair{&s1_plot, "s1"}, std::pair{&st_plot, "st"}}) {
+    const PlotFiles files = plot_lines(plotter, *plot, out / fmt::format("time_{}_{}", family, suffix));
+    section.figures.push_back({plot->title, files});
+    summary.images.push_back(files.png);
+  }
+  return section;
+}
+
 ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& plotter, const fs::path& out,
                                   ReportSummary& summary) {
   ReportSection section;
@@ -897,6 +1020,9 @@ ReportSummary write_study_report(const ReportOptions& options) {
       analysis.base_samples));
   for (const ObservableAnalysis& observable : analysis.observables)
     doc.sections.push_back(observable_section(s, observable, analysis.parameters, plotter, summary.out_dir, summary));
+
+  for (const auto& [family, times] : timed_families(analysis))
+    doc.sections.push_back(timed_section(family, times, analysis.parameters, plotter, summary.out_dir, summary));
 
   if (!s.refine.empty()) doc.sections.push_back(refine_section(s.refine, plotter, summary.out_dir, summary));
 

@@ -374,6 +374,41 @@ CaseReport case_report(const fs::path& folder, const std::string& relative, int 
                                         "direction's boundary particles and line unrolled onto one plane",
                                         sample),
                             "pile_side", view});
+  // The pile in time, when the case measured snapshots of its settling.
+  if (fs::exists(folder / k_history_csv, ec)) {
+    const std::vector<PileMoment> moments = read_history(folder);
+    LinePlot plot;
+    plot.title = fmt::format("sample {}: the angle during settling", sample);
+    plot.x_label = "time after the last disc [s]";
+    plot.y_label = "angle of repose [°]";
+    plot.series = {{"paper's estimator (§3.3)", {}, {}, "#1f77b4", false},
+                   {"robust estimator", {}, {}, "#ff7f0e", false}};
+    for (const PileMoment& m : moments) {
+      if (std::isfinite(m.angle_paper)) {
+        plot.series[0].x.push_back(m.time);
+        plot.series[0].y.push_back(m.angle_paper);
+      }
+      if (std::isfinite(m.angle_robust)) {
+        plot.series[1].x.push_back(m.time);
+        plot.series[1].y.push_back(m.angle_robust);
+      }
+    }
+    plot.y_reference = settings(config).target_angle;
+    plot.y_reference_label = "target φ̂";
+    const nlohmann::json case_json = read_case_json(folder);
+    const double window =
+        case_number(case_json, folder / k_case_json, "pile.angle_measurement.drift_window_s", 1e-12, 1e4).value_or(0.2);
+    report.paragraphs.push_back(fmt::format(
+        "Measured at {} moments of its settling (`{}`): from {:.2f}° to {:.2f}° (the study's estimator); drift over "
+        "the last {:g} s: {:+.3g}°/s.",
+        moments.size(), k_history_csv, moments.front().angle, moments.back().angle, window,
+        angle_drift(moments, window)));
+    report.figures.push_back(
+        {fmt::format("The angle of sample {} during settling, by both estimators (snapshots every [pile] "
+                     "history_interval; t = 0 is the end of the last disc, which is still falling then)",
+                     sample),
+         "pile_history", plot});
+  }
   return report;
 }
 
