@@ -153,3 +153,11 @@ postprocess::PileAngleOptions case_angle_options(const nlohmann::json& case_json
 postprocess::Particles without_base(const postprocess::Particles& particles, long base_particles);
 
 }  // namespace demsa::experiments::pile
+
+namespace demsa::experiments::pile {
+
+/// The atom-steps of a written pile case by its schedule (cost.cpp): Experiment::case_cost.
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
+                   const std::filesystem::path& file);
+
+}  // namespace demsa::experiments::pile
