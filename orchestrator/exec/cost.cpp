@@ -238,7 +238,8 @@ StudyEstimate estimate(const EstimateInput& input) {
     e.rate = input.rate->atom_steps_per_cpu_second;
     e.rate_source = input.rate->source;
   } else {
-    e.rate_source = "none: no finished case and no measured rate of this LIGGGHTS";
+    e.rate_source = input.rate_failure.empty() ? "none: no finished case and no measured rate of this LIGGGHTS"
+                                               : fmt::format("none: {}", input.rate_failure);
   }
   // Graham's list scheduling: each case, in order, on the slot that frees first.
   std::priority_queue<double, std::vector<double>, std::greater<>> all_slots, left_slots;
@@ -322,8 +323,13 @@ StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& d
     input.cases.push_back(c);
   }
   if (const std::optional<std::string> exe = find_on_path(config.run.liggghts)) {
-    input.rate = options.measure_rate ? std::optional<LiggghtsRate>(machine_rate(*exe, options.cache_file))
-                                      : cached_rate(*exe, options.cache_file);
+    try {
+      input.rate = options.measure_rate ? std::optional<LiggghtsRate>(machine_rate(*exe, options.cache_file))
+                                        : cached_rate(*exe, options.cache_file);
+    } catch (const UserError& e) {
+      // The bill goes without a rate (atom-steps only) rather than failing the dry run that validated the study.
+      input.rate_failure = e.what();
+    }
   }
   return estimate(input);
 }

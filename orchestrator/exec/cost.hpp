@@ -79,6 +79,7 @@ struct CaseCostInput {
 struct EstimateInput {
   std::vector<CaseCostInput> cases;  ///< in the order they run
   std::optional<LiggghtsRate> rate;  ///< the machine's (a cached or new measurement); none: CPU and wall unknown
+  std::string rate_failure;          ///< why there is none (the standard run failed), for rate_source
   int ranks = 1;                     ///< MPI ranks per case: a case's wall time is its CPU time / ranks
   int slots = 1;                     ///< cases at once (local: [run] parallel or cores / ranks; SLURM: the throttle)
 };
