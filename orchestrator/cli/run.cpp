@@ -2,9 +2,12 @@
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
+#include "orchestrator/exec/cost.hpp"
+#include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/exec/progress.hpp"
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/exec/slurm/executor.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
@@ -12,6 +15,7 @@
 
 #include <fmt/core.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <iostream>
@@ -32,6 +36,7 @@ struct RunArgs {
   std::string study;
   std::string dir;
   bool dry_run = false;
+  bool json = false;
   bool new_study = false;
   bool no_analyze = false;
   bool quiet = false;
@@ -58,14 +63,29 @@ int do_run(const RunArgs& args) {
   options.cancel_on_interrupt = args.cancel_on_interrupt;
   if (args.submit_only && args.dry_run)
     throw UserError("--submit-only and --dry-run: a dry run submits nothing; use one of them");
+  if (args.json && !args.dry_run) throw UserError("--json goes with --dry-run: the estimate of a study as JSON");
   if (::isatty(STDIN_FILENO) == 1)
     options.ask_cancel = [](int in_flight) { return ask_cancel_on_interrupt(in_flight, std::cin, std::cerr); };
   if (!fs::exists(options.study_file)) throw UserError(fmt::format("{}: no such study file", args.study));
   StopFlag::install();
   const RunSummary summary = run_study(options);
   if (summary.dry_run) {
+    // The bill before the run (exec/cost.hpp): the written cases' schedules at this LIGGGHTS's rate.
+    study::StudyConfig config = experiments::load_study(options.study_file);
+    resolve_liggghts(config, false);
+    const StudyEstimate estimate = estimate_study(config, summary.dir, StudyCostOptions{});
+    if (args.json) {
+      nlohmann::ordered_json j{{"study", args.study},
+                               {"dir", summary.dir.string()},
+                               {"samples", summary.samples},
+                               {"cases", summary.samples + summary.replicates}};
+      j["estimate"] = estimate_json(estimate)["estimate"];
+      fmt::print("{}\n", j.dump(2));
+      return k_exit_ok;
+    }
     fmt::print("{}: study valid; {} samples, design and {} cases written to {}\n", args.study, summary.samples,
                summary.samples + summary.replicates, (summary.dir / "cases").string());
+    fmt::print("{}", estimate_text(estimate));
     return k_exit_ok;
   }
   if (args.submit_only) {
@@ -122,7 +142,10 @@ void register_run_command(CLI::App& app, CliState& state) {
   CLI::App* run = app.add_subcommand("run", "Run a whole study, resumable: skips finished cases, retries failed ones");
   run->add_option("study", args->study, "Study file (TOML)")->required();
   run->add_option("--dir", args->dir, "Study folder (default: the study file's name without .toml)");
-  run->add_flag("--dry-run", args->dry_run, "Validate and write the design and every case; run nothing");
+  run->add_flag("--dry-run", args->dry_run,
+                "Validate and write the design and every case, print the estimate of its cost (atom-steps, CPU, wall); "
+                "run nothing");
+  run->add_flag("--json", args->json, "With --dry-run: print the study's estimate (atom-steps, CPU, wall) as JSON");
   run->add_flag("--new", args->new_study,
                 "Discard the store, design, cases and analysis in the study folder and start a new study");
   run->add_flag("--no-analyze", args->no_analyze, "Do not run the analysis at the end");

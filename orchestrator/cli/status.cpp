@@ -1,6 +1,8 @@
 // `demsa status` (README "Usage"): counts by state, failures with their class, ETA; on a SLURM study that no demsa
 // runs, first collects the tasks that have ended.
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/exec/cost.hpp"
+#include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/exec/local_executor.hpp"
 #include "orchestrator/exec/progress.hpp"
 #include "orchestrator/exec/runner.hpp"
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,9 +89,13 @@ int do_status(const StatusArgs& args) {
     if (r.state == RunState::failed) failures[r.sample] = r;
   }
   int parallel = 1;
+  // The bill (exec/cost.hpp): from the cached rate or the study's finished cases; status never runs LIGGGHTS.
+  std::optional<StudyEstimate> bill;
   try {
-    const StudyConfig config = experiments::load_study(dir / k_frozen_study);
+    StudyConfig config = experiments::load_study(dir / k_frozen_study);
     if (config.run.executor == ExecutorKind::local) parallel = local_parallel(config.run, machine_cores());
+    resolve_liggghts(config, false);
+    bill = estimate_study(config, dir, StudyCostOptions{.measure_rate = false});
   } catch (const UserError&) {
     parallel = 1;  // status still works on a study whose file no longer parses here
   }
@@ -120,6 +127,7 @@ int do_status(const StatusArgs& args) {
                          {"running", c.replicates_running},
                          {"failed", c.replicates_failed}};
     j["unsettled"] = unsettled;
+    if (bill) j["estimate"] = estimate_json(*bill)["estimate"];
     fmt::print("{}\n", j.dump(2));
     return k_exit_ok;
   }
@@ -141,6 +149,11 @@ int do_status(const StatusArgs& args) {
   if (!unsettled.empty())
     fmt::print("unsettled {} of {} done: sample {} still moving at the end of settling (measured and counted)\n",
                unsettled.size(), c.done, experiments::unsettled_text(observables));
+  if (bill) {
+    fmt::print("{}", estimate_text(*bill));
+    if (const std::vector<CaseCostRow> rows = store.case_costs(); !rows.empty())
+      fmt::print("predicted against actual, per finished case:\n{}", predicted_vs_actual_table(rows));
+  }
   return k_exit_ok;
 }
 

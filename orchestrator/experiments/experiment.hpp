@@ -56,6 +56,19 @@ struct OutputProblem {
   std::string message;
 };
 
+/// What one written case costs by its schedule (exec/cost.hpp adds them up into a study's bill). An atom-step is one
+/// atom advanced by one time step: LIGGGHTS's work per step grows with the atoms present, so `atom_steps` is the sum
+/// over the schedule's runs of steps × atoms present (the `S steps with M atoms` of its log's `Loop time` lines).
+struct CaseCost {
+  double atom_steps = 0.0;  ///< the schedule's cap: every run to its end with every atom it creates
+  long steps = 0;           ///< time steps of the whole schedule (its cap)
+  long particles = 0;       ///< atoms at the end of the schedule when none is removed
+  /// The case may end before its cap (a settling or stop criterion) or lose atoms on purpose (particles removed):
+  /// the estimate then takes the ratio of actual to cap from the study's finished cases.
+  bool may_end_early = false;
+  std::string schedule;  ///< one line: how the cap was counted ("9 discs of 953 atoms, then 14 appended...")
+};
+
 /// A figure of one case in the report: its caption, the file stem of its plot, and the plot's data.
 struct CaseFigure {
   std::string caption;
@@ -164,6 +177,13 @@ struct Experiment {
   /// The geometry of a finished case for ParaView, from its folder, case.json and final frame.
   std::vector<CaseSurface> (*vtk_surfaces)(const std::filesystem::path& folder, const nlohmann::json& case_json,
                                            const postprocess::DumpFrame& final_frame);
+
+  // ---------------------------------------------------------------- cost
+  /// The atom-steps of a written case by its schedule, from its case.json (`case_json`, read from `file`: its time
+  /// step, its particles and what the experiment records of its schedule) and the study's settings; may be null (no
+  /// estimate for the experiment). Throws util::UserError naming `file` when case.json lacks what it needs.
+  CaseCost (*case_cost)(const study::StudyConfig& config, const nlohmann::json& case_json,
+                        const std::filesystem::path& file) = nullptr;
 };
 
 }  // namespace demsa::experiments

@@ -95,6 +95,14 @@ CREATE TABLE IF NOT EXISTS replicates (
   repeat INTEGER NOT NULL,
   seed TEXT NOT NULL,
   UNIQUE (point, repeat));
+CREATE TABLE IF NOT EXISTS case_costs (
+  run INTEGER PRIMARY KEY REFERENCES runs(id),
+  sample INTEGER NOT NULL REFERENCES samples(sample),
+  cap_atom_steps REAL NOT NULL,
+  predicted_atom_steps REAL NOT NULL,
+  predicted_cpu_seconds REAL NOT NULL,
+  atom_steps REAL NOT NULL,
+  cpu_seconds REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS events (
   id INTEGER PRIMARY KEY AUTOINCREMENT,
   time REAL NOT NULL,
@@ -487,6 +495,40 @@ std::vector<RefineStep> Store::refine_history() const {
     steps.push_back(std::move(s));
   }
   return steps;
+}
+
+void Store::record_case_cost(const CaseCostRow& row) {
+  SQLite::Statement q(*m_db,
+                      "INSERT OR REPLACE INTO case_costs(run, sample, cap_atom_steps, predicted_atom_steps, "
+                      "predicted_cpu_seconds, atom_steps, cpu_seconds) VALUES (?, ?, ?, ?, ?, ?, ?)");
+  q.bind(1, static_cast<int64_t>(row.run));
+  q.bind(2, row.sample);
+  q.bind(3, row.cap_atom_steps);
+  q.bind(4, row.predicted_atom_steps);
+  q.bind(5, row.predicted_cpu_seconds);
+  q.bind(6, row.atom_steps);
+  q.bind(7, row.cpu_seconds);
+  q.exec();
+}
+
+std::vector<CaseCostRow> Store::case_costs() const {
+  std::vector<CaseCostRow> rows;
+  if (!has_table(*m_db, "case_costs")) return rows;
+  SQLite::Statement q(*m_db,
+                      "SELECT run, sample, cap_atom_steps, predicted_atom_steps, predicted_cpu_seconds, atom_steps, "
+                      "cpu_seconds FROM case_costs ORDER BY run");
+  while (q.executeStep()) {
+    CaseCostRow r;
+    r.run = q.getColumn(0).getInt64();
+    r.sample = q.getColumn(1).getInt();
+    r.cap_atom_steps = q.getColumn(2).getDouble();
+    r.predicted_atom_steps = q.getColumn(3).getDouble();
+    r.predicted_cpu_seconds = q.getColumn(4).getDouble();
+    r.atom_steps = q.getColumn(5).getDouble();
+    r.cpu_seconds = q.getColumn(6).getDouble();
+    rows.push_back(r);
+  }
+  return rows;
 }
 
 long Store::add_run(int sample, int attempt) {

@@ -144,6 +144,18 @@ struct RefineStep {
   std::string indices_json;  ///< {observable: {"model", "S1": {p: [value, lower, upper]}, "ST": {...}}}
 };
 
+/// What one finished case cost against what was predicted for it (exec/cost.hpp), one row per done run: written by
+/// `demsa run` when it commits the run.
+struct CaseCostRow {
+  long run = 0;
+  int sample = 0;
+  double cap_atom_steps = 0.0;         ///< the schedule's cap (Experiment::case_cost)
+  double predicted_atom_steps = 0.0;   ///< the expectation before it ran (the cap x the study's ratio then)
+  double predicted_cpu_seconds = 0.0;  ///< ... at the rate known then [s]; 0 when none was known
+  double atom_steps = 0.0;             ///< actual: the sum of its log's `Loop time` lines, steps x atoms
+  double cpu_seconds = 0.0;            ///< actual LIGGGHTS CPU: the sum of their loop time x procs [s]
+};
+
 struct EventRow {
   double time = 0.0;  ///< Unix time [s]
   std::string kind;
@@ -218,6 +230,10 @@ class Store {
 
   StoreCounts counts() const;
 
+  /// Records what a done run cost (replaces the run's row).
+  void record_case_cost(const CaseCostRow& row);
+  /// Every recorded case cost, by run id; empty for a store without the table (an older demsa's).
+  std::vector<CaseCostRow> case_costs() const;
   void add_event(const std::string& kind, const std::string& message, int sample = -1);
   std::vector<EventRow> events() const;
 

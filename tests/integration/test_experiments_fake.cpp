@@ -76,6 +76,33 @@ TEST(ExperimentsFake, DrawdownSlopeAndDischargeAreMeasured) {
   EXPECT_EQ(store.observables().size(), 4u);
 }
 
+TEST(ExperimentsFake, OedometerErrorAgainstMeasuredSettlements) {
+  // The measured settlements reach the measurement through case.json's list (oedometer.measured_settlements_m.K).
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml",
+                   study("oedometer", 2, "[oedometer]\nmeasured_settlements = [0.4e-3, 1.0e-3, 1.8e-3]\n"));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
+  std::map<int, std::vector<double>> units;
+  for (const study::SampleRow& s : store.samples()) units[s.sample] = s.unit;
+  for (const auto& [sample, values] : store.observables()) {
+    SCOPED_TRACE(fmt::format("sample {}", sample));
+    // The fake's plate sinks 1e-5 m per newton over its stiffness 1 + 4 u0 + 0.5 u1, at loads 100, 400, 1100, 2700 N.
+    const double stiffness = 1.0 + 4.0 * units.at(sample)[0] + 0.5 * units.at(sample)[1];
+    double sum = 0;
+    const double measured[] = {0.4e-3, 1.0e-3, 1.8e-3};
+    const double loads[] = {400, 1100, 2700};
+    for (int i = 0; i < 3; ++i) {
+      const double s = 1e-5 * (loads[i] - 100) / stiffness;
+      sum += (measured[i] - s) * (measured[i] - s);
+    }
+    EXPECT_NEAR(values.at("settlement_error"), std::sqrt(sum), 1e-9);
+  }
+  EXPECT_EQ(store.observables().size(), 2u);
+}
+
 class ExperimentResume : public testing::TestWithParam<std::string> {};
 
 TEST_P(ExperimentResume, AStudyKilledWithSigkillResumesWithoutRepeatingAFinishedCase) {

@@ -4,6 +4,7 @@
 // study whose time cap is too short is flagged unsettled by `demsa status`.
 #include "orchestrator/exec/failure.hpp"
 #include "orchestrator/exec/measure.hpp"
+#include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/experiments/pile/pile.hpp"
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
@@ -12,6 +13,7 @@
 
 #include "support/test_support.hpp"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -72,7 +74,28 @@ TEST(PileSettlingReal, QuickstartSizePileSettlesByTheCriterion) {
   EXPECT_TRUE(settling->criterion);
   EXPECT_TRUE(settling->settled) << test::read_file(dir / "pile_settling.txt");
   const std::map<std::string, double> values = measure_case(dir);
-  EXPECT_EQ(values.at(std::string(k_settled)), 1.0);
+  // The pile in time: a snapshot every 0.1 s from the end of the last disc, then the final dump; the settling verdict
+  // is the speed criterion's and the angle's drift over the last 0.2 s (at most 1 °/s).
+  const std::vector<pile::PileMoment> moments = pile::read_history(dir);
+  ASSERT_GE(moments.size(), 3u);
+  EXPECT_EQ(moments.front().check, 0);
+  EXPECT_EQ(moments.front().time, 0.0);
+  const double dt = read_case_json(dir)["dt"].get<double>();
+  EXPECT_NEAR(moments.back().time, static_cast<double>(settling->end_step - *settling->start_step) * dt, 1e-9);
+  EXPECT_EQ(moments.back().angle, values.at(std::string(pile::k_angle)));
+  for (const pile::PileMoment& m : moments) {
+    if (m.check >= 0) {
+      EXPECT_TRUE(values.count(fmt::format("angle_series@{}", std::stod(fmt::format("{:.9g}", 0.01 * m.check)))))
+          << m.check;
+    }
+    if (m.time >= 0.1) {
+      EXPECT_TRUE(std::isfinite(m.angle) && std::isfinite(m.angle_robust)) << m.time;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir / pile::snapshot_file(0)));  // removed once measured
+  const double drift = values.at(std::string(pile::k_angle_drift));
+  EXPECT_DOUBLE_EQ(drift, pile::angle_drift(moments, 0.2));
+  EXPECT_EQ(values.at(std::string(k_settled)), std::abs(drift) <= 1.0 ? 1.0 : 0.0) << drift;
   // The quickstart's pile overflows its pedestal: particles fell off and were removed, none lost.
   EXPECT_GT(values.at(std::string(pile::k_removed_off_pedestal)), 0.0);
   EXPECT_EQ(classify_case(clean_exit(), dir, strict_options(pile::settings(config).particles)).failure,

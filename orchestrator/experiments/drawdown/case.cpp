@@ -1,5 +1,6 @@
 #include "orchestrator/experiments/drawdown/drawdown.hpp"
 
+#include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/experiments/geometry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -223,6 +225,36 @@ CaseWritten DrawdownDraft::write(const Material& m, const TimestepChoice& ts, Pa
 
 std::unique_ptr<CaseDraft> draft_case(const StudyConfig& config, std::uint64_t assembly_seed) {
   return std::make_unique<DrawdownDraft>(config, assembly_seed);
+}
+
+}  // namespace demsa::experiments::drawdown
+
+namespace demsa::experiments::drawdown {
+
+// The schedule of drawdown.liggghts: fill_steps on the closed floor, then up to max_windows windows of window_checks
+// checks of check_steps with every atom present (the cap: the flow stops earlier and the discharged atoms are
+// removed), as DrawdownDraft::write counts them above.
+CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, const fs::path& file) {
+  const DrawdownSettings& s = settings(config);
+  const std::optional<double> dt = case_number(case_json, file, "dt", 0.0, 1.0);
+  if (!dt || *dt <= 0.0) throw util::UserError(fmt::format("{}: no time step (dt)", file.string()));
+  constexpr long k_big = std::numeric_limits<int>::max();
+  const long fill = case_integer(case_json, file, "assembly.particles", 0, k_big).value_or(0);
+  const long floor = case_integer(case_json, file, "assembly.floor_particles", 0, k_big).value_or(0);
+  const long fill_steps = steps_for(s.fill_time, *dt, "[drawdown] fill_time");
+  const long check_steps = steps_for(s.check_time, *dt, "[drawdown] check_time");
+  const long window_checks = std::max(1L, std::lround(s.window / s.check_time));
+  const long max_windows = std::max(1L, std::lround(std::ceil(s.time_cap / (window_checks * s.check_time))));
+  CaseCost cost;
+  cost.steps = fill_steps + max_windows * window_checks * check_steps;
+  cost.particles = fill + floor;
+  cost.atom_steps = static_cast<double>(cost.steps) * static_cast<double>(cost.particles);
+  cost.may_end_early = true;
+  cost.schedule = fmt::format(
+      "{} atoms for {} fill steps and up to {} discharge steps (the cap: the flow stops "
+      "earlier and discharged particles are removed)",
+      cost.particles, fill_steps, max_windows * window_checks * check_steps);
+  return cost;
 }
 
 }  // namespace demsa::experiments::drawdown

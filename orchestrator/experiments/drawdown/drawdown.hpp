@@ -70,3 +70,11 @@ inline constexpr const char* k_discharge = "drawdown_discharge.txt";  ///< t_ope
 inline constexpr const char* k_end = "drawdown_end.txt";  ///< stopped, t_open, fill_mass, discharged, removed
 
 }  // namespace demsa::experiments::drawdown
+
+namespace demsa::experiments::drawdown {
+
+/// The atom-steps of a written case by its schedule (case.cpp): Experiment::case_cost.
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
+                   const std::filesystem::path& file);
+
+}  // namespace demsa::experiments::drawdown

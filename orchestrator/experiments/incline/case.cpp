@@ -1,6 +1,8 @@
 #include "orchestrator/experiments/incline/incline.hpp"
 
+#include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
 
@@ -84,6 +86,33 @@ CaseWritten InclineDraft::write(const Material& m, const TimestepChoice& ts, Par
 
 std::unique_ptr<CaseDraft> draft_case(const StudyConfig& config, std::uint64_t assembly_seed) {
   return std::make_unique<InclineDraft>(config, assembly_seed);
+}
+
+}  // namespace demsa::experiments::incline
+
+namespace demsa::experiments::incline {
+
+// The schedule of incline.liggghts: settle_steps on the level plate, then records of record_steps up to max_angle,
+// every probe present until it leaves (the cap: the tilt ends once every probe has left, case.cpp above).
+CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, const fs::path& file) {
+  const InclineSettings& s = settings(config);
+  const std::optional<double> dt = case_number(case_json, file, "dt", 0.0, 1.0);
+  if (!dt || *dt <= 0.0) throw util::UserError(fmt::format("{}: no time step (dt)", file.string()));
+  const long settle_steps = steps_for(s.settle_time, *dt, "[incline] settle_time");
+  const long record_steps = steps_for(s.record_angle / s.tilt_rate, *dt, "[incline] record_angle / tilt_rate");
+  const long records =
+      static_cast<long>(std::ceil(s.max_angle / (s.tilt_rate * static_cast<double>(record_steps) * *dt) - 1e-9));
+  const long atoms = s.rolling_probes + s.sliding_probes;
+  CaseCost cost;
+  cost.steps = settle_steps + records * record_steps;
+  cost.particles = atoms;
+  cost.atom_steps = static_cast<double>(cost.steps) * static_cast<double>(atoms);
+  cost.may_end_early = true;
+  cost.schedule = fmt::format(
+      "{} probes for {} settling steps and up to {} records of {} steps (the cap: the tilt "
+      "ends when every probe has left)",
+      atoms, settle_steps, records, record_steps);
+  return cost;
 }
 
 }  // namespace demsa::experiments::incline

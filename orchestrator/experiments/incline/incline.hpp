@@ -45,3 +45,11 @@ inline constexpr const char* k_probes_dump = "incline_probes.dump";  ///< every 
 inline constexpr const char* k_end = "incline_end.txt";              ///< `end_tilt T`, `removed N`
 
 }  // namespace demsa::experiments::incline
+
+namespace demsa::experiments::incline {
+
+/// The atom-steps of a written case by its schedule (case.cpp): Experiment::case_cost.
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
+                   const std::filesystem::path& file);
+
+}  // namespace demsa::experiments::incline

@@ -208,3 +208,11 @@ std::vector<PileMoment> read_history(const std::filesystem::path& folder);
 postprocess::Particles without_base(const postprocess::Particles& particles, long base_particles);
 
 }  // namespace demsa::experiments::pile
+
+namespace demsa::experiments::pile {
+
+/// The atom-steps of a written pile case by its schedule (cost.cpp): Experiment::case_cost.
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
+                   const std::filesystem::path& file);
+
+}  // namespace demsa::experiments::pile

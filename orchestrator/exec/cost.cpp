@@ -1,0 +1,426 @@
+#include "orchestrator/exec/cost.hpp"
+
+#include "orchestrator/exec/liggghts_locator.hpp"
+#include "orchestrator/exec/local_executor.hpp"
+#include "orchestrator/experiments/case_record.hpp"
+#include "orchestrator/experiments/registry.hpp"
+#include "orchestrator/study/folder.hpp"
+#include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/process.hpp"
+#include "postprocess/liggghts_log.hpp"
+
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <queue>
+#include <sstream>
+
+namespace demsa::exec {
+
+namespace fs = std::filesystem;
+using util::UserError;
+
+namespace {
+
+constexpr const char* k_rate_input =
+    R"LIG(# demsa: the standard run that measures a LIGGGHTS's atom-steps per CPU-second (exec/cost.hpp)
+atom_style      sphere
+atom_modify     map array
+boundary        f f f
+newton          off
+communicate     single vel yes
+units           si
+region          domain block -0.021 0.021 -0.021 0.021 0.0 0.08 units box
+create_box      3 domain
+neighbor        0.001 bin
+neigh_modify    delay 0
+fix m1 all property/global youngsModulus peratomtype 1e7 1e7 1e7
+fix m2 all property/global poissonsRatio peratomtype 0.3 0.3 0.3
+fix m3 all property/global coefficientRestitution peratomtypepair 3 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4
+fix m4 all property/global coefficientFriction peratomtypepair 3 0.5 0.5 0.5 0.5 0.5 0.5 0.5 0.5 0.5
+fix m5 all property/global coefficientRollingFriction peratomtypepair 3 0.1 0.1 0.1 0.1 0.1 0.1 0.1 0.1 0.1
+pair_style      gran model hertz tangential history rolling_friction cdt
+pair_coeff      * *
+timestep        1e-5
+fix             gravi all gravity 9.81 vector 0.0 0.0 -1.0
+fix             floor all wall/gran model hertz tangential history rolling_friction cdt primitive type 3 zplane 0.0
+fix             xlo all wall/gran model hertz tangential history rolling_friction cdt primitive type 3 xplane -0.02
+fix             xhi all wall/gran model hertz tangential history rolling_friction cdt primitive type 3 xplane 0.02
+fix             ylo all wall/gran model hertz tangential history rolling_friction cdt primitive type 3 yplane -0.02
+fix             yhi all wall/gran model hertz tangential history rolling_friction cdt primitive type 3 yplane 0.02
+region          fill block -0.0185 0.0185 -0.0185 0.0185 0.0015 0.06 units box
+lattice         fcc 0.0042426
+create_atoms    1 region fill
+set             group all diameter 0.003 density 2500
+fix             integr all nve/sphere
+thermo          1000
+run             1000
+run             4000
+)LIG";
+
+nlohmann::json read_cache(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) return nlohmann::json::object();
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json doc = nlohmann::json::parse(text.str(), nullptr, false);
+  // A cache that is not ours (cut, edited) is measured again rather than refused: it holds nothing but measurements.
+  if (!doc.is_object() || !doc.contains("rates") || !doc["rates"].is_array()) return nlohmann::json::object();
+  return doc;
+}
+
+std::string seconds_text(double s) {
+  if (s < 120.0) return fmt::format("{:.0f} s", s);
+  if (s < 2.0 * 3600.0) return fmt::format("{:.1f} min", s / 60.0);
+  return fmt::format("{:.1f} h", s / 3600.0);
+}
+
+}  // namespace
+
+BinaryKey binary_key(const std::string& executable) {
+  const std::optional<std::string> found = find_on_path(executable);
+  if (!found) throw UserError(fmt::format("{}: no such LIGGGHTS executable", executable));
+  std::error_code ec;
+  const fs::path path = fs::canonical(*found, ec);
+  if (ec) throw UserError(fmt::format("{}: {}", *found, ec.message()));
+  BinaryKey key;
+  key.path = path.string();
+  key.size = fs::file_size(path);
+  key.mtime_ns =
+      static_cast<std::int64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                    std::chrono::file_clock::to_sys(fs::last_write_time(path)).time_since_epoch())
+                                    .count());
+  return key;
+}
+
+fs::path rate_cache_file() {
+  if (const char* env = std::getenv("DEMSA_RATE_CACHE"); env != nullptr && *env != '\0') return env;
+  return liggghts_cache_dir() / "liggghts-rates.json";
+}
+
+std::string rate_benchmark_input() { return k_rate_input; }
+
+std::optional<LiggghtsRate> cached_rate(const std::string& executable, const fs::path& cache_file) {
+  const BinaryKey key = binary_key(executable);
+  const nlohmann::json doc = read_cache(cache_file);
+  if (!doc.contains("rates")) return std::nullopt;
+  for (const nlohmann::json& e : doc["rates"]) {
+    if (!e.is_object() || e.value("binary", "") != key.path) continue;
+    if (e.value("size", std::uintmax_t{0}) != key.size || e.value("mtime_ns", std::int64_t{0}) != key.mtime_ns)
+      return std::nullopt;  // the binary changed since it was measured
+    const double rate = e.value("atom_steps_per_cpu_second", 0.0);
+    if (!(rate > 0.0)) return std::nullopt;
+    return LiggghtsRate{rate, fmt::format("the standard run of {} measured {} (cached in {})", key.path,
+                                          e.value("measured_at", std::string("earlier")), cache_file.string())};
+  }
+  return std::nullopt;
+}
+
+LiggghtsRate machine_rate(const std::string& executable, const fs::path& cache_file) {
+  if (std::optional<LiggghtsRate> cached = cached_rate(executable, cache_file)) return *cached;
+  const BinaryKey key = binary_key(executable);
+  const fs::path work = cache_file.parent_path() / fmt::format("rate-run-{}", ::getpid());
+  fs::create_directories(work);
+  util::write_file_atomically(work / "rate.liggghts", rate_benchmark_input());
+  util::CaptureOptions options;
+  options.cwd = work;
+  options.merge_stderr = true;
+  options.timeout = std::chrono::minutes(5);
+  const util::CaptureResult r =
+      util::run_capture({key.path, "-in", "rate.liggghts", "-log", "log.rate", "-screen", "none"}, options);
+  std::optional<postprocess::LoopSummary> last;
+  if (fs::exists(work / "log.rate")) {
+    const postprocess::LiggghtsLog log = postprocess::read_liggghts_log(work / "log.rate");
+    if (!log.loops.empty()) last = log.loops.back();
+  }
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  if (r.exit_code != 0 || !last || !(last->seconds > 0.0) || last->steps <= 0 || last->atoms <= 0)
+    throw UserError(fmt::format("{}: the standard run that measures its speed failed (exit {}{}): {}", key.path,
+                                r.exit_code, r.timed_out ? ", timed out" : "",
+                                r.start_error.empty() ? std::string("no `Loop time` line in its log") : r.start_error));
+  // The last run only: the first starts the packing (neighbour lists, contact histories).
+  const double atom_steps = static_cast<double>(last->steps) * static_cast<double>(last->atoms);
+  const double cpu = last->seconds * std::max(1, last->procs);
+  const double rate = atom_steps / cpu;
+  const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char when[32];
+  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  nlohmann::json doc = read_cache(cache_file);
+  if (!doc.contains("rates")) doc = {{"rates", nlohmann::json::array()}};
+  nlohmann::json kept = nlohmann::json::array();
+  for (const nlohmann::json& e : doc["rates"])
+    if (e.is_object() && e.value("binary", "") != key.path) kept.push_back(e);
+  kept.push_back({{"binary", key.path},
+                  {"size", key.size},
+                  {"mtime_ns", key.mtime_ns},
+                  {"atom_steps_per_cpu_second", rate},
+                  {"atom_steps", atom_steps},
+                  {"cpu_seconds", cpu},
+                  {"measured_at", when}});
+  doc["rates"] = kept;
+  fs::create_directories(cache_file.parent_path());
+  util::write_file_atomically(cache_file, doc.dump(2) + "\n");
+  return LiggghtsRate{rate, fmt::format("the standard run of {} measured now ({:.3g} atom-steps in {:.2f} CPU-s; "
+                                        "cached in {})",
+                                        key.path, atom_steps, cpu, cache_file.string())};
+}
+
+std::optional<CaseActual> case_actual(const fs::path& case_dir) {
+  const fs::path log = case_dir / study::k_case_log;
+  if (!fs::exists(log)) return std::nullopt;
+  const postprocess::LiggghtsLog parsed = postprocess::read_liggghts_log(log);
+  if (parsed.loops.empty()) return std::nullopt;
+  CaseActual a;
+  for (const postprocess::LoopSummary& l : parsed.loops) {
+    a.atom_steps += static_cast<double>(l.steps) * static_cast<double>(l.atoms);
+    a.cpu_seconds += l.seconds * std::max(1, l.procs);
+  }
+  return a;
+}
+
+namespace {
+
+std::optional<experiments::CaseCost> case_cost_of(const study::StudyConfig& config, const fs::path& case_dir) {
+  if (!fs::exists(case_dir / study::k_case_json)) return std::nullopt;
+  const experiments::Experiment& experiment = experiments::of(config);
+  if (experiment.case_cost == nullptr) return std::nullopt;
+  const nlohmann::json doc = experiments::read_case_json(case_dir);
+  return experiment.case_cost(config, doc, case_dir / study::k_case_json);
+}
+
+}  // namespace
+
+std::optional<double> case_cap_atom_steps(const study::StudyConfig& config, const fs::path& case_dir) {
+  const std::optional<experiments::CaseCost> c = case_cost_of(config, case_dir);
+  if (!c) return std::nullopt;
+  return c->atom_steps;
+}
+
+StudyEstimate estimate(const EstimateInput& input) {
+  StudyEstimate e;
+  e.slots = std::max(1, input.slots);
+  e.ranks = std::max(1, input.ranks);
+  double early_cap = 0.0, early_actual = 0.0, atom_steps = 0.0, cpu = 0.0;
+  for (const CaseCostInput& c : input.cases) {
+    if (!c.actual) continue;
+    ++e.finished;
+    atom_steps += c.actual->atom_steps;
+    cpu += c.actual->cpu_seconds;
+    if (c.may_end_early && c.cap_atom_steps > 0.0) {
+      early_cap += c.cap_atom_steps;
+      early_actual += c.actual->atom_steps;
+    }
+  }
+  if (early_cap > 0.0) {
+    e.early_ratio = early_actual / early_cap;
+    e.atom_step_source =
+        fmt::format("the schedule's cap x {:.3f}, the ratio actual / cap of the study's finished cases", e.early_ratio);
+  } else {
+    e.atom_step_source =
+        "the schedule's cap (no finished case yet: a case that ends early or removes particles costs "
+        "less)";
+  }
+  if (e.finished > 0 && cpu > 0.0) {
+    e.rate = atom_steps / cpu;
+    e.rate_source =
+        fmt::format("this study's {} finished case(s): {:.3g} atom-steps in {:.0f} CPU-s", e.finished, atom_steps, cpu);
+  } else if (input.rate && input.rate->atom_steps_per_cpu_second > 0.0) {
+    e.rate = input.rate->atom_steps_per_cpu_second;
+    e.rate_source = input.rate->source;
+  } else {
+    e.rate_source = input.rate_failure.empty() ? "none: no finished case and no measured rate of this LIGGGHTS"
+                                               : fmt::format("none: {}", input.rate_failure);
+  }
+  // Graham's list scheduling: each case, in order, on the slot that frees first.
+  std::priority_queue<double, std::vector<double>, std::greater<>> all_slots, left_slots;
+  for (int i = 0; i < e.slots; ++i) {
+    all_slots.push(0.0);
+    left_slots.push(0.0);
+  }
+  const auto schedule = [](std::priority_queue<double, std::vector<double>, std::greater<>>& q, double wall) {
+    const double start = q.top();
+    q.pop();
+    q.push(start + wall);
+    return start + wall;
+  };
+  for (const CaseCostInput& c : input.cases) {
+    CaseEstimate ce;
+    ce.sample = c.sample;
+    ce.cap_atom_steps = c.cap_atom_steps;
+    ce.actual = c.actual;
+    if (c.actual) {
+      ce.atom_steps = c.actual->atom_steps;
+      ce.cpu_seconds = c.actual->cpu_seconds;
+    } else {
+      ce.atom_steps = c.cap_atom_steps * (c.may_end_early ? e.early_ratio : 1.0);
+      ce.cpu_seconds = e.rate > 0.0 ? ce.atom_steps / e.rate : 0.0;
+    }
+    // A case of R ranks spends its CPU on R cores at once (its loop time x R is its CPU).
+    ce.wall_seconds = ce.cpu_seconds / e.ranks;
+    e.atom_steps += ce.atom_steps;
+    e.cpu_seconds += ce.cpu_seconds;
+    e.wall_seconds = std::max(e.wall_seconds, schedule(all_slots, ce.wall_seconds));
+    if (!c.actual) {
+      e.remaining_atom_steps += ce.atom_steps;
+      e.remaining_cpu_seconds += ce.cpu_seconds;
+      e.remaining_wall_seconds = std::max(e.remaining_wall_seconds, schedule(left_slots, ce.wall_seconds));
+    }
+    e.cases.push_back(ce);
+  }
+  return e;
+}
+
+namespace {
+
+int executor_slots(const study::RunSettings& run, int cases) {
+  if (run.executor == study::ExecutorKind::slurm)
+    return run.slurm.throttle > 0 ? std::min(run.slurm.throttle, std::max(1, cases)) : std::max(1, cases);
+  try {
+    return local_parallel(run, machine_cores());
+  } catch (const UserError&) {
+    return std::max(1, run.parallel);  // an oversubscribed study: `demsa run` refuses it, the bill counts its slots
+  }
+}
+
+}  // namespace
+
+StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& dir, const StudyCostOptions& options) {
+  const study::Store store = study::Store::open_read_only((dir / study::k_store_file).string());
+  std::vector<int> order;
+  for (const study::SampleRow& s : store.samples()) order.push_back(s.sample);
+  for (const study::ReplicateRow& r : store.replicates()) order.push_back(r.sample);
+  std::map<int, study::CaseCostRow> recorded;
+  std::map<int, bool> done;
+  for (const study::RunRow& r : store.runs())
+    if (r.state == study::RunState::done) done[r.sample] = true;
+  for (const study::CaseCostRow& r : store.case_costs())
+    if (done.count(r.sample) != 0) recorded[r.sample] = r;
+
+  EstimateInput input;
+  input.ranks = config.run.ranks;
+  input.slots = executor_slots(config.run, static_cast<int>(order.size()));
+  for (const int sample : order) {
+    const fs::path folder = study::case_dir(dir, sample);
+    const std::optional<experiments::CaseCost> cost = case_cost_of(config, folder);
+    if (!cost) continue;
+    CaseCostInput c{sample, cost->atom_steps, cost->may_end_early, std::nullopt};
+    if (done.count(sample) != 0) {
+      if (const auto it = recorded.find(sample); it != recorded.end())
+        c.actual = CaseActual{it->second.atom_steps, it->second.cpu_seconds};
+      else
+        c.actual = case_actual(folder);  // a run an older demsa committed: its log
+    }
+    input.cases.push_back(c);
+  }
+  if (const std::optional<std::string> exe = find_on_path(config.run.liggghts)) {
+    try {
+      input.rate = options.measure_rate ? std::optional<LiggghtsRate>(machine_rate(*exe, options.cache_file))
+                                        : cached_rate(*exe, options.cache_file);
+    } catch (const UserError& e) {
+      // The bill goes without a rate (atom-steps only) rather than failing the dry run that validated the study.
+      input.rate_failure = e.what();
+    }
+  }
+  return estimate(input);
+}
+
+nlohmann::ordered_json estimate_json(const StudyEstimate& e) {
+  nlohmann::ordered_json cases = nlohmann::ordered_json::array();
+  for (const CaseEstimate& c : e.cases) {
+    nlohmann::ordered_json j{
+        {"sample", c.sample},           {"cap_atom_steps", c.cap_atom_steps}, {"atom_steps", c.atom_steps},
+        {"cpu_seconds", c.cpu_seconds}, {"wall_seconds", c.wall_seconds},     {"finished", c.actual.has_value()}};
+    cases.push_back(j);
+  }
+  return {{"estimate",
+           {{"atom_steps", e.atom_steps},
+            {"cpu_seconds", e.cpu_seconds},
+            {"wall_seconds", e.wall_seconds},
+            {"cpu_hours", e.cpu_seconds / 3600.0},
+            {"remaining_atom_steps", e.remaining_atom_steps},
+            {"remaining_cpu_seconds", e.remaining_cpu_seconds},
+            {"remaining_wall_seconds", e.remaining_wall_seconds},
+            {"finished_cases", e.finished},
+            {"early_ratio", e.early_ratio},
+            {"atom_steps_source", e.atom_step_source},
+            {"rate_atom_steps_per_cpu_second", e.rate},
+            {"rate_source", e.rate_source},
+            {"slots", e.slots},
+            {"ranks", e.ranks},
+            {"cases", cases}}}};
+}
+
+std::string estimate_text(const StudyEstimate& e) {
+  double lo = 0.0, hi = 0.0;
+  for (const CaseEstimate& c : e.cases) {
+    lo = lo == 0.0 ? c.atom_steps : std::min(lo, c.atom_steps);
+    hi = std::max(hi, c.atom_steps);
+  }
+  std::string s = fmt::format("estimate: {} cases, {:.3g}-{:.3g} atom-steps each, {:.3g} in all ({} finished)\n",
+                              e.cases.size(), lo, hi, e.atom_steps, e.finished);
+  s += fmt::format("  atom-steps: {}\n", e.atom_step_source);
+  if (e.rate > 0.0) {
+    s += fmt::format("  rate: {:.3g} atom-steps per CPU-second, from {}\n", e.rate, e.rate_source);
+    s +=
+        fmt::format("  CPU: {} ({:.2f} CPU-hours); wall: {} on {} slot(s) of {} rank(s)\n", seconds_text(e.cpu_seconds),
+                    e.cpu_seconds / 3600.0, seconds_text(e.wall_seconds), e.slots, e.ranks);
+    if (e.finished > 0)
+      s += fmt::format("  left: {:.3g} atom-steps, {} CPU, {} wall\n", e.remaining_atom_steps,
+                       seconds_text(e.remaining_cpu_seconds), seconds_text(e.remaining_wall_seconds));
+  } else {
+    s += fmt::format("  rate: {}; `demsa run STUDY --dry-run` measures it\n", e.rate_source);
+  }
+  return s;
+}
+
+std::string predicted_vs_actual_table(const std::vector<study::CaseCostRow>& rows) {
+  std::string s =
+      "| sample | cap atom-steps | predicted atom-steps | actual atom-steps | actual / predicted | predicted CPU [s] | "
+      "actual CPU [s] | actual / predicted CPU |\n|---|---|---|---|---|---|---|---|\n";
+  for (const study::CaseCostRow& r : rows) {
+    const std::string cpu_ratio =
+        r.predicted_cpu_seconds > 0.0 ? fmt::format("{:.2f}", r.cpu_seconds / r.predicted_cpu_seconds) : "-";
+    const std::string cpu_pred = r.predicted_cpu_seconds > 0.0 ? fmt::format("{:.1f}", r.predicted_cpu_seconds) : "-";
+    s += fmt::format("| {} | {:.3g} | {:.3g} | {:.3g} | {:.2f} | {} | {:.1f} | {} |\n", r.sample, r.cap_atom_steps,
+                     r.predicted_atom_steps, r.atom_steps,
+                     r.predicted_atom_steps > 0.0 ? r.atom_steps / r.predicted_atom_steps : 0.0, cpu_pred,
+                     r.cpu_seconds, cpu_ratio);
+  }
+  return s;
+}
+
+std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config, const fs::path& case_dir, long run,
+                                                int sample, const std::vector<study::CaseCostRow>& before) {
+  const std::optional<experiments::CaseCost> cost = case_cost_of(config, case_dir);
+  const std::optional<CaseActual> actual = case_actual(case_dir);
+  if (!cost || !actual) return std::nullopt;
+  EstimateInput input;
+  for (const study::CaseCostRow& r : before)
+    input.cases.push_back({r.sample, r.cap_atom_steps, true, CaseActual{r.atom_steps, r.cpu_seconds}});
+  input.cases.push_back({sample, cost->atom_steps, cost->may_end_early, std::nullopt});
+  if (before.empty())
+    if (const std::optional<std::string> exe = find_on_path(config.run.liggghts))
+      input.rate = cached_rate(*exe, rate_cache_file());
+  const StudyEstimate e = estimate(input);
+  study::CaseCostRow row;
+  row.run = run;
+  row.sample = sample;
+  row.cap_atom_steps = cost->atom_steps;
+  row.predicted_atom_steps = e.cases.back().atom_steps;
+  row.predicted_cpu_seconds = e.cases.back().cpu_seconds;
+  row.atom_steps = actual->atom_steps;
+  row.cpu_seconds = actual->cpu_seconds;
+  return row;
+}
+
+}  // namespace demsa::exec

@@ -1,0 +1,149 @@
+#pragma once
+// What a study costs before and while it runs: the atom-steps of each case by its experiment's schedule
+// (Experiment::case_cost), the CPU-seconds at a LIGGGHTS's measured rate (atom-steps per CPU-second, measured once per
+// LIGGGHTS binary by a short standard run and cached, or the study's own finished cases), and the wall time with the
+// executor's parallelism. docs/cost.md.
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/study/store.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demsa::exec {
+
+// ---------------------------------------------------------------- the machine's rate
+/// A LIGGGHTS's speed: atom-steps per CPU-second, and where the number comes from.
+struct LiggghtsRate {
+  double atom_steps_per_cpu_second = 0.0;
+  std::string source;  ///< one line for the user: "measured now", "cached measurement of BINARY (FILE)", ...
+};
+
+/// What identifies a LIGGGHTS binary in the rate cache: its resolved path, size and modification time. A rebuilt or
+/// replaced binary has another key, and its rate is measured again.
+struct BinaryKey {
+  std::string path;  ///< canonical path (symbolic links resolved)
+  std::uintmax_t size = 0;
+  std::int64_t mtime_ns = 0;
+  bool operator==(const BinaryKey&) const = default;
+};
+
+/// The key of `executable` (a path, or a name on $PATH). Throws util::UserError when it does not exist.
+BinaryKey binary_key(const std::string& executable);
+
+/// The rate cache: $DEMSA_RATE_CACHE when set, else liggghts_cache_dir()/liggghts-rates.json
+/// (${XDG_CACHE_HOME:-$HOME/.cache}/demsa/liggghts-rates.json). A JSON object {"rates": [{binary, size, mtime_ns,
+/// atom_steps_per_cpu_second, atom_steps, cpu_seconds, measured_at}]}, one entry per binary.
+std::filesystem::path rate_cache_file();
+
+/// The input script of the standard run: 4046 spheres of 3 mm (E = 1e7 Pa, Hertz with tangential history and `cdt`
+/// rolling friction, the templates' contact model) in an fcc packing of touching neighbours in a 40 mm box,
+/// compacting under gravity: 1000 steps to start, then 4000 measured steps. About 3 s of CPU.
+std::string rate_benchmark_input();
+
+/// The rate of `executable` from `cache_file`, when its key is there; none otherwise (a changed binary included).
+std::optional<LiggghtsRate> cached_rate(const std::string& executable, const std::filesystem::path& cache_file);
+
+/// The cached rate of `executable`, or, when there is none, the rate measured now by the standard run (in a temporary
+/// folder beside the cache, one rank) and stored in `cache_file` under its key (a changed binary's entry replaced).
+/// Throws util::UserError when the run fails or its log has no `Loop time` line.
+LiggghtsRate machine_rate(const std::string& executable, const std::filesystem::path& cache_file);
+
+// ---------------------------------------------------------------- a finished case
+/// What a finished case cost: the sums over its log's `Loop time of X on N procs for S steps with M atoms` lines.
+struct CaseActual {
+  double atom_steps = 0.0;   ///< sum of S x M
+  double cpu_seconds = 0.0;  ///< sum of X x N (LIGGGHTS's loop time on every rank) [s]
+};
+
+/// From CASE/log.liggghts; none when the case has no log or it has no `Loop time` line.
+std::optional<CaseActual> case_actual(const std::filesystem::path& case_dir);
+
+/// The schedule's cap of a written case (its experiment's case_cost on CASE/case.json); none when the folder has no
+/// case.json or the experiment gives no estimate.
+std::optional<double> case_cap_atom_steps(const study::StudyConfig& config, const std::filesystem::path& case_dir);
+
+// ---------------------------------------------------------------- the arithmetic
+/// One case of the estimate: its cap, whether it may end early, and what it cost when it has finished.
+struct CaseCostInput {
+  int sample = 0;
+  double cap_atom_steps = 0.0;
+  bool may_end_early = false;
+  std::optional<CaseActual> actual;  ///< set for a finished case
+};
+
+struct EstimateInput {
+  std::vector<CaseCostInput> cases;  ///< in the order they run
+  std::optional<LiggghtsRate> rate;  ///< the machine's (a cached or new measurement); none: CPU and wall unknown
+  std::string rate_failure;          ///< why there is none (the standard run failed), for rate_source
+  int ranks = 1;                     ///< MPI ranks per case: a case's wall time is its CPU time / ranks
+  int slots = 1;                     ///< cases at once (local: [run] parallel or cores / ranks; SLURM: the throttle)
+};
+
+struct CaseEstimate {
+  int sample = 0;
+  double cap_atom_steps = 0.0;
+  double atom_steps = 0.0;    ///< expected: the actual of a finished case, else the cap x the study's ratio
+  double cpu_seconds = 0.0;   ///< expected (actual when finished) [s]
+  double wall_seconds = 0.0;  ///< cpu_seconds / ranks [s]
+  std::optional<CaseActual> actual;
+};
+
+struct StudyEstimate {
+  std::vector<CaseEstimate> cases;
+  double atom_steps = 0.0;    ///< the whole study (finished cases at their actual cost)
+  double cpu_seconds = 0.0;   ///< [s]
+  double wall_seconds = 0.0;  ///< [s] every case on `slots` slots, in order, each started when a slot frees
+  double remaining_atom_steps = 0.0;
+  double remaining_cpu_seconds = 0.0;
+  double remaining_wall_seconds = 0.0;
+  int finished = 0;              ///< cases with an actual cost
+  double early_ratio = 1.0;      ///< actual / cap over the finished cases that may end early (1 when none)
+  double rate = 0.0;             ///< atom-steps per CPU-second used; 0 when none is known
+  std::string rate_source;       ///< where it came from
+  std::string atom_step_source;  ///< where the expected atom-steps came from
+  int slots = 1;
+  int ranks = 1;
+};
+
+/// The estimate (docs/cost.md): a finished case counts its actual atom-steps and CPU; any other case its cap, times
+/// the ratio actual / cap of the study's finished cases when it may end early and some have finished. The rate is the
+/// study's own (its finished cases' atom-steps over their CPU) when it has any, else `input.rate`. The wall time
+/// schedules the cases in order on `slots` slots, each case on the first slot to free (Graham's list scheduling,
+/// "Bounds on multiprocessing timing anomalies", SIAM J. Appl. Math. 17 (1969) 416-429), as the local executor starts
+/// them.
+StudyEstimate estimate(const EstimateInput& input);
+
+// ---------------------------------------------------------------- a study folder
+struct StudyCostOptions {
+  bool measure_rate = true;  ///< run the standard run when no rate is cached (false: `demsa status`, the report)
+  std::filesystem::path cache_file = rate_cache_file();
+};
+
+/// The estimate of the study in `dir` (config: its study file, LIGGGHTS resolved): every case of the store (design
+/// samples then replicates) from its case folder's case.json, the finished ones from the store's case costs (or
+/// their logs), the rate of the study or of `config.run.liggghts` (cached or measured), the executor's slots.
+StudyEstimate estimate_study(const study::StudyConfig& config, const std::filesystem::path& dir,
+                             const StudyCostOptions& options);
+
+/// The estimate as JSON: {"estimate": {atom_steps, cpu_seconds, wall_seconds, remaining_*, rate, rate_source, ...,
+/// "cases": [...]}}.
+nlohmann::ordered_json estimate_json(const StudyEstimate& estimate);
+
+/// The estimate as text lines for the terminal (the study's bill, the rate used and its source).
+std::string estimate_text(const StudyEstimate& estimate);
+
+/// The per-case table of predicted against actual (finished cases), Markdown, from the store's rows.
+std::string predicted_vs_actual_table(const std::vector<study::CaseCostRow>& rows);
+
+/// What the runner stores when a case is done: its cap, the prediction before it ran (from the rows of the cases
+/// done before it and the cached machine rate, never measured here) and its actual cost from its log. None when the
+/// case has no log with a `Loop time` line or no estimate.
+std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config, const std::filesystem::path& case_dir,
+                                                long run, int sample, const std::vector<study::CaseCostRow>& before);
+
+}  // namespace demsa::exec

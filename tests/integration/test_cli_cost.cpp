@@ -1,0 +1,88 @@
+// `demsa run STUDY --dry-run --json` prints the study's bill (exec/cost.hpp) at the fake LIGGGHTS's rate, measured
+// once and then reused; after the cases ran, `demsa status --json` takes the study's own rate and ratio, and the
+// store holds predicted against actual per case.
+#include "orchestrator/study/store.hpp"
+
+#include "support/test_support.hpp"
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace demsa {
+namespace {
+
+namespace fs = std::filesystem;
+
+int lines_of(const fs::path& file) {
+  const std::string text = fs::exists(file) ? test::read_file(file) : "";
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST(CliCost, DryRunJsonThenStatusAfterTheRun) {
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml",
+                   test::StudyToml{.name = "cost",
+                                   .samples = 4,
+                                   .tables = "[pile]\nparticles = 300\n",
+                                   .run = test::fake_liggghts_run_lines() + "parallel = 2\noversubscribe = true\n",
+                                   .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 0\nbase_samples = 512\n"
+                                               "second_order = false\n"}
+                       .text());
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  ::setenv("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").c_str(), 1);
+  ::setenv("FAKE_LIGGGHTS_RATE", "5e6", 1);
+
+  const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--json"}));
+  ASSERT_EQ(dry.exit_code, 0) << dry.out << dry.err;
+  const nlohmann::json j = nlohmann::json::parse(dry.out);
+  const nlohmann::json& e = j.at("estimate");
+  const double atom_steps = e.at("atom_steps").get<double>();
+  EXPECT_GT(atom_steps, 0.0);
+  EXPECT_NEAR(e.at("rate_atom_steps_per_cpu_second").get<double>(), 5e6, 1.0);
+  EXPECT_NEAR(e.at("cpu_seconds").get<double>(), atom_steps / 5e6, 1e-9 * atom_steps);
+  EXPECT_GT(e.at("wall_seconds").get<double>(), 0.0);
+  EXPECT_LE(e.at("wall_seconds").get<double>(), e.at("cpu_seconds").get<double>());
+  EXPECT_EQ(e.at("cases").size(), 4U);
+  EXPECT_EQ(e.at("slots").get<int>(), 2);
+  double sum = 0.0;
+  for (const nlohmann::json& c : e.at("cases")) sum += c.at("atom_steps").get<double>();
+  EXPECT_DOUBLE_EQ(sum, atom_steps);
+  EXPECT_EQ(lines_of(tmp / "rate_starts.log"), 1);
+
+  // The text form says which rate and where it is cached; the second dry run reuses it.
+  const test::CommandResult text = test::run_demsa(test::run_args(tmp, {"--dry-run"}));
+  ASSERT_EQ(text.exit_code, 0) << text.out << text.err;
+  EXPECT_NE(text.out.find("atom-steps per CPU-second"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find((tmp / "cache" / "rates.json").string()), std::string::npos) << text.out;
+  EXPECT_EQ(lines_of(tmp / "rate_starts.log"), 1);
+
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
+  const std::vector<study::CaseCostRow> rows = store.case_costs();
+  ASSERT_EQ(rows.size(), 4U);
+  for (const study::CaseCostRow& r : rows) {
+    EXPECT_GT(r.cap_atom_steps, 0.0);
+    EXPECT_GT(r.atom_steps, 0.0);  // the fake log's Loop line
+    EXPECT_DOUBLE_EQ(r.cpu_seconds, 0.5);
+  }
+  const test::CommandResult status = test::run_demsa({"status", (tmp / "study").string(), "--json"});
+  ASSERT_EQ(status.exit_code, 0) << status.out << status.err;
+  const nlohmann::json s = nlohmann::json::parse(status.out).at("estimate");
+  EXPECT_EQ(s.at("finished_cases").get<int>(), 4);
+  EXPECT_NE(s.at("rate_source").get<std::string>().find("this study's 4 finished case"), std::string::npos);
+  EXPECT_DOUBLE_EQ(s.at("cpu_seconds").get<double>(), 2.0);
+  const test::CommandResult status_text = test::run_demsa({"status", (tmp / "study").string()});
+  EXPECT_NE(status_text.out.find("predicted against actual"), std::string::npos) << status_text.out;
+  ::unsetenv("DEMSA_RATE_CACHE");
+  ::unsetenv("FAKE_LIGGGHTS_RATE");
+}
+
+}  // namespace
+}  // namespace demsa

@@ -1,0 +1,163 @@
+// The study's bill (exec/cost.hpp): the estimate's arithmetic on schedules made up here, the pile's atom-steps of a
+// schedule counted by hand, and the rate cache: reused for the same LIGGGHTS, measured again when the binary changes.
+#include "orchestrator/exec/cost.hpp"
+#include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/study/config.hpp"
+#include "orchestrator/util/errors.hpp"
+
+#include "support/test_support.hpp"
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+namespace demsa {
+namespace {
+
+using namespace demsa::exec;
+namespace fs = std::filesystem;
+
+LiggghtsRate rate_of(double r) { return LiggghtsRate{r, "test"}; }
+
+TEST(CostEstimate, CapsAtTheMachineRateOnTwoSlots) {
+  EstimateInput in;
+  in.cases = {{0, 1e8, true, std::nullopt}, {1, 2e8, true, std::nullopt}, {2, 3e8, false, std::nullopt}};
+  in.rate = rate_of(1e6);
+  in.slots = 2;
+  const StudyEstimate e = estimate(in);
+  EXPECT_DOUBLE_EQ(e.atom_steps, 6e8);
+  EXPECT_DOUBLE_EQ(e.cpu_seconds, 600.0);
+  // Case 0 (100 s) and case 1 (200 s) start at once; case 2 (300 s) takes the slot case 0 frees at 100 s.
+  EXPECT_DOUBLE_EQ(e.wall_seconds, 400.0);
+  EXPECT_DOUBLE_EQ(e.remaining_wall_seconds, 400.0);
+  EXPECT_EQ(e.finished, 0);
+  EXPECT_DOUBLE_EQ(e.early_ratio, 1.0);
+  EXPECT_EQ(e.rate_source, "test");
+}
+
+TEST(CostEstimate, FinishedCasesSetTheRatioAndTheRate) {
+  EstimateInput in;
+  // Case 0 ran half its cap at 2e6 atom-steps per CPU-second.
+  in.cases = {{0, 1e8, true, CaseActual{0.5e8, 25.0}}, {1, 2e8, true, std::nullopt}, {2, 3e8, false, std::nullopt}};
+  in.rate = rate_of(1e6);  // the machine's: not used once the study has its own
+  in.slots = 1;
+  const StudyEstimate e = estimate(in);
+  EXPECT_EQ(e.finished, 1);
+  EXPECT_DOUBLE_EQ(e.early_ratio, 0.5);
+  EXPECT_DOUBLE_EQ(e.rate, 2e6);
+  EXPECT_NE(e.rate_source.find("this study's 1 finished case"), std::string::npos);
+  ASSERT_EQ(e.cases.size(), 3U);
+  EXPECT_DOUBLE_EQ(e.cases[0].cpu_seconds, 25.0);
+  EXPECT_DOUBLE_EQ(e.cases[1].atom_steps, 1e8);  // may end early: the cap x 0.5
+  EXPECT_DOUBLE_EQ(e.cases[2].atom_steps, 3e8);  // runs to its cap
+  EXPECT_DOUBLE_EQ(e.cases[2].cpu_seconds, 150.0);
+  EXPECT_DOUBLE_EQ(e.atom_steps, 4.5e8);
+  EXPECT_DOUBLE_EQ(e.cpu_seconds, 225.0);
+  EXPECT_DOUBLE_EQ(e.wall_seconds, 225.0);  // one slot: in a row
+  EXPECT_DOUBLE_EQ(e.remaining_atom_steps, 4e8);
+  EXPECT_DOUBLE_EQ(e.remaining_cpu_seconds, 200.0);
+  EXPECT_DOUBLE_EQ(e.remaining_wall_seconds, 200.0);
+}
+
+TEST(CostEstimate, RanksShortenTheWallTimeAndNoRateLeavesItUnknown) {
+  EstimateInput in;
+  in.cases = {{0, 4e8, false, std::nullopt}};
+  in.rate = rate_of(1e6);
+  in.ranks = 4;
+  EXPECT_DOUBLE_EQ(estimate(in).wall_seconds, 100.0);
+  in.rate.reset();
+  const StudyEstimate none = estimate(in);
+  EXPECT_DOUBLE_EQ(none.atom_steps, 4e8);
+  EXPECT_DOUBLE_EQ(none.cpu_seconds, 0.0);
+  EXPECT_DOUBLE_EQ(none.rate, 0.0);
+  EXPECT_NE(none.rate_source.find("none"), std::string::npos);
+}
+
+TEST(CostEstimate, PileScheduleCountedByHand) {
+  // 100 atoms in 2 column discs, 3 discs of 100 appended every 10 steps, then settle_steps = 50 in checks of
+  // settle_check_time / dt = 0.02 / 1e-3 = 20 steps: 3 checks, 60 steps with all 400 atoms.
+  study::StudyConfig config;
+  const nlohmann::json doc = nlohmann::json::parse(R"({
+    "dt": 0.001,
+    "assembly": {"particles": 400, "discs": 5, "column_discs": 2, "column_particles": 100},
+    "pile": {"append_steps": 10, "settle_steps": 50, "settle_window_checks": 0, "remove_fallen": false}})");
+  const experiments::CaseCost c = experiments::pile::case_cost(config, doc, "case.json");
+  EXPECT_DOUBLE_EQ(c.atom_steps, 10.0 * (100 + 200 + 300) + 60.0 * 400);
+  EXPECT_EQ(c.steps, 30 + 60);
+  EXPECT_EQ(c.particles, 400);
+  EXPECT_FALSE(c.may_end_early);
+  nlohmann::json early = doc;
+  early["pile"]["remove_fallen"] = true;
+  EXPECT_TRUE(experiments::pile::case_cost(config, early, "case.json").may_end_early);
+  nlohmann::json cut = doc;
+  cut["pile"].erase("append_steps");
+  EXPECT_NE(test::message_of<util::UserError>([&] {
+              experiments::pile::case_cost(config, cut, "case.json");
+            }).find("pile.append_steps"),
+            std::string::npos);
+}
+
+/// A LIGGGHTS that only runs the standard run: a Loop line of 4000 steps x 4046 atoms in `seconds`, and a line in
+/// COUNT for every start.
+void write_fake_liggghts(const fs::path& exe, const fs::path& count, double seconds, const std::string& padding = "") {
+  test::write_file(exe,
+                   fmt::format("#!/bin/sh\n# {}\necho run >> '{}'\n"
+                               "printf 'Loop time of {} on 1 procs for 4000 steps with 4046 atoms\\n' > log.rate\n",
+                               padding, count.string(), seconds));
+  ::chmod(exe.c_str(), 0755);
+}
+
+int lines_of(const fs::path& file) {
+  const std::string text = fs::exists(file) ? test::read_file(file) : "";
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST(CostRate, CachedPerBinaryAndMeasuredAgainWhenItChanges) {
+  test::TempDir tmp;
+  const fs::path exe = tmp / "liggghts";
+  const fs::path count = tmp / "starts.txt";
+  const fs::path cache = tmp / "cache" / "liggghts-rates.json";
+  write_fake_liggghts(exe, count, 4.046);  // 4000 x 4046 / 4.046 = 4e6 atom-steps per CPU-second
+  EXPECT_FALSE(cached_rate(exe.string(), cache));
+
+  const LiggghtsRate first = machine_rate(exe.string(), cache);
+  EXPECT_DOUBLE_EQ(first.atom_steps_per_cpu_second, 4e6);
+  EXPECT_NE(first.source.find("measured now"), std::string::npos);
+  EXPECT_EQ(lines_of(count), 1);
+
+  const LiggghtsRate again = machine_rate(exe.string(), cache);  // reused: not run again
+  EXPECT_DOUBLE_EQ(again.atom_steps_per_cpu_second, 4e6);
+  EXPECT_NE(again.source.find("cached in"), std::string::npos);
+  EXPECT_EQ(lines_of(count), 1);
+
+  // Another build at the same path (another size and time): its cached rate is no longer used.
+  write_fake_liggghts(exe, count, 2.023, "rebuilt with other flags");
+  EXPECT_FALSE(cached_rate(exe.string(), cache));
+  const LiggghtsRate rebuilt = machine_rate(exe.string(), cache);
+  EXPECT_DOUBLE_EQ(rebuilt.atom_steps_per_cpu_second, 8e6);
+  EXPECT_EQ(lines_of(count), 2);
+  EXPECT_DOUBLE_EQ(machine_rate(exe.string(), cache).atom_steps_per_cpu_second, 8e6);
+  EXPECT_EQ(lines_of(count), 2);
+  // One entry per binary: the old measurement was replaced.
+  const nlohmann::json doc = nlohmann::json::parse(test::read_file(cache));
+  EXPECT_EQ(doc["rates"].size(), 1U);
+}
+
+TEST(CostRate, AFailedStandardRunNamesTheBinary) {
+  test::TempDir tmp;
+  const fs::path exe = tmp / "liggghts";
+  test::write_file(exe, "#!/bin/sh\nexit 1\n");
+  ::chmod(exe.c_str(), 0755);
+  const std::string message =
+      test::message_of<util::UserError>([&] { machine_rate(exe.string(), tmp / "rates.json"); });
+  EXPECT_NE(message.find("the standard run that measures its speed failed"), std::string::npos);
+  EXPECT_FALSE(fs::exists(tmp / "rates.json"));
+}
+
+}  // namespace
+}  // namespace demsa
