@@ -148,9 +148,16 @@ LiggghtsRate machine_rate(const std::string& executable, const fs::path& cache_f
     throw UserError(fmt::format("{}: the standard run that measures its speed failed (exit {}{}): {}", key.path,
                                 r.exit_code, r.timed_out ? ", timed out" : "",
                                 r.start_error.empty() ? std::string("no `Loop time` line in its log") : r.start_error));
-  // The last run only: the first starts the packing (neighbour lists, contact histories).
+  // The last run only: the first starts the packing (neighbour lists, contact histories). Its loop time is wall time;
+  // on a loaded machine the run had only a share of a core, so the loop's CPU time is its wall time times the share
+  // the whole run had: its CPU time from wait4's rusage over its wall time, at most one core per rank (a log whose loop
+  // outlasts the run it came from is taken as it is).
   const double atom_steps = static_cast<double>(last->steps) * static_cast<double>(last->atoms);
-  const double cpu = last->seconds * std::max(1, last->procs);
+  const int ranks = std::max(1, last->procs);
+  const double share = r.cpu_seconds > 0 && r.wall_seconds >= last->seconds
+                           ? std::min(1.0, r.cpu_seconds / (r.wall_seconds * ranks))
+                           : 1.0;
+  const double cpu = last->seconds * ranks * share;
   const double rate = atom_steps / cpu;
   const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char when[32];

@@ -240,6 +240,7 @@ void drain(Fd& fd, std::string& target) {
 CaptureResult run_capture(const std::vector<std::string>& argv, const CaptureOptions& options) {
   assert(!argv.empty());
   const std::string& program = argv[0];
+  const Clock::time_point started = Clock::now();
   std::optional<SigpipeGuard> sigpipe;
   if (options.input) sigpipe.emplace();
 
@@ -304,8 +305,11 @@ CaptureResult run_capture(const std::vector<std::string>& argv, const CaptureOpt
   in_write.close();
 
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  struct rusage usage {};
+  while (::wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
   }
+  result.cpu_seconds = seconds(usage.ru_utime) + seconds(usage.ru_stime);
+  result.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   if (WIFEXITED(status)) {
     result.exit_code = WEXITSTATUS(status);
   } else if (WIFSIGNALED(status)) {

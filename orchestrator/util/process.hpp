@@ -44,11 +44,13 @@ struct CaptureResult {
   /// As a shell's `$?`: the exit status; 128 + N when killed by signal N; 127 when the program was not found and
   /// 126 when it could not be started otherwise (see start_error).
   int exit_code = -1;
-  int signal = 0;           ///< the signal that ended it; 0 when it exited
-  bool timed_out = false;   ///< killed because options.timeout passed (then signal = SIGKILL)
-  std::string start_error;  ///< why it could not be started ("cannot run PROG: ..."); empty when it ran
-  std::string out;          ///< standard output (and standard error when merged)
-  std::string err;          ///< standard error (empty when merged)
+  int signal = 0;             ///< the signal that ended it; 0 when it exited
+  bool timed_out = false;     ///< killed because options.timeout passed (then signal = SIGKILL)
+  std::string start_error;    ///< why it could not be started ("cannot run PROG: ..."); empty when it ran
+  std::string out;            ///< standard output (and standard error when merged)
+  std::string err;            ///< standard error (empty when merged)
+  double cpu_seconds = 0.0;   ///< user + system time of it and of the descendants it waited for (wait4's rusage)
+  double wall_seconds = 0.0;  ///< from its start to its end (a monotonic clock)
 };
 
 /// Runs argv (at least the program) to its end and captures its output. Throws util::InternalError naming the

@@ -117,6 +117,19 @@ int lines_of(const fs::path& file) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
 
+TEST(CostRate, ARunWithASmallShareOfACoreIsCreditedItsCpuTimeNotItsWallTime) {
+  // A standard run that waits half a second for a loop of 0.4 s (a machine loaded by other work): its CPU time,
+  // wait4's rusage, is a few milliseconds, and the rate follows the CPU time, not the loop's wall time.
+  test::TempDir tmp;
+  const fs::path exe = tmp / "liggghts";
+  test::write_file(exe,
+                   "#!/bin/sh\nsleep 0.5\nprintf 'Loop time of 0.4 on 1 procs for 4000 steps with 4046 atoms\\n' > "
+                   "log.rate\n");
+  ::chmod(exe.c_str(), 0755);
+  const LiggghtsRate rate = machine_rate(exe.string(), tmp / "cache" / "liggghts-rates.json");
+  EXPECT_GT(rate.atom_steps_per_cpu_second, 10 * 4000 * 4046 / 0.4) << rate.source;
+}
+
 TEST(CostRate, CachedPerBinaryAndMeasuredAgainWhenItChanges) {
   test::TempDir tmp;
   const fs::path exe = tmp / "liggghts";
