@@ -540,20 +540,24 @@ std::string result_json(const FinishedCase& finished, const InFlight& flight,
   return result.dump(2) + "\n";
 }
 
-/// One case ended (ninja's Builder::FinishCommand): classify it, measure it, write its result.json, commit its run
-/// (done, failed or requeued: one store transaction) and tell the plan. result.json is written atomically before
-/// the commit, so a crash between the two is recovered from it (recover_submitted).
 /// Stores what a done case cost against its prediction (exec/cost.hpp); a case whose cost cannot be read is noted in
-/// the events and left out of the comparison (its result counts all the same).
-void record_case_cost(Loop& loop, const fs::path& folder, long run, int sample) {
+/// the events and left out of the comparison (its result counts all the same). The actual CPU is the run's own
+/// (wait4's rusage of run.sh and what it waited for) when the executor measured one: its log's loop times are wall
+/// time, which overstate the CPU of a case that shared its core.
+void record_case_cost(Loop& loop, const fs::path& folder, long run, int sample, double run_cpu_seconds) {
   try {
-    if (const auto row = case_cost_row(loop.config, folder, run, sample, loop.store.case_costs()))
+    if (auto row = case_cost_row(loop.config, folder, run, sample, loop.store.case_costs())) {
+      if (run_cpu_seconds > 0) row->cpu_seconds = run_cpu_seconds;
       loop.store.record_case_cost(*row);
+    }
   } catch (const std::exception& e) {
     loop.store.add_event("cost", fmt::format("run {}: its cost was not recorded: {}", run, e.what()), sample);
   }
 }
 
+/// One case ended (ninja's Builder::FinishCommand): classify it, measure it, write its result.json, commit its run
+/// (done, failed or requeued: one store transaction) and tell the plan. result.json is written atomically before
+/// the commit, so a crash between the two is recovered from it (recover_submitted).
 void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& flight) {
   const fs::path& folder = finished.task.folder;
   FailureReport report = classify_case(finished.exit, folder, failure_options(loop.config, flight.particles));
@@ -580,7 +584,7 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
     write_case_vtk_or_warn(folder);
     write_file_atomically(folder / k_result_file, result_json(finished, flight, observables));
     loop.store.record_done(flight.run, outcome, observables);
-    record_case_cost(loop, folder, flight.run, flight.sample);
+    record_case_cost(loop, folder, flight.run, flight.sample, finished.exit.cpu_seconds);
     loop.plan.mark_done(flight.sample, flight.attempt);
     ++loop.summary.done_now;
     if (finished.exit.wall_seconds > 0) loop.walls.push_back(finished.exit.wall_seconds);

@@ -153,7 +153,8 @@ struct CaseCostRow {
   double predicted_atom_steps = 0.0;   ///< the expectation before it ran (the cap x the study's ratio then)
   double predicted_cpu_seconds = 0.0;  ///< ... at the rate known then [s]; 0 when none was known
   double atom_steps = 0.0;             ///< actual: the sum of its log's `Loop time` lines, steps x atoms
-  double cpu_seconds = 0.0;            ///< actual LIGGGHTS CPU: the sum of their loop time x procs [s]
+  /// actual CPU [s]: the run's rusage when the executor measured one, else the sum of the loop times x procs
+  double cpu_seconds = 0.0;
 };
 
 struct EventRow {
