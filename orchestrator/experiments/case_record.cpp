@@ -63,6 +63,15 @@ const nlohmann::json* find(const nlohmann::json& doc, const std::string& path) {
 
 }  // namespace
 
+std::size_t case_list_size(const nlohmann::json& doc, const fs::path& file, const std::string& path, std::size_t most) {
+  const nlohmann::json* v = find(doc, path);
+  if (v == nullptr) return 0;
+  if (!v->is_array() || v->size() > most)
+    throw util::UserError(file.string(), 0,
+                          fmt::format("{} = {}: not a list of at most {} values", path, v->dump().substr(0, 80), most));
+  return v->size();
+}
+
 std::optional<double> case_number(const nlohmann::json& doc, const fs::path& file, const std::string& path, double low,
                                   double high) {
   const nlohmann::json* v = find(doc, path);

@@ -27,6 +27,10 @@ std::optional<double> case_number(const nlohmann::json& doc, const std::filesyst
 /// The same for an integer in [low, high] (a fraction or a number beyond the range is refused, not narrowed).
 std::optional<long> case_integer(const nlohmann::json& doc, const std::filesystem::path& file, const std::string& path,
                                  long low, long high);
+/// The length of a list at `path` ("pile.history.snapshot_checks"; its elements are PATH.0, PATH.1, ...): 0 when a
+/// key on the path is missing. Throws util::UserError when it is there but not a list, or longer than `most`.
+std::size_t case_list_size(const nlohmann::json& doc, const std::filesystem::path& file, const std::string& path,
+                           std::size_t most);
 /// The same for a string.
 std::optional<std::string> case_string(const nlohmann::json& doc, const std::filesystem::path& file,
                                        const std::string& path);

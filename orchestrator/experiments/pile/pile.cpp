@@ -138,25 +138,6 @@ pp::Particles without_base(const pp::Particles& particles, long base_particles) 
 
 namespace {
 
-/// A list of case.json at `path` (e.g. "pile.history.snapshot_checks"): its length, 0 when it is missing; throws
-/// util::UserError when it is not a list or longer than `most`.
-std::size_t case_list_size(const nlohmann::json& doc, const fs::path& file, const std::string& path, std::size_t most) {
-  const nlohmann::json* node = &doc;
-  std::size_t from = 0;
-  while (from <= path.size()) {
-    const std::size_t dot = std::min(path.find('.', from), path.size());
-    const std::string key = path.substr(from, dot - from);
-    if (!node->is_object() || !node->contains(key)) return 0;
-    node = &(*node)[key];
-    from = dot + 1;
-  }
-  if (!node->is_array() || node->size() > most)
-    throw util::UserError(
-        file.string(), 0,
-        fmt::format("{} = {}: not a list of at most {} values", path, node->dump().substr(0, 80), most));
-  return node->size();
-}
-
 /// The pile of one dump measured by both estimators; NaN angles when it holds no pile to measure (a snapshot taken
 /// while the last disc still falls onto an empty pedestal).
 PileMoment measure_moment(const fs::path& dump, long base, pp::PileAngleOptions options) {
