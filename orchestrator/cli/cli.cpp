@@ -1,6 +1,7 @@
 #include "orchestrator/cli/cli.hpp"
 
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/exec/cost.hpp"
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
@@ -23,7 +24,8 @@ using namespace demsa::exec;
 
 namespace {
 
-/// "LIGGGHTS 3.8.0 (/usr/bin/liggghts); rolling models: cdt, epsd, ...": read from its `-h` (query_liggghts_at).
+/// "LIGGGHTS 3.8.0 (/usr/bin/liggghts); rolling models: cdt, epsd, ...": read from its `-h` (query_liggghts_at), and
+/// its rate when demsa's standard run measured it (exec/cost.hpp's cache; a cache that cannot be read is left out).
 void print_liggghts(const std::string& what, const LiggghtsInfo& info) {
   if (info.version.empty())
     fmt::print("{}: found at {}, but its version could not be read from `-h`\n", what, info.executable);
@@ -32,6 +34,11 @@ void print_liggghts(const std::string& what, const LiggghtsInfo& info) {
   std::string models;
   for (const std::string& m : info.rolling_models) models += (models.empty() ? "" : ", ") + m;
   fmt::print("  rolling models: {}\n", models.empty() ? "unknown (not listed by `-h`)" : models);
+  try {
+    if (const std::optional<LiggghtsRate> rate = cached_rate(info.executable, rate_cache_file()))
+      fmt::print("  speed: {:.3g} atom-steps per CPU-second ({})\n", rate->atom_steps_per_cpu_second, rate->source);
+  } catch (const std::exception&) {
+  }
 }
 
 void print_version() {
@@ -49,6 +56,12 @@ void print_version() {
     fmt::print("LIGGGHTS of scripts/build-liggghts.sh: none in {} (needed by the viscous rolling model)\n",
                liggghts_cache_dir().string());
   }
+  // exec::resolve_liggghts is the rule; docs/benchmarks.md ("LIGGGHTS builds") measured the two builds.
+  fmt::print(
+      "which a study runs: the one its [run] liggghts names; else, but for `cdt`, $DEMSA_LIGGGHTS; else, for "
+      "`viscous`, the build of scripts/build-liggghts.sh; else `liggghts` on PATH. That build ran the quickstart's "
+      "piles 1.076 times as fast as Debian's, with the same angles to the last digit (docs/benchmarks.md); a "
+      "stock-model study runs the LIGGGHTS on PATH unless its [run] liggghts names the build.\n");
 }
 
 int user_error(const std::string& message) {

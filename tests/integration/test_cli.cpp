@@ -21,6 +21,8 @@ TEST(Cli, VersionNamesDemsaAndLiggghts) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("demsa 0."), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("LIGGGHTS 3.8.0"), std::string::npos) << r.out;
+  // Which LIGGGHTS a study runs, and why.
+  EXPECT_NE(r.out.find("which a study runs: the one its [run] liggghts names"), std::string::npos) << r.out;
 }
 
 TEST(Cli, VersionSaysWhenLiggghtsIsMissing) {

@@ -1,6 +1,7 @@
 // `demsa run STUDY --dry-run --json` prints the study's bill (exec/cost.hpp) at the fake LIGGGHTS's rate, measured
 // once and then reused; after the cases ran, `demsa status --json` takes the study's own rate and ratio, and the
 // store holds predicted against actual per case.
+#include "orchestrator/exec/cost.hpp"
 #include "orchestrator/study/store.hpp"
 
 #include "support/test_support.hpp"
@@ -86,6 +87,20 @@ TEST(CliCost, DryRunJsonThenStatusAfterTheRun) {
   EXPECT_NE(status_text.out.find("predicted against actual"), std::string::npos) << status_text.out;
   ::unsetenv("DEMSA_RATE_CACHE");
   ::unsetenv("FAKE_LIGGGHTS_RATE");
+}
+
+TEST(CliCost, VersionShowsTheMeasuredSpeedOfTheLiggghtsItFinds) {
+  test::TempDir tmp;
+  const fs::path fake = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts" / "liggghts";
+  const fs::path cache = tmp / "rates.json";
+  // The fake's standard run reports 4e6 atom-steps per CPU-second (FAKE_LIGGGHTS_RATE's default).
+  EXPECT_DOUBLE_EQ(exec::machine_rate(fake.string(), cache).atom_steps_per_cpu_second, 4e6);
+  const test::CommandResult r = test::run_command(
+      {"env", "DEMSA_LIGGGHTS=" + fake.string(), "DEMSA_RATE_CACHE=" + cache.string(), DEMSA_BINARY, "--version"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("speed: 4e+06 atom-steps per CPU-second (the standard run of " + fake.string()),
+            std::string::npos)
+      << r.out;
 }
 
 }  // namespace
