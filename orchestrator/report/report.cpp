@@ -351,7 +351,50 @@ struct StudyData {
   std::vector<RunRow> runs;
   StoreCounts counts;
   std::vector<RefineStep> refine;  ///< `demsa refine`'s steps (empty when never refined)
+  std::vector<CaseCostRow> costs;  ///< predicted against actual per done case (exec/cost.hpp); empty before the bill
 };
+
+/// What the done cases cost against what the bill predicted before each ran (the store's case_costs, written by
+/// `demsa run`): the totals and the ratios, then one row per case. Nothing when no case was recorded.
+std::optional<ReportSection> cost_section(const std::vector<CaseCostRow>& rows) {
+  if (rows.empty()) return std::nullopt;
+  ReportSection section;
+  section.heading = "What the cases cost";
+  double predicted_steps = 0, steps = 0, predicted_cpu = 0, cpu_with_prediction = 0, cpu = 0;
+  for (const CaseCostRow& r : rows) {
+    predicted_steps += r.predicted_atom_steps;
+    steps += r.atom_steps;
+    cpu += r.cpu_seconds;
+    if (r.predicted_cpu_seconds > 0) {
+      predicted_cpu += r.predicted_cpu_seconds;
+      cpu_with_prediction += r.cpu_seconds;
+    }
+  }
+  section.paragraphs.push_back(fmt::format(
+      "{} done cases: {:.3g} atom-steps against {:.3g} predicted before each ran (actual / predicted {:.2f}); {:.0f} "
+      "CPU-s{}. A prediction is the case's schedule (its cap, times the ratio actual / cap of the cases done before "
+      "it) at the rate known then: the standard run's of this LIGGGHTS (`demsa --version`), then the study's own "
+      "(docs/cost.md).",
+      rows.size(), steps, predicted_steps, predicted_steps > 0 ? steps / predicted_steps : k_nan, cpu,
+      predicted_cpu > 0 ? fmt::format(" against {:.0f} predicted for the cases that had a rate (actual / predicted "
+                                      "{:.2f})",
+                                      predicted_cpu, cpu_with_prediction / predicted_cpu)
+                        : std::string(", with no rate known before they ran")));
+  ReportTable table;
+  table.caption = "Predicted against actual, per done case";
+  table.header = {
+      "sample",         "cap atom-steps",        "predicted atom-steps", "actual atom-steps", "predicted CPU [s]",
+      "actual CPU [s]", "actual / predicted CPU"};
+  for (const CaseCostRow& r : rows)
+    table.rows.push_back(
+        {std::to_string(r.sample), fmt::format("{:.3g}", r.cap_atom_steps),
+         fmt::format("{:.3g}", r.predicted_atom_steps), fmt::format("{:.3g}", r.atom_steps),
+         r.predicted_cpu_seconds > 0 ? fmt::format("{:.1f}", r.predicted_cpu_seconds) : "—",
+         fmt::format("{:.1f}", r.cpu_seconds),
+         r.predicted_cpu_seconds > 0 ? fmt::format("{:.2f}", r.cpu_seconds / r.predicted_cpu_seconds) : "—"});
+  section.tables.push_back(table);
+  return section;
+}
 
 ReportSection summary_section(const StudyData& s) {
   ReportSection section;
@@ -990,6 +1033,7 @@ ReportSummary write_study_report(const ReportOptions& options) {
     s.runs = store.runs();
     s.counts = store.counts();
     s.refine = store.refine_history();
+    s.costs = store.case_costs();
   }
   const fs::path analysis_file = dir / "analysis" / "analysis.json";
   if (!fs::exists(analysis_file)) {
@@ -1025,6 +1069,7 @@ ReportSummary write_study_report(const ReportOptions& options) {
     doc.sections.push_back(timed_section(family, times, analysis.parameters, plotter, summary.out_dir, summary));
 
   if (!s.refine.empty()) doc.sections.push_back(refine_section(s.refine, plotter, summary.out_dir, summary));
+  if (std::optional<ReportSection> cost = cost_section(s.costs)) doc.sections.push_back(*cost);
 
   if (summary.sample_shown >= 0) {
     try {

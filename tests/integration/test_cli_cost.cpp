@@ -85,6 +85,13 @@ TEST(CliCost, DryRunJsonThenStatusAfterTheRun) {
   EXPECT_NEAR(s.at("cpu_seconds").get<double>(), cpu, 1e-9 * cpu);  // the study's own rate over its own cases
   const test::CommandResult status_text = test::run_demsa({"status", (tmp / "study").string()});
   EXPECT_NE(status_text.out.find("predicted against actual"), std::string::npos) << status_text.out;
+  // The report: the totals and one row per done case.
+  const test::CommandResult report = test::run_demsa({"report", (tmp / "study").string(), "--no-html"});
+  ASSERT_EQ(report.exit_code, 0) << report.out << report.err;
+  const std::string md = test::read_file(tmp / "study" / "report" / "report.md");
+  EXPECT_NE(md.find("## What the cases cost"), std::string::npos) << md;
+  EXPECT_NE(md.find("4 done cases: "), std::string::npos) << md;
+  EXPECT_NE(md.find("| sample | cap atom-steps | predicted atom-steps"), std::string::npos) << md;
   ::unsetenv("DEMSA_RATE_CACHE");
   ::unsetenv("FAKE_LIGGGHTS_RATE");
 }
