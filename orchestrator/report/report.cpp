@@ -713,15 +713,9 @@ ReportSection case_section(const StudyData& s, int sample, const Plotter& plotte
 std::map<std::string, std::vector<std::pair<double, const ObservableAnalysis*>>> timed_families(
     const AnalysisSummary& analysis) {
   std::map<std::string, std::vector<std::pair<double, const ObservableAnalysis*>>> families;
-  for (const ObservableAnalysis& o : analysis.observables) {
-    const std::size_t at = o.name.rfind('@');
-    if (at == std::string::npos || at == 0) continue;
-    const std::string time = o.name.substr(at + 1);
-    char* end = nullptr;
-    const double t = std::strtod(time.c_str(), &end);
-    if (time.empty() || end != time.c_str() + time.size() || !std::isfinite(t)) continue;
-    families[o.name.substr(0, at)].emplace_back(t, &o);
-  }
+  for (const ObservableAnalysis& o : analysis.observables)
+    if (const std::optional<TimedName> timed = timed_name(o.name))
+      families[timed->family].emplace_back(timed->time, &o);
   for (auto it = families.begin(); it != families.end();) {
     std::sort(it->second.begin(), it->second.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     it = it->second.size() < 2 ? families.erase(it) : std::next(it);

@@ -21,14 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// FAKE_LIGGGHTS_DRIFT for the lifetime of the object.
-struct FakeDrift {
-  explicit FakeDrift(double rate) { ::setenv("FAKE_LIGGGHTS_DRIFT", fmt::format("{}", rate).c_str(), 1); }
-  ~FakeDrift() { ::unsetenv("FAKE_LIGGGHTS_DRIFT"); }
-  FakeDrift(const FakeDrift&) = delete;
-  FakeDrift& operator=(const FakeDrift&) = delete;
-};
-
 /// A pile study over μ_PW and μ_R,PW (the fake's angle: 24 + 12 u0 + 6 u1²) with settling of 1 s, checked every 0.05 s,
 /// a snapshot every 0.1 s, and `pile` lines more.
 std::string history_study(int samples, const std::string& pile) {
@@ -57,7 +49,8 @@ TEST(PileHistoryFake, SnapshotsGiveTheSeriesTheAngleAtEachTimeAndTheDrift) {
   test::TempDir tmp;
   test::write_file(tmp / "study.toml", history_study(3, "measure_times = [0.3, 1.0]\n"));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  const FakeDrift drift(-2.0);  // the angle falls by 2° per second: 2° in the second of settling
+  const test::ScopedEnv drift("FAKE_LIGGGHTS_DRIFT",
+                              "-2");  // the angle falls by 2° per second: 2° in the second of settling
   const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
@@ -110,7 +103,7 @@ TEST(PileHistoryFake, AStaticPileIsSettledAndKeptSnapshotsStay) {
   test::TempDir tmp;
   test::write_file(tmp / "study.toml", history_study(2, "keep_snapshots = true\n"));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  const FakeDrift drift(0.0);
+  const test::ScopedEnv drift("FAKE_LIGGGHTS_DRIFT", "0");
   const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
@@ -141,7 +134,7 @@ TEST(PileHistoryFake, ChangingMeasureTimesOnAFinishedStudyIsRefused) {
   test::TempDir tmp;
   test::write_file(tmp / "study.toml", history_study(2, "measure_times = [0.5]\n"));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  const FakeDrift drift(0.0);
+  const test::ScopedEnv drift("FAKE_LIGGGHTS_DRIFT", "0");
   const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   test::write_file(tmp / "study.toml", history_study(2, "measure_times = [0.5, 0.8]\n"));

@@ -26,14 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// FAKE_LIGGGHTS_NOISE for one test.
-struct FakeNoise {
-  explicit FakeNoise(double sd) { ::setenv("FAKE_LIGGGHTS_NOISE", fmt::format("{}", sd).c_str(), 1); }
-  ~FakeNoise() { ::unsetenv("FAKE_LIGGGHTS_NOISE"); }
-  FakeNoise(const FakeNoise&) = delete;
-  FakeNoise& operator=(const FakeNoise&) = delete;
-};
-
 std::string study_text(int samples, int points, int repeats, const std::string& metamodels, int parallel) {
   std::string text = test::StudyToml{.name = "fake-noise",
                                      .experiment = "pile",
@@ -101,7 +93,7 @@ TEST(RunReplicates, NoiseIsMeasuredSetsTheNuggetAndIsReported) {
   // 10 samples; 5 points x 4 repeats: 15 replicate cases, 15 degrees of freedom. Noise sd 1.5 degrees.
   test::write_file(tmp / "study.toml", study_text(10, 5, 4, "[\"rsm2\", \"gp\"]", 2));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  FakeNoise noise(1.5);
+  const test::ScopedEnv noise("FAKE_LIGGGHTS_NOISE", "1.5");
   const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet"}));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_NE(run.out.find("10 of 10 samples done"), std::string::npos) << run.out;
@@ -216,7 +208,7 @@ TEST(RunReplicates, NoiseThatDominatesIsFlagged) {
   // Noise sd 10 degrees against a design spread of about 4 degrees (sd); every one of the 6 samples replicated.
   test::write_file(tmp / "study.toml", study_text(6, 6, 4, "[\"rsm1\"]", 2));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  FakeNoise noise(10.0);
+  const test::ScopedEnv noise("FAKE_LIGGGHTS_NOISE", "10");
   const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet"}));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_NE(run.out.find("NOISE DOMINATES"), std::string::npos) << run.out;
@@ -233,7 +225,7 @@ TEST(RunReplicates, ResumeAfterSigkillAtRandomMomentsDoesEachCaseExactlyOnce) {
   // 6 samples and 3 points x 3 repeats: 12 cases.
   test::write_file(tmp / "study.toml", study_text(6, 3, 3, "[\"rsm2\"]", 2));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.4);
-  FakeNoise noise(1.0);
+  const test::ScopedEnv noise("FAKE_LIGGGHTS_NOISE", "1");
   const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
   test::kill_at_random_moments(args, tmp / "demsa.log", 1811, 7, 100, 1100);
   const test::CommandResult final_run = test::run_demsa(args);
@@ -267,7 +259,7 @@ TEST(RunReplicates, ResumeAfterSigkillAtRandomMomentsDoesEachCaseExactlyOnce) {
 TEST(RunReplicates, RaisedReplicatesAddCasesAndKeepTheDoneOnes) {
   test::TempDir tmp;
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  FakeNoise noise(1.0);
+  const test::ScopedEnv noise("FAKE_LIGGGHTS_NOISE", "1");
   const std::vector<std::string> args = test::run_args(tmp, {"--quiet"});
   // 6 samples, 2 points x 2 repeats: 8 cases.
   test::write_file(tmp / "study.toml", study_text(6, 2, 2, "[\"rsm1\"]", 2));
@@ -328,7 +320,7 @@ TEST(RunReplicates, RaisedReplicatesAddCasesAndKeepTheDoneOnes) {
 TEST(RunReplicates, GrowthSurvivesSigkillAtRandomMoments) {
   test::TempDir tmp;
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.4);
-  FakeNoise noise(1.0);
+  const test::ScopedEnv noise("FAKE_LIGGGHTS_NOISE", "1");
   const std::vector<std::string> args = test::run_args(tmp, {"--no-analyze", "--quiet"});
   test::write_file(tmp / "study.toml", study_text(6, 2, 2, "[\"rsm1\"]", 2));
   ASSERT_EQ(test::run_demsa(args).exit_code, 0);

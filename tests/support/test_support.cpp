@@ -13,6 +13,7 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace demsa::test {
 namespace fs = std::filesystem;
@@ -109,6 +110,12 @@ void write_file(const fs::path& path, const std::string& text) {
 }
 
 fs::path data_path(const std::string& relative) { return fs::path(DEMSA_TEST_DATA_DIR) / relative; }
+
+ScopedEnv::ScopedEnv(std::string name, const std::string& value) : m_name(std::move(name)) {
+  ::setenv(m_name.c_str(), value.c_str(), 1);
+}
+
+ScopedEnv::~ScopedEnv() { ::unsetenv(m_name.c_str()); }
 
 FakeLiggghtsEnvironment::FakeLiggghtsEnvironment(const std::string& plan, const fs::path& state, double seconds) {
   ::setenv("FAKE_LIGGGHTS_PLAN", plan.c_str(), 1);

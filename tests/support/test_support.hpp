@@ -51,6 +51,17 @@ std::string message_of(F&& f) {
 /// Path of a file under tests/data.
 std::filesystem::path data_path(const std::string& relative);
 
+/// An environment variable set for one test and removed at its end (FAKE_LIGGGHTS_NOISE, FAKE_LIGGGHTS_DRIFT).
+struct ScopedEnv {
+  ScopedEnv(std::string name, const std::string& value);
+  ~ScopedEnv();
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  std::string m_name;
+};
+
 /// The fake LIGGGHTS's environment (tests/integration/fake_liggghts) for one test, removed again at the end: `plan`
 /// (FAKE_LIGGGHTS_PLAN, "" = no failures), `state` (FAKE_LIGGGHTS_STATE: its starts.log and markers) and the
 /// seconds each case takes (FAKE_LIGGGHTS_SECONDS).

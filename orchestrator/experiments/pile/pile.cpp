@@ -138,10 +138,9 @@ pp::Particles without_base(const pp::Particles& particles, long base_particles) 
 
 namespace {
 
-/// The pile of one dump measured by both estimators; NaN angles when it holds no pile to measure (a snapshot taken
-/// while the last disc still falls onto an empty pedestal).
-PileMoment measure_moment(const fs::path& dump, long base, pp::PileAngleOptions options) {
-  const pp::Particles particles = without_base(pp::read_particles(dump, 1), base);
+/// The pile of one state (its particles without the base layer) measured by both estimators; NaN angles when it holds
+/// no pile to measure (a snapshot taken while the last disc still falls onto an empty pedestal).
+PileMoment measure_moment(const pp::Particles& particles, pp::PileAngleOptions options) {
   PileMoment m;
   const pp::AngleEstimator study = options.estimator;
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -196,7 +195,7 @@ std::vector<PileMoment> case_history(const fs::path& folder, const nlohmann::jso
           fmt::format("{}: missing: the case wrote a snapshot at every check of "
                       "pile.history.snapshot_checks up to the end of settling (check {})",
                       dump.string(), end_check));
-    PileMoment m = measure_moment(dump, base, options);
+    PileMoment m = measure_moment(without_base(pp::read_particles(dump, 1), base), options);
     m.check = k;
     m.time = static_cast<double>(k * check_steps) * dt;
     moments.push_back(m);
@@ -232,7 +231,7 @@ std::map<std::string, double> measure(const fs::path& folder, const nlohmann::js
   // The pile in time (settling snapshots): the series, the angle at the measure times, the drift.
   if (settling->start_step) {
     const double dt = case_number(case_json, file, "dt", 1e-15, 1e3).value_or(0);
-    PileMoment last = measure_moment(folder / k_final_dump, base, options);
+    PileMoment last = measure_moment(particles, options);
     last.time = static_cast<double>(settling->end_step - *settling->start_step) * dt;
     const std::vector<PileMoment> moments = case_history(folder, case_json, options, base, *settling, last);
     // The series is stored by the nominal time of each check, k × settle_check_time (the measured time in
@@ -284,13 +283,10 @@ std::optional<Observable> describe(std::string_view name) {
   if (name == k_particles_on_pedestal) return Observable{n, "particles on the pedestal", "", 1.0, ""};
   if (name == k_removed_off_pedestal) return Observable{n, "particles removed off the pedestal", "", 1.0, ""};
   if (name == k_angle_drift) return Observable{n, "drift of the angle at the end of settling", "°/s", 1.0, "°/s"};
-  for (const auto& [prefix, label] : {std::pair{k_angle_at, "angle of repose"}, std::pair{k_angle_series, "angle"}}) {
-    if (!name.starts_with(prefix)) continue;
-    const std::string time(name.substr(prefix.size()));
-    char* end = nullptr;
-    const double t = std::strtod(time.c_str(), &end);
-    if (time.empty() || end != time.c_str() + time.size() || !(t >= 0) || !std::isfinite(t)) return std::nullopt;
-    return Observable{n, fmt::format("{} {} s after the last disc", label, time), "°", 1.0, "°"};
+  if (const std::optional<TimedName> timed = timed_name(name)) {
+    for (const auto& [prefix, label] : {std::pair{k_angle_at, "angle of repose"}, std::pair{k_angle_series, "angle"}})
+      if (timed->family + "@" == prefix)
+        return Observable{n, fmt::format("{} {} s after the last disc", label, timed->text), "°", 1.0, "°"};
   }
   return std::nullopt;
 }
