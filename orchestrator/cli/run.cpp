@@ -37,6 +37,7 @@ struct RunArgs {
   std::string dir;
   bool dry_run = false;
   bool json = false;
+  double probe = 0.0;  ///< [s] with --dry-run: run the first case this long to measure the study's rate
   bool new_study = false;
   bool no_analyze = false;
   bool quiet = false;
@@ -64,6 +65,8 @@ int do_run(const RunArgs& args) {
   if (args.submit_only && args.dry_run)
     throw UserError("--submit-only and --dry-run: a dry run submits nothing; use one of them");
   if (args.json && !args.dry_run) throw UserError("--json goes with --dry-run: the estimate of a study as JSON");
+  if (args.probe > 0.0 && !args.dry_run)
+    throw UserError("--probe goes with --dry-run: a short run of the first case that measures the study's own rate");
   if (::isatty(STDIN_FILENO) == 1)
     options.ask_cancel = [](int in_flight) { return ask_cancel_on_interrupt(in_flight, std::cin, std::cerr); };
   if (!fs::exists(options.study_file)) throw UserError(fmt::format("{}: no such study file", args.study));
@@ -72,7 +75,13 @@ int do_run(const RunArgs& args) {
   if (summary.dry_run) {
     // The bill before the run (exec/cost.hpp): the written cases' schedules at this LIGGGHTS's rate.
     study::StudyConfig config = experiments::load_study(options.study_file);
-    resolve_liggghts(config, false);
+    resolve_liggghts(config, args.probe > 0.0);
+    if (args.probe > 0.0) {
+      if (!args.json && !args.quiet)
+        fmt::print(stderr, "probing: the first case runs for at most {:.0f} s (LIGGGHTS on 1 case, {} rank(s))\n",
+                   args.probe, config.run.ranks);
+      probe_study(config, summary.dir, args.probe);
+    }
     const StudyEstimate estimate = estimate_study(config, summary.dir, StudyCostOptions{});
     if (args.json) {
       nlohmann::ordered_json j{{"study", args.study},
@@ -146,6 +155,10 @@ void register_run_command(CLI::App& app, CliState& state) {
                 "Validate and write the design and every case, print the estimate of its cost (atom-steps, CPU, wall); "
                 "run nothing");
   run->add_flag("--json", args->json, "With --dry-run: print the study's estimate (atom-steps, CPU, wall) as JSON");
+  run->add_option("--probe", args->probe,
+                  "With --dry-run: run the study's first case for at most SECONDS here to measure its own rate (and, "
+                  "if it ends, its atom-steps against its cap); later estimates use it until cases finish")
+      ->check(positive_number());
   run->add_flag("--new", args->new_study,
                 "Discard the store, design, cases and analysis in the study folder and start a new study");
   run->add_flag("--no-analyze", args->no_analyze, "Do not run the analysis at the end");

@@ -213,8 +213,143 @@ std::optional<double> case_cap_atom_steps(const study::StudyConfig& config, cons
   return c->atom_steps;
 }
 
+ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, double budget_seconds) {
+  if (!(budget_seconds > 0.0))
+    throw UserError(fmt::format("--probe {}: give a positive number of seconds", budget_seconds));
+  const study::Store store = study::Store::open_read_only((dir / study::k_store_file).string());
+  const std::vector<study::SampleRow> samples = store.samples();
+  if (samples.empty()) throw UserError(fmt::format("{}: the study has no samples to probe", dir.string()));
+  const int sample = samples.front().sample;
+  const fs::path folder = study::case_dir(dir, sample);
+  const std::optional<experiments::CaseCost> cost = case_cost_of(config, folder);
+  if (!cost)
+    throw UserError(
+        fmt::format("{}: no estimate of this case's schedule (its experiment has no case_cost): nothing to "
+                    "probe against",
+                    folder.string()));
+  const std::optional<std::string> exe = find_on_path(config.run.liggghts);
+  if (!exe) throw UserError(fmt::format("{}: no such LIGGGHTS executable", config.run.liggghts));
+  const BinaryKey key = binary_key(*exe);
+  // A copy of the case's own files (not its outputs' folders), run as the executor runs it: ./run.sh.
+  const fs::path work = dir / ".cost-probe";
+  fs::remove_all(work);
+  fs::create_directories(work);
+  for (const fs::directory_entry& e : fs::directory_iterator(folder))
+    if (e.is_regular_file()) fs::copy_file(e.path(), work / e.path().filename());
+  for (const char* output : {study::k_case_log, study::k_case_screen, study::k_result_file, study::k_run_output_file})
+    fs::remove(work / output);
+  util::CaptureOptions options;
+  options.cwd = work;
+  options.merge_stderr = true;
+  options.timeout = std::chrono::milliseconds(static_cast<long long>(std::min(budget_seconds, 1e9) * 1000.0));
+  const util::CaptureResult r = util::run_capture({"./" + std::string(study::k_case_run_script)}, options);
+  ProbeResult p;
+  p.sample = sample;
+  p.budget_seconds = budget_seconds;
+  p.cap_atom_steps = cost->atom_steps;
+  p.binary = key.path;
+  p.binary_mtime_ns = key.mtime_ns;
+  p.finished = !r.timed_out && r.exit_code == 0;
+  const fs::path log = work / study::k_case_log;
+  std::vector<postprocess::LoopSummary> loops;
+  if (fs::exists(log)) loops = postprocess::read_liggghts_log(log).loops;
+  std::string tail;
+  if (!loops.empty() || r.timed_out) {
+    std::error_code ec;
+    fs::remove_all(work, ec);
+  } else {
+    tail = fmt::format(" (its folder is kept: {})", work.string());
+  }
+  if (!r.timed_out && r.exit_code != 0)
+    throw UserError(fmt::format("the probe of sample {} failed: ./run.sh exited with {}{}", sample, r.exit_code, tail));
+  double loop_cpu = 0.0;
+  for (const postprocess::LoopSummary& l : loops) {
+    p.atom_steps += static_cast<double>(l.steps) * static_cast<double>(l.atoms);
+    loop_cpu += l.seconds * std::max(1, l.procs);
+  }
+  if (!(p.atom_steps > 0.0) || !(loop_cpu > 0.0))
+    throw UserError(
+        fmt::format("the probe of sample {} completed no LIGGGHTS run in {:.0f} s: give --probe more "
+                    "seconds{}",
+                    sample, budget_seconds, tail));
+  if (p.finished && r.cpu_seconds > 0.0) {
+    p.cpu_seconds = r.cpu_seconds;  // what the runner will count: the run's rusage
+  } else {
+    // The loop times are wall time: credit them with the share of a core the run had (as the standard run).
+    const int ranks = std::max(1, config.run.ranks);
+    const double share =
+        r.cpu_seconds > 0.0 && r.wall_seconds > 0.0 ? std::min(1.0, r.cpu_seconds / (r.wall_seconds * ranks)) : 1.0;
+    p.cpu_seconds = loop_cpu * share;
+  }
+  p.rate = p.atom_steps / p.cpu_seconds;
+  const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char when[32];
+  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  p.measured_at = when;
+  const nlohmann::ordered_json j{{"sample", p.sample},
+                                 {"budget_seconds", p.budget_seconds},
+                                 {"finished", p.finished},
+                                 {"cap_atom_steps", p.cap_atom_steps},
+                                 {"atom_steps", p.atom_steps},
+                                 {"cpu_seconds", p.cpu_seconds},
+                                 {"atom_steps_per_cpu_second", p.rate},
+                                 {"binary", p.binary},
+                                 {"binary_mtime_ns", p.binary_mtime_ns},
+                                 {"measured_at", p.measured_at}};
+  util::write_file_atomically(dir / study::k_cost_probe_file, j.dump(2) + "\n");
+  return p;
+}
+
+std::optional<ProbeResult> read_probe(const study::StudyConfig& config, const fs::path& dir) {
+  const fs::path file = dir / study::k_cost_probe_file;
+  std::ifstream in(file);
+  if (!in) return std::nullopt;
+  std::stringstream text;
+  text << in.rdbuf();
+  const nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, false);
+  // Only a measurement: one that is not ours (cut, edited) is ignored, and `--probe` measures again.
+  if (!j.is_object()) return std::nullopt;
+  ProbeResult p;
+  try {
+    p.sample = j.at("sample").get<int>();
+    p.budget_seconds = j.at("budget_seconds").get<double>();
+    p.finished = j.at("finished").get<bool>();
+    p.cap_atom_steps = j.at("cap_atom_steps").get<double>();
+    p.atom_steps = j.at("atom_steps").get<double>();
+    p.cpu_seconds = j.at("cpu_seconds").get<double>();
+    p.rate = j.at("atom_steps_per_cpu_second").get<double>();
+    p.binary = j.at("binary").get<std::string>();
+    p.binary_mtime_ns = j.at("binary_mtime_ns").get<std::int64_t>();
+    p.measured_at = j.at("measured_at").get<std::string>();
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+  if (!(p.rate > 0.0) || !std::isfinite(p.rate) || !(p.cap_atom_steps > 0.0)) return std::nullopt;
+  // The same LIGGGHTS binary, and the same case (its schedule's cap).
+  const std::optional<std::string> exe = find_on_path(config.run.liggghts);
+  if (!exe) return std::nullopt;
+  try {
+    const BinaryKey key = binary_key(*exe);
+    if (key.path != p.binary || key.mtime_ns != p.binary_mtime_ns) return std::nullopt;
+  } catch (const UserError&) {
+    return std::nullopt;
+  }
+  const std::optional<experiments::CaseCost> cost = case_cost_of(config, study::case_dir(dir, p.sample));
+  if (!cost || std::abs(cost->atom_steps - p.cap_atom_steps) > 1e-9 * p.cap_atom_steps) return std::nullopt;
+  return p;
+}
+
+std::string probe_text(const ProbeResult& p) {
+  return fmt::format("probe: sample {} {} {:.0f} s: {:.3g} atom-steps in {:.1f} CPU-s, {:.3g} per CPU-second{}\n",
+                     p.sample, p.finished ? "ran to its end within" : "was stopped after", p.budget_seconds,
+                     p.atom_steps, p.cpu_seconds, p.rate,
+                     p.finished ? fmt::format("; {:.3f} of its cap", p.atom_steps / p.cap_atom_steps)
+                                : fmt::format(" ({:.1f} % of its cap)", 100.0 * p.atom_steps / p.cap_atom_steps));
+}
+
 StudyEstimate estimate(const EstimateInput& input) {
   StudyEstimate e;
+  e.probe = input.probe;
   e.slots = std::max(1, input.slots);
   e.ranks = std::max(1, input.ranks);
   double early_cap = 0.0, early_actual = 0.0, atom_steps = 0.0, cpu = 0.0;
@@ -228,10 +363,17 @@ StudyEstimate estimate(const EstimateInput& input) {
       early_actual += c.actual->atom_steps;
     }
   }
+  const std::optional<ProbeResult>& probe = input.probe;
   if (early_cap > 0.0) {
     e.early_ratio = early_actual / early_cap;
     e.atom_step_source =
         fmt::format("the schedule's cap x {:.3f}, the ratio actual / cap of the study's finished cases", e.early_ratio);
+  } else if (probe && probe->finished && probe->cap_atom_steps > 0.0) {
+    e.early_ratio = probe->atom_steps / probe->cap_atom_steps;
+    e.atom_step_source = fmt::format(
+        "the schedule's cap x {:.3f} for a case that may end early, the ratio actual / cap of the probe (sample {}, "
+        "run to its end {})",
+        e.early_ratio, probe->sample, probe->measured_at);
   } else {
     e.atom_step_source =
         "the schedule's cap (no finished case yet: a case that ends early or removes particles costs "
@@ -241,6 +383,11 @@ StudyEstimate estimate(const EstimateInput& input) {
     e.rate = atom_steps / cpu;
     e.rate_source =
         fmt::format("this study's {} finished case(s): {:.3g} atom-steps in {:.0f} CPU-s", e.finished, atom_steps, cpu);
+  } else if (probe && probe->rate > 0.0) {
+    e.rate = probe->rate;
+    e.rate_source = fmt::format("the probe of sample {} ({:.3g} atom-steps in {:.1f} CPU-s, {}; {})", probe->sample,
+                                probe->atom_steps, probe->cpu_seconds,
+                                probe->finished ? "run to its end" : "its first LIGGGHTS runs", probe->measured_at);
   } else if (input.rate && input.rate->atom_steps_per_cpu_second > 0.0) {
     e.rate = input.rate->atom_steps_per_cpu_second;
     e.rate_source = input.rate->source;
@@ -329,6 +476,7 @@ StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& d
     }
     input.cases.push_back(c);
   }
+  input.probe = read_probe(config, dir);
   if (const std::optional<std::string> exe = find_on_path(config.run.liggghts)) {
     try {
       input.rate = options.measure_rate ? std::optional<LiggghtsRate>(machine_rate(*exe, options.cache_file))
@@ -342,6 +490,16 @@ StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& d
 }
 
 nlohmann::ordered_json estimate_json(const StudyEstimate& e) {
+  nlohmann::ordered_json probe = nullptr;
+  if (e.probe)
+    probe = {{"sample", e.probe->sample},
+             {"budget_seconds", e.probe->budget_seconds},
+             {"finished", e.probe->finished},
+             {"cap_atom_steps", e.probe->cap_atom_steps},
+             {"atom_steps", e.probe->atom_steps},
+             {"cpu_seconds", e.probe->cpu_seconds},
+             {"atom_steps_per_cpu_second", e.probe->rate},
+             {"measured_at", e.probe->measured_at}};
   nlohmann::ordered_json cases = nlohmann::ordered_json::array();
   for (const CaseEstimate& c : e.cases) {
     nlohmann::ordered_json j{
@@ -364,6 +522,7 @@ nlohmann::ordered_json estimate_json(const StudyEstimate& e) {
             {"rate_source", e.rate_source},
             {"slots", e.slots},
             {"ranks", e.ranks},
+            {"probe", probe},
             {"cases", cases}}}};
 }
 
@@ -375,6 +534,7 @@ std::string estimate_text(const StudyEstimate& e) {
   }
   std::string s = fmt::format("estimate: {} cases, {:.3g}-{:.3g} atom-steps each, {:.3g} in all ({} finished)\n",
                               e.cases.size(), lo, hi, e.atom_steps, e.finished);
+  if (e.probe) s += "  " + probe_text(*e.probe);
   s += fmt::format("  atom-steps: {}\n", e.atom_step_source);
   if (e.rate > 0.0) {
     s += fmt::format("  rate: {:.3g} atom-steps per CPU-second, from {}\n", e.rate, e.rate_source);
@@ -406,8 +566,9 @@ std::string predicted_vs_actual_table(const std::vector<study::CaseCostRow>& row
   return s;
 }
 
-std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config, const fs::path& case_dir, long run,
-                                                int sample, const std::vector<study::CaseCostRow>& before) {
+std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config, const fs::path& dir,
+                                                const fs::path& case_dir, long run, int sample,
+                                                const std::vector<study::CaseCostRow>& before) {
   const std::optional<experiments::CaseCost> cost = case_cost_of(config, case_dir);
   const std::optional<CaseActual> actual = case_actual(case_dir);
   if (!cost || !actual) return std::nullopt;
@@ -415,6 +576,7 @@ std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config
   for (const study::CaseCostRow& r : before)
     input.cases.push_back({r.sample, r.cap_atom_steps, true, CaseActual{r.atom_steps, r.cpu_seconds}});
   input.cases.push_back({sample, cost->atom_steps, cost->may_end_early, std::nullopt});
+  input.probe = read_probe(config, dir);
   if (before.empty())
     if (const std::optional<std::string> exe = find_on_path(config.run.liggghts))
       input.rate = cached_rate(*exe, rate_cache_file());

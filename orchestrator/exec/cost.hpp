@@ -67,6 +67,37 @@ std::optional<CaseActual> case_actual(const std::filesystem::path& case_dir);
 /// case.json or the experiment gives no estimate.
 std::optional<double> case_cap_atom_steps(const study::StudyConfig& config, const std::filesystem::path& case_dir);
 
+// ---------------------------------------------------------------- the probe
+/// A short run of the study's first case before the study runs (`demsa run --dry-run --probe SECONDS`): the rate of
+/// this study's own cases (its contact model, walls and particle count, which the standard run does not have), and,
+/// when the case ends within the budget, its actual atom-steps against its cap. Stored in DIR/cost_probe.json.
+struct ProbeResult {
+  int sample = 0;
+  double budget_seconds = 0.0;  ///< the wall-clock budget it was given
+  bool finished = false;        ///< the case ran to its end within the budget
+  double cap_atom_steps = 0.0;  ///< the case's cap when it was probed (a changed case invalidates the probe)
+  double atom_steps = 0.0;      ///< of its complete LIGGGHTS runs (all of them when finished)
+  double cpu_seconds = 0.0;     ///< the CPU those atom-steps took [s]
+  double rate = 0.0;            ///< atom_steps / cpu_seconds
+  std::string binary;           ///< the LIGGGHTS it ran (canonical path)
+  std::int64_t binary_mtime_ns = 0;
+  std::string measured_at;
+};
+
+/// Runs the first case of the study in `dir` (design order) from a copy of its folder, DIR/.cost-probe, for at most
+/// `budget_seconds` of wall time (then it is killed with what it started), and writes DIR/cost_probe.json. A case that
+/// finishes gives its atom-steps over its run's CPU (wait4's rusage); a killed one its complete LIGGGHTS runs'
+/// atom-steps over their loop time times the share of a core the run had (as the standard run). Throws
+/// util::UserError when no LIGGGHTS run completed within the budget, or the case failed.
+ProbeResult probe_study(const study::StudyConfig& config, const std::filesystem::path& dir, double budget_seconds);
+
+/// DIR/cost_probe.json when it is there and still describes this study's first case and LIGGGHTS (the same cap, the
+/// same binary); none otherwise.
+std::optional<ProbeResult> read_probe(const study::StudyConfig& config, const std::filesystem::path& dir);
+
+/// One line for the user: what the probe ran and measured.
+std::string probe_text(const ProbeResult& probe);
+
 // ---------------------------------------------------------------- the arithmetic
 /// One case of the estimate: its cap, whether it may end early, and what it cost when it has finished.
 struct CaseCostInput {
@@ -80,6 +111,7 @@ struct EstimateInput {
   std::vector<CaseCostInput> cases;  ///< in the order they run
   std::optional<LiggghtsRate> rate;  ///< the machine's (a cached or new measurement); none: CPU and wall unknown
   std::string rate_failure;          ///< why there is none (the standard run failed), for rate_source
+  std::optional<ProbeResult> probe;  ///< the study's probe: its rate and, when it finished, its actual / cap
   int ranks = 1;                     ///< MPI ranks per case: a case's wall time is its CPU time / ranks
   int slots = 1;                     ///< cases at once (local: [run] parallel or cores / ranks; SLURM: the throttle)
 };
@@ -108,11 +140,13 @@ struct StudyEstimate {
   std::string atom_step_source;  ///< where the expected atom-steps came from
   int slots = 1;
   int ranks = 1;
+  std::optional<ProbeResult> probe;  ///< the study's probe, when it has one that still holds
 };
 
 /// The estimate (docs/cost.md): a finished case counts its actual atom-steps and CPU; any other case its cap, times
-/// the ratio actual / cap of the study's finished cases when it may end early and some have finished. The rate is the
-/// study's own (its finished cases' atom-steps over their CPU) when it has any, else `input.rate`. The wall time
+/// the ratio actual / cap of the study's finished cases when it may end early and some have finished (else of the
+/// probe, when it ran its case to the end). The rate is the study's own (its finished cases' atom-steps over their CPU)
+/// when it has any, else the probe's, else `input.rate`. The wall time
 /// schedules the cases in order on `slots` slots, each case on the first slot to free (Graham's list scheduling,
 /// "Bounds on multiprocessing timing anomalies", SIAM J. Appl. Math. 17 (1969) 416-429), as the local executor starts
 /// them.
@@ -126,7 +160,8 @@ struct StudyCostOptions {
 
 /// The estimate of the study in `dir` (config: its study file, LIGGGHTS resolved): every case of the store (design
 /// samples then replicates) from its case folder's case.json, the finished ones from the store's case costs (or
-/// their logs), the rate of the study or of `config.run.liggghts` (cached or measured), the executor's slots.
+/// their logs), the study's probe (read_probe), the rate of the study or of `config.run.liggghts` (cached or
+/// measured), the executor's slots.
 StudyEstimate estimate_study(const study::StudyConfig& config, const std::filesystem::path& dir,
                              const StudyCostOptions& options);
 
@@ -141,9 +176,10 @@ std::string estimate_text(const StudyEstimate& estimate);
 std::string predicted_vs_actual_table(const std::vector<study::CaseCostRow>& rows);
 
 /// What the runner stores when a case is done: its cap, the prediction before it ran (from the rows of the cases
-/// done before it and the cached machine rate, never measured here) and its actual cost from its log. None when the
-/// case has no log with a `Loop time` line or no estimate.
-std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config, const std::filesystem::path& case_dir,
-                                                long run, int sample, const std::vector<study::CaseCostRow>& before);
+/// done before it, the study's probe and the cached machine rate, never measured here) and its actual cost from its
+/// log. None when the case has no log with a `Loop time` line or no estimate.
+std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config, const std::filesystem::path& dir,
+                                                const std::filesystem::path& case_dir, long run, int sample,
+                                                const std::vector<study::CaseCostRow>& before);
 
 }  // namespace demsa::exec

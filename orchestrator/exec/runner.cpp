@@ -246,8 +246,9 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
   const fs::path db = dir / k_store_file;
   if (new_study) {
     const std::string store = k_store_file;
-    for (const std::string& name : {store, store + "-wal", store + "-shm", std::string(k_design_file),
-                                    std::string(k_cases_folder), std::string(k_analysis_folder)})
+    for (const std::string& name :
+         {store, store + "-wal", store + "-shm", std::string(k_design_file), std::string(k_cases_folder),
+          std::string(k_analysis_folder), std::string(k_cost_probe_file)})
       fs::remove_all(dir / name);
   }
   Store store(db.string());
@@ -546,7 +547,7 @@ std::string result_json(const FinishedCase& finished, const InFlight& flight,
 /// time, which overstate the CPU of a case that shared its core.
 void record_case_cost(Loop& loop, const fs::path& folder, long run, int sample, double run_cpu_seconds) {
   try {
-    if (auto row = case_cost_row(loop.config, folder, run, sample, loop.store.case_costs())) {
+    if (auto row = case_cost_row(loop.config, loop.dir, folder, run, sample, loop.store.case_costs())) {
       if (run_cpu_seconds > 0) row->cpu_seconds = run_cpu_seconds;
       loop.store.record_case_cost(*row);
     }

@@ -18,6 +18,8 @@ inline constexpr const char* k_cases_folder = "cases";        ///< one folder pe
 inline constexpr const char* k_analysis_folder = "analysis";  ///< analysis/ output
 inline constexpr const char* k_report_folder = "report";      ///< report/ output
 inline constexpr const char* k_lock_file = ".demsa.lock";     ///< held by the demsa that runs the study
+inline constexpr const char* k_cost_probe_file =
+    "cost_probe.json";  ///< the probe of `run --dry-run --probe` (exec/cost.hpp)
 
 // ---------------------------------------------------------------- a case folder
 inline constexpr const char* k_case_input = "in.liggghts";       ///< main LIGGGHTS script

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -94,6 +95,75 @@ TEST(CliCost, DryRunJsonThenStatusAfterTheRun) {
   EXPECT_NE(md.find("| sample | cap atom-steps | predicted atom-steps"), std::string::npos) << md;
   ::unsetenv("DEMSA_RATE_CACHE");
   ::unsetenv("FAKE_LIGGGHTS_RATE");
+}
+
+// `--probe` runs the first case from a copy of its folder: its rate and its ratio to the cap price the rest, the first
+// case's stored prediction uses them, and a probe that completes no LIGGGHTS run in its budget says so and hangs
+// nothing.
+TEST(CliCost, AProbeRunsTheFirstCaseAndPricesTheStudyByIt) {
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml",
+                   test::StudyToml{.name = "probe",
+                                   .samples = 3,
+                                   .tables = "[pile]\nparticles = 300\n",
+                                   .run = test::fake_liggghts_run_lines() + "parallel = 1\n",
+                                   .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 0\nbase_samples = 512\n"
+                                               "second_order = false\n"}
+                       .text());
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
+
+  const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--json", "--probe", "60"}));
+  ASSERT_EQ(dry.exit_code, 0) << dry.out << dry.err;
+  const nlohmann::json e = nlohmann::json::parse(dry.out).at("estimate");
+  const nlohmann::json& probe = e.at("probe");
+  ASSERT_TRUE(probe.is_object()) << dry.out;
+  EXPECT_EQ(probe.at("sample").get<int>(), 0);
+  EXPECT_TRUE(probe.at("finished").get<bool>());
+  // The fake's pile log: one `Loop time` line of 300 atoms; the probe's CPU is the run's rusage.
+  const double atom_steps = probe.at("atom_steps").get<double>();
+  const double rate = probe.at("atom_steps_per_cpu_second").get<double>();
+  EXPECT_GT(atom_steps, 0.0);
+  EXPECT_EQ(std::fmod(atom_steps, 300.0), 0.0);
+  EXPECT_NEAR(rate, atom_steps / probe.at("cpu_seconds").get<double>(), 1e-9 * rate);
+  EXPECT_NEAR(e.at("rate_atom_steps_per_cpu_second").get<double>(), rate, 1e-9 * rate);
+  EXPECT_NEAR(e.at("early_ratio").get<double>(), atom_steps / probe.at("cap_atom_steps").get<double>(), 1e-12);
+  EXPECT_TRUE(fs::exists(tmp / "study" / "cost_probe.json"));
+  EXPECT_FALSE(fs::exists(tmp / "study" / ".cost-probe"));                        // the copy is gone
+  EXPECT_FALSE(fs::exists(tmp / "study" / "cases" / "000000" / "log.liggghts"));  // the case itself never ran
+
+  // A later dry run and the run itself read the stored probe.
+  const test::CommandResult again = test::run_demsa(test::run_args(tmp, {"--dry-run"}));
+  ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
+  EXPECT_NE(again.out.find("probe: sample 0 ran to its end"), std::string::npos) << again.out;
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const std::vector<study::CaseCostRow> rows =
+      study::Store::open_read_only((tmp / "study" / "study.db").string()).case_costs();
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows.front().sample, 0);
+  EXPECT_NEAR(rows.front().predicted_cpu_seconds, rows.front().predicted_atom_steps / rate,
+              1e-9 * rows.front().predicted_cpu_seconds);
+
+  // `--probe` goes with --dry-run only.
+  const test::CommandResult refused = test::run_demsa(test::run_args(tmp, {"--probe", "5"}));
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.err.find("--probe goes with --dry-run"), std::string::npos) << refused.err;
+}
+
+TEST(CliCost, AProbeThatCompletesNoRunInItsBudgetSaysSo) {
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", test::StudyToml{.name = "probe",
+                                                       .samples = 2,
+                                                       .tables = "[pile]\nparticles = 300\n",
+                                                       .run = test::fake_liggghts_run_lines() + "parallel = 1\n"}
+                                           .text());
+  test::FakeLiggghtsEnvironment env("0:hang", tmp.path(), 0.0);  // writes a log of 0 steps, then never ends
+  test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
+  const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--probe", "2"}));
+  EXPECT_NE(dry.exit_code, 0);
+  EXPECT_NE(dry.err.find("the probe of sample 0 completed no LIGGGHTS run in 2 s"), std::string::npos) << dry.err;
+  EXPECT_FALSE(fs::exists(tmp / "study" / "cost_probe.json"));
 }
 
 TEST(CliCost, VersionShowsTheMeasuredSpeedOfTheLiggghtsItFinds) {

@@ -300,6 +300,7 @@ const Experiment& experiment() {
       .report_focus = report_focus,
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,
+      .case_cost = case_cost,
   };
   return descriptor;
 }

@@ -83,4 +83,8 @@ struct OedometerAssembly {
 
 OedometerAssembly build_assembly(const OedometerSettings& settings, std::uint64_t seed);
 
+/// The atom-steps of a written case by its schedule (cost.cpp): Experiment::case_cost.
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
+                   const std::filesystem::path& file);
+
 }  // namespace demsa::experiments::oedometer

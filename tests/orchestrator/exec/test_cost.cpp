@@ -1,6 +1,7 @@
 // The study's bill (exec/cost.hpp): the estimate's arithmetic on schedules made up here, the pile's atom-steps of a
 // schedule counted by hand, and the rate cache: reused for the same LIGGGHTS, measured again when the binary changes.
 #include "orchestrator/exec/cost.hpp"
+#include "orchestrator/experiments/oedometer/oedometer.hpp"
 #include "orchestrator/experiments/pile/pile.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -64,6 +65,43 @@ TEST(CostEstimate, FinishedCasesSetTheRatioAndTheRate) {
   EXPECT_DOUBLE_EQ(e.remaining_wall_seconds, 200.0);
 }
 
+TEST(CostEstimate, AProbeSetsTheRateAndARunToItsEndTheRatioUntilCasesFinish) {
+  ProbeResult probe;
+  probe.sample = 0;
+  probe.finished = true;
+  probe.cap_atom_steps = 1e8;
+  probe.atom_steps = 0.25e8;  // a quarter of its cap
+  probe.cpu_seconds = 12.5;
+  probe.rate = 2e6;
+  EstimateInput in;
+  in.cases = {{0, 1e8, true, std::nullopt}, {1, 2e8, false, std::nullopt}};
+  in.rate = rate_of(1e6);  // the standard run's: the probe's rate is the study's own
+  in.probe = probe;
+  const StudyEstimate e = estimate(in);
+  EXPECT_DOUBLE_EQ(e.rate, 2e6);
+  EXPECT_NE(e.rate_source.find("the probe of sample 0"), std::string::npos) << e.rate_source;
+  EXPECT_DOUBLE_EQ(e.early_ratio, 0.25);
+  EXPECT_DOUBLE_EQ(e.cases[0].atom_steps, 0.25e8);  // may end early: the cap x the probe's ratio
+  EXPECT_DOUBLE_EQ(e.cases[1].atom_steps, 2e8);     // runs to its cap
+  EXPECT_DOUBLE_EQ(e.cpu_seconds, 112.5);
+  EXPECT_NE(estimate_text(e).find("probe: sample 0 ran to its end"), std::string::npos) << estimate_text(e);
+  EXPECT_DOUBLE_EQ(estimate_json(e)["estimate"]["probe"]["atom_steps_per_cpu_second"].get<double>(), 2e6);
+
+  // A probe stopped by its budget gives the rate only.
+  probe.finished = false;
+  in.probe = probe;
+  const StudyEstimate stopped = estimate(in);
+  EXPECT_DOUBLE_EQ(stopped.rate, 2e6);
+  EXPECT_DOUBLE_EQ(stopped.early_ratio, 1.0);
+  EXPECT_DOUBLE_EQ(stopped.atom_steps, 3e8);
+
+  // Finished cases take over both.
+  in.cases[0].actual = CaseActual{0.5e8, 10.0};
+  const StudyEstimate done = estimate(in);
+  EXPECT_DOUBLE_EQ(done.rate, 5e6);
+  EXPECT_DOUBLE_EQ(done.early_ratio, 0.5);
+}
+
 TEST(CostEstimate, RanksShortenTheWallTimeAndNoRateLeavesItUnknown) {
   EstimateInput in;
   in.cases = {{0, 4e8, false, std::nullopt}};
@@ -99,6 +137,30 @@ TEST(CostEstimate, PileScheduleCountedByHand) {
   EXPECT_NE(test::message_of<util::UserError>([&] {
               experiments::pile::case_cost(config, cut, "case.json");
             }).find("pile.append_steps"),
+            std::string::npos);
+}
+
+TEST(CostEstimate, OedometerScheduleCountedByHand) {
+  // 50 atoms: 100 pouring steps, then 3 loads; the servo plate at most 45 steps a load in checks of 20 (3 checks, 60
+  // steps), the trial-step plate at most 4 trials of 10 + 30 steps and one step more.
+  study::StudyConfig config;
+  nlohmann::json doc = nlohmann::json::parse(R"({
+    "assembly": {"particles": 50},
+    "oedometer": {"plate_mode": "servo", "loads_N": [1, 2, 3], "fill_steps": 100,
+                  "servo": {"check_steps": 20, "max_steps": 45},
+                  "trial_step": {"trial_steps": 10, "relax_steps": 30, "max_trials": 4}}})");
+  const experiments::CaseCost servo = experiments::oedometer::case_cost(config, doc, "case.json");
+  EXPECT_EQ(servo.steps, 100 + 3 * 60);
+  EXPECT_DOUBLE_EQ(servo.atom_steps, 50.0 * (100 + 3 * 60));
+  EXPECT_TRUE(servo.may_end_early);
+  doc["oedometer"]["plate_mode"] = "trial-step";
+  const experiments::CaseCost trial = experiments::oedometer::case_cost(config, doc, "case.json");
+  EXPECT_EQ(trial.steps, 100 + 3 * (4 * (10 + 30) + 1));
+  EXPECT_DOUBLE_EQ(trial.atom_steps, 50.0 * static_cast<double>(trial.steps));
+  doc["oedometer"]["trial_step"].erase("max_trials");
+  EXPECT_NE(test::message_of<util::UserError>([&] {
+              experiments::oedometer::case_cost(config, doc, "case.json");
+            }).find("oedometer.trial_step.max_trials"),
             std::string::npos);
 }
 
