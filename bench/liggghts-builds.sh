@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
-# LIGGGHTS builds side by side on the same cases (docs/benchmarks.md, "LIGGGHTS builds"): each case is written once
-# by `demsa case` (one packing, one parameter point per sample) and run by every build from a copy of its folder, so
-# the runs are paired. Prints, per build, the atom-steps per CPU-second (median over the cases), its ratio to the
-# first build (median of the per-case ratios), and the paired differences of the measured angle (the study's
+# LIGGGHTS builds and settings side by side on the same cases (docs/benchmarks.md, "LIGGGHTS builds"): each case is
+# written once by `demsa case` (one packing, one parameter point per sample) and run by every build from a copy of its
+# folder, so the runs are paired. Prints, per build, the atom-steps per CPU-second (median over the cases), its ratio
+# to the first build (median of the per-case ratios), and the paired differences of the measured angle (the study's
 # estimator, `demsa measure`) against the first build; then the load average.
 #
-# Usage: bench/liggghts-builds.sh DEMSA STUDY.toml CASES NAME=LIGGGHTS [NAME=LIGGGHTS ...]
+# Usage: bench/liggghts-builds.sh DEMSA STUDY.toml CASES NAME=LIGGGHTS[@SED] [NAME=LIGGGHTS[@SED] ...]
 #   e.g. bench/liggghts-builds.sh build/orchestrator/demsa examples/quickstart.toml 4 \
 #          debian=/usr/bin/liggghts project=$(scripts/build-liggghts.sh --print-prefix)/bin/liggghts
+#   A setting: @SED is a sed script run on the copy's *.liggghts files before the run, e.g.
+#          'skin2=/usr/bin/liggghts@s/^variable skin .*/variable skin equal 0.002/'
 # Environment: JOBS (default 2) runs at a time, one rank each; WORK (default a temporary folder, removed) keeps the
 # case folders when set.
 set -euo pipefail
@@ -26,18 +28,26 @@ else
   trap 'rm -rf "$work"' EXIT
 fi
 for b in "${builds[@]}"; do
-  [[ $b == *=* && -x ${b#*=} ]] || { echo "liggghts-builds: '$b': expected NAME=EXECUTABLE" >&2; exit 2; }
+  spec=${b#*=}
+  [[ $b == *=* && -x ${spec%%@*} ]] || { echo "liggghts-builds: '$b': expected NAME=EXECUTABLE[@SED]" >&2; exit 2; }
 done
 echo "load before: $(cat /proc/loadavg)"
 for k in $(seq 1 "$cases"); do
   [[ -d $work/case-$k ]] || "$demsa" case "$study" --sample "$k" -o "$work/case-$k" >/dev/null
 done
-# One run: copy the case, run the build in it on one rank, record CPU seconds, atom-steps and the angle.
-run_one() { # name executable k
-  local d=$3/$1-$4
+# One run: copy the case (its LIGGGHTS scripts edited by the setting's sed script, if any), run the build in it on
+# one rank, record CPU seconds, atom-steps and the angle.
+run_one() { # name executable[@sed] work k demsa
+  local d=$3/$1-$4 exe=${2%%@*} edit=
+  [[ $2 == *@* ]] && edit=${2#*@}
   rm -rf "$d"
   cp -r "$3/case-$4" "$d"
-  (cd "$d" && /usr/bin/time -f "%U %S" -o cpu.txt "$2" -in in.liggghts -log log.liggghts -screen screen.txt \
+  if [[ -n $edit ]]; then
+    sed -i -e "$edit" "$d"/*.liggghts
+    cmp -s "$3/case-$4/in.liggghts" "$d/in.liggghts" && cat "$3/case-$4"/*.liggghts | cmp -s - <(cat "$d"/*.liggghts) &&
+      echo "liggghts-builds: $1: the sed script '$edit' changed nothing in case $4" >&2
+  fi
+  (cd "$d" && /usr/bin/time -f "%U %S" -o cpu.txt "$exe" -in in.liggghts -log log.liggghts -screen screen.txt \
     >/dev/null 2>&1) || echo "liggghts-builds: $1 case $4 failed (see $d/log.liggghts)" >&2
   awk '/^Loop time of .* procs for [0-9]+ steps with [0-9]+ atoms/ {s += $9 * $12} END {printf "%.0f\n", s}' \
     "$d/log.liggghts" >"$d/atom_steps.txt"
@@ -46,8 +56,8 @@ run_one() { # name executable k
 }
 export -f run_one
 for k in $(seq 1 "$cases"); do
-  for b in "${builds[@]}"; do echo "${b%%=*} ${b#*=} $work $k $demsa"; done
-done | xargs -P "$jobs" -L 1 bash -c 'run_one "$@"' _
+  for b in "${builds[@]}"; do printf '%s\0%s\0%s\0%s\0%s\0' "${b%%=*}" "${b#*=}" "$work" "$k" "$demsa"; done
+done | xargs -0 -P "$jobs" -n 5 bash -c 'run_one "$@"' _
 echo "load after: $(cat /proc/loadavg)"
 python3 - "$work" "$cases" "${builds[@]%%=*}" <<'PY'
 import statistics, sys

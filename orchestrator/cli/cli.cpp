@@ -53,15 +53,18 @@ void print_version() {
   if (const auto cached = cached_liggghts_executable()) {
     print_liggghts("LIGGGHTS of scripts/build-liggghts.sh", query_liggghts_at(*cached));
   } else {
-    fmt::print("LIGGGHTS of scripts/build-liggghts.sh: none in {} (needed by the viscous rolling model)\n",
-               liggghts_cache_dir().string());
+    fmt::print(
+        "LIGGGHTS of scripts/build-liggghts.sh: none in {} (needed by the viscous rolling model, and the faster "
+        "default for every other)\n",
+        liggghts_cache_dir().string());
   }
   // exec::resolve_liggghts is the rule; docs/benchmarks.md ("LIGGGHTS builds") measured the two builds.
   fmt::print(
-      "which a study runs: the one its [run] liggghts names; else, but for `cdt`, $DEMSA_LIGGGHTS; else, for "
-      "`viscous`, the build of scripts/build-liggghts.sh; else `liggghts` on PATH. That build ran the quickstart's "
-      "piles 1.076 times as fast as Debian's, with the same angles to the last digit (docs/benchmarks.md); a "
-      "stock-model study runs the LIGGGHTS on PATH unless its [run] liggghts names the build.\n");
+      "which a study runs: the one its [run] liggghts names; else, but for `cdt`, $DEMSA_LIGGGHTS; else the build of "
+      "scripts/build-liggghts.sh when it is built ({}); else `liggghts` on PATH. The build is the default because it "
+      "ran the quickstart's piles 1.076 times as fast as Debian's, with the same angles to the last digit "
+      "(docs/benchmarks.md, \"LIGGGHTS builds\").\n",
+      cached_liggghts_executable() ? "here it is" : "here it is not");
 }
 
 int user_error(const std::string& message) {

@@ -344,7 +344,9 @@ std::string probe_text(const ProbeResult& p) {
                      p.sample, p.finished ? "ran to its end within" : "was stopped after", p.budget_seconds,
                      p.atom_steps, p.cpu_seconds, p.rate,
                      p.finished ? fmt::format("; {:.3f} of its cap", p.atom_steps / p.cap_atom_steps)
-                                : fmt::format(" ({:.1f} % of its cap)", 100.0 * p.atom_steps / p.cap_atom_steps));
+                                : fmt::format(" ({:.1f} % of its cap; not used: the start of a case is not its "
+                                              "average, give --probe the seconds of a whole case)",
+                                              100.0 * p.atom_steps / p.cap_atom_steps));
 }
 
 StudyEstimate estimate(const EstimateInput& input) {
@@ -383,11 +385,12 @@ StudyEstimate estimate(const EstimateInput& input) {
     e.rate = atom_steps / cpu;
     e.rate_source =
         fmt::format("this study's {} finished case(s): {:.3g} atom-steps in {:.0f} CPU-s", e.finished, atom_steps, cpu);
-  } else if (probe && probe->rate > 0.0) {
+  } else if (probe && probe->finished && probe->rate > 0.0) {
+    // Only a probe that ran its case to the end: the start of a case is not its average (a set-1 pile's first 5 % of
+    // atom-steps ran at about twice the rate of the whole case, docs/cost.md).
     e.rate = probe->rate;
-    e.rate_source = fmt::format("the probe of sample {} ({:.3g} atom-steps in {:.1f} CPU-s, {}; {})", probe->sample,
-                                probe->atom_steps, probe->cpu_seconds,
-                                probe->finished ? "run to its end" : "its first LIGGGHTS runs", probe->measured_at);
+    e.rate_source = fmt::format("the probe of sample {} ({:.3g} atom-steps in {:.1f} CPU-s, run to its end; {})",
+                                probe->sample, probe->atom_steps, probe->cpu_seconds, probe->measured_at);
   } else if (input.rate && input.rate->atom_steps_per_cpu_second > 0.0) {
     e.rate = input.rate->atom_steps_per_cpu_second;
     e.rate_source = input.rate->source;

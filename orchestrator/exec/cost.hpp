@@ -146,7 +146,7 @@ struct StudyEstimate {
 /// The estimate (docs/cost.md): a finished case counts its actual atom-steps and CPU; any other case its cap, times
 /// the ratio actual / cap of the study's finished cases when it may end early and some have finished (else of the
 /// probe, when it ran its case to the end). The rate is the study's own (its finished cases' atom-steps over their CPU)
-/// when it has any, else the probe's, else `input.rate`. The wall time
+/// when it has any, else the probe's when it ran its case to the end, else `input.rate`. The wall time
 /// schedules the cases in order on `slots` slots, each case on the first slot to free (Graham's list scheduling,
 /// "Bounds on multiprocessing timing anomalies", SIAM J. Appl. Math. 17 (1969) 416-429), as the local executor starts
 /// them.

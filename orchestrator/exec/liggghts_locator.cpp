@@ -131,10 +131,14 @@ void resolve_liggghts(study::StudyConfig& config, bool refuse) {
   const study::RunSettings defaults;
   const RollingModel model = config.contact.rolling_model;
   const std::string name(study::rolling_model_name(model));
-  // `cdt` is in every LIGGGHTS 3.x: nothing to resolve or ask, and its cases stay as they were.
-  if (model == RollingModel::cdt) return;
-  // Stock LIGGGHTS 3.8.0 has every rolling model but the viscous one.
-  const bool stock_model = model != RollingModel::viscous;
+  // `cdt` is in every LIGGGHTS 3.x: nothing to ask. The build of scripts/build-liggghts.sh runs it by the same
+  // trajectories as Debian's, bit for bit, and faster (docs/benchmarks.md, "LIGGGHTS builds": 1.076x on the
+  // quickstart's cases), so it is the default when it is built; else the `liggghts` on PATH, as before.
+  if (model == RollingModel::cdt) {
+    if (config.run.liggghts == defaults.liggghts)
+      if (const std::optional<std::string> built = cached_liggghts_executable()) config.run.liggghts = *built;
+    return;
+  }
   std::optional<std::string> exe;
   std::string source;
   if (config.run.liggghts != defaults.liggghts) {
@@ -143,7 +147,7 @@ void resolve_liggghts(study::StudyConfig& config, bool refuse) {
   } else if (const char* env = std::getenv("DEMSA_LIGGGHTS"); env != nullptr && *env != '\0') {
     exe = find_on_path(env);
     source = "$DEMSA_LIGGGHTS";
-  } else if (!stock_model && (exe = cached_liggghts_executable())) {
+  } else if ((exe = cached_liggghts_executable())) {
     source = "the cache " + liggghts_cache_dir().string();
   } else {
     exe = find_on_path("liggghts");

@@ -60,9 +60,11 @@ struct OutputProblem {
 /// atom advanced by one time step: LIGGGHTS's work per step grows with the atoms present, so `atom_steps` is the sum
 /// over the schedule's runs of steps × atoms present (the `S steps with M atoms` of its log's `Loop time` lines).
 struct CaseCost {
-  double atom_steps = 0.0;  ///< the schedule's cap: every run to its end with every atom it creates
-  long steps = 0;           ///< time steps of the whole schedule (its cap)
-  long particles = 0;       ///< atoms at the end of the schedule when none is removed
+  /// The schedule's cap: every run to its end with every atom it creates (with the atoms that can stay in the case,
+  /// when it removes the others: a pile's pedestal carries only so many)
+  double atom_steps = 0.0;
+  long steps = 0;      ///< time steps of the whole schedule (its cap)
+  long particles = 0;  ///< atoms at the end of the schedule when none is removed
   /// The case may end before its cap (a settling or stop criterion) or lose atoms on purpose (particles removed):
   /// the estimate then takes the ratio of actual to cap from the study's finished cases.
   bool may_end_early = false;

@@ -211,7 +211,12 @@ postprocess::Particles without_base(const postprocess::Particles& particles, lon
 
 namespace demsa::experiments::pile {
 
-/// The atom-steps of a written pile case by its schedule (cost.cpp): Experiment::case_cost.
+/// The particles a pedestal carries in a pile (cost.cpp): a cone at the larger of target_angle and 35 degrees plus one
+/// layer over the top, at a solid fraction of 0.6, in mean particle volumes.
+double pedestal_capacity(const PileSettings& settings);
+
+/// The atom-steps of a written pile case by its schedule (cost.cpp): Experiment::case_cost. With remove_fallen, the
+/// atoms of each interval count up to pedestal_capacity and one disc.
 CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
                    const std::filesystem::path& file);
 

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -87,13 +88,14 @@ TEST(CostEstimate, AProbeSetsTheRateAndARunToItsEndTheRatioUntilCasesFinish) {
   EXPECT_NE(estimate_text(e).find("probe: sample 0 ran to its end"), std::string::npos) << estimate_text(e);
   EXPECT_DOUBLE_EQ(estimate_json(e)["estimate"]["probe"]["atom_steps_per_cpu_second"].get<double>(), 2e6);
 
-  // A probe stopped by its budget gives the rate only.
+  // A probe stopped by its budget is shown, not used: the start of a case is not its average.
   probe.finished = false;
   in.probe = probe;
   const StudyEstimate stopped = estimate(in);
-  EXPECT_DOUBLE_EQ(stopped.rate, 2e6);
+  EXPECT_DOUBLE_EQ(stopped.rate, 1e6);
   EXPECT_DOUBLE_EQ(stopped.early_ratio, 1.0);
   EXPECT_DOUBLE_EQ(stopped.atom_steps, 3e8);
+  EXPECT_NE(estimate_text(stopped).find("not used"), std::string::npos) << estimate_text(stopped);
 
   // Finished cases take over both.
   in.cases[0].actual = CaseActual{0.5e8, 10.0};
@@ -132,6 +134,17 @@ TEST(CostEstimate, PileScheduleCountedByHand) {
   nlohmann::json early = doc;
   early["pile"]["remove_fallen"] = true;
   EXPECT_TRUE(experiments::pile::case_cost(config, early, "case.json").may_end_early);
+  // Removing the fallen ones, an interval counts at most what the pedestal carries and one disc of 100.
+  experiments::pile::PileSettings& s = experiments::pile::settings(config);
+  s.pedestal_radius = 0.01;
+  s.radii.mean = 1e-3;
+  s.radii.sd = 0.0;
+  s.target_angle = 45.0;
+  // 0.6 (pi 0.01^3 / 3 + pi 0.01^2 2e-3) / (4/3 pi 1e-9) = 0.6 (1e-6 / 3 + 2e-7) / (4/3 1e-9) = 240 particles.
+  EXPECT_NEAR(experiments::pile::pedestal_capacity(s), 240.0, 1e-9);
+  // At most 240 + 100 atoms: the third interval's 300 all count, the settling's 400 count as 340.
+  EXPECT_NEAR(experiments::pile::case_cost(config, early, "case.json").atom_steps,
+              10.0 * (100 + 200 + 300) + 60.0 * 340, 1e-9);
   nlohmann::json cut = doc;
   cut["pile"].erase("append_steps");
   EXPECT_NE(test::message_of<util::UserError>([&] {

@@ -123,7 +123,7 @@ TEST(LiggghtsLocator, AStudyWhoseRollingModelTheBinaryLacksIsRefusedSayingHowToG
   EXPECT_NO_THROW(resolve_liggghts(epsd3, true));
 }
 
-TEST(LiggghtsLocator, TheViscousModelComesFromTheCacheWhenNothingNamesALiggghts) {
+TEST(LiggghtsLocator, TheCachedBuildIsTheDefaultWhenNothingNamesALiggghts) {
   test::TempDir tmp;
   const ScopedEnv xdg("XDG_CACHE_HOME", (tmp / "cache").string());
   const ScopedEnv unset("DEMSA_LIGGGHTS", "");
@@ -137,6 +137,16 @@ TEST(LiggghtsLocator, TheViscousModelComesFromTheCacheWhenNothingNamesALiggghts)
   study::StudyConfig viscous = rolling_study("viscous", "liggghts");
   resolve_liggghts(viscous, false);
   EXPECT_EQ(viscous.run.liggghts, (prefix / "bin" / "liggghts").string());
+  // The build is the default for the stock models too (the faster, by the same trajectories), `cdt` included; a
+  // LIGGGHTS that [run] liggghts names stays.
+  for (const char* model : {"cdt", "epsd3"}) {
+    study::StudyConfig stock = rolling_study(model, "liggghts");
+    resolve_liggghts(stock, true);
+    EXPECT_EQ(stock.run.liggghts, (prefix / "bin" / "liggghts").string()) << model;
+  }
+  study::StudyConfig named = rolling_study("cdt", "/usr/bin/true");
+  resolve_liggghts(named, true);
+  EXPECT_EQ(named.run.liggghts, "/usr/bin/true");
 }
 
 }  // namespace
