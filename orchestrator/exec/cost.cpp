@@ -386,8 +386,8 @@ StudyEstimate estimate(const EstimateInput& input) {
     e.rate_source =
         fmt::format("this study's {} finished case(s): {:.3g} atom-steps in {:.0f} CPU-s", e.finished, atom_steps, cpu);
   } else if (probe && probe->finished && probe->rate > 0.0) {
-    // Only a probe that ran its case to the end: the start of a case is not its average (a set-1 pile's first 5 % of
-    // atom-steps ran at about twice the rate of the whole case, docs/cost.md).
+    // Only a probe that ran its case to the end: the start of a case is not its average (a set-1 pile's first 7 % of
+    // atom-steps ran 1.8 times as fast as the whole case, docs/cost.md).
     e.rate = probe->rate;
     e.rate_source = fmt::format("the probe of sample {} ({:.3g} atom-steps in {:.1f} CPU-s, run to its end; {})",
                                 probe->sample, probe->atom_steps, probe->cpu_seconds, probe->measured_at);
