@@ -8,6 +8,7 @@
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/process.hpp"
+#include "orchestrator/util/signals.hpp"
 #include "postprocess/liggghts_log.hpp"
 
 #include <fmt/core.h>
@@ -67,12 +68,26 @@ run             1000
 run             4000
 )LIG";
 
-nlohmann::json read_cache(const fs::path& file) {
+/// The JSON of `file`; discarded (is_discarded()) when it is missing or not JSON. The rate cache and the probe hold
+/// only measurements: one that is not ours (cut, edited) is measured again rather than refused.
+nlohmann::json read_measurement(const fs::path& file) {
   std::ifstream in(file);
-  if (!in) return nlohmann::json::object();
+  if (!in) return nlohmann::json(nlohmann::json::value_t::discarded);
   std::stringstream text;
   text << in.rdbuf();
-  nlohmann::json doc = nlohmann::json::parse(text.str(), nullptr, false);
+  return nlohmann::json::parse(text.str(), nullptr, false);
+}
+
+/// Now, in UTC, as 2026-12-03T15:46:20Z: when a measurement was taken.
+std::string utc_now() {
+  const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char when[32];
+  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  return when;
+}
+
+nlohmann::json read_cache(const fs::path& file) {
+  nlohmann::json doc = read_measurement(file);
   // A cache that is not ours (cut, edited) is measured again rather than refused: it holds nothing but measurements.
   if (!doc.is_object() || !doc.contains("rates") || !doc["rates"].is_array()) return nlohmann::json::object();
   return doc;
@@ -159,9 +174,7 @@ LiggghtsRate machine_rate(const std::string& executable, const fs::path& cache_f
                            : 1.0;
   const double cpu = last->seconds * ranks * share;
   const double rate = atom_steps / cpu;
-  const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  char when[32];
-  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  const std::string when = utc_now();
   nlohmann::json doc = read_cache(cache_file);
   if (!doc.contains("rates")) doc = {{"rates", nlohmann::json::array()}};
   nlohmann::json kept = nlohmann::json::array();
@@ -242,7 +255,13 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
   options.cwd = work;
   options.merge_stderr = true;
   options.timeout = std::chrono::milliseconds(static_cast<long long>(std::min(budget_seconds, 1e9) * 1000.0));
+  options.should_stop = [] { return util::StopFlag::raised(); };  // Ctrl-C: its own process group does not see it
   const util::CaptureResult r = util::run_capture({"./" + std::string(study::k_case_run_script)}, options);
+  if (r.stopped) {
+    std::error_code ec;
+    fs::remove_all(work, ec);
+    throw util::StopRequested();  // nothing stored; run_cli() returns 128 + the signal
+  }
   ProbeResult p;
   p.sample = sample;
   p.budget_seconds = budget_seconds;
@@ -282,10 +301,7 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
     p.cpu_seconds = loop_cpu * share;
   }
   p.rate = p.atom_steps / p.cpu_seconds;
-  const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  char when[32];
-  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-  p.measured_at = when;
+  p.measured_at = utc_now();
   const nlohmann::ordered_json j{{"sample", p.sample},
                                  {"budget_seconds", p.budget_seconds},
                                  {"finished", p.finished},
@@ -301,14 +317,8 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
 }
 
 std::optional<ProbeResult> read_probe(const study::StudyConfig& config, const fs::path& dir) {
-  const fs::path file = dir / study::k_cost_probe_file;
-  std::ifstream in(file);
-  if (!in) return std::nullopt;
-  std::stringstream text;
-  text << in.rdbuf();
-  const nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, false);
-  // Only a measurement: one that is not ours (cut, edited) is ignored, and `--probe` measures again.
-  if (!j.is_object()) return std::nullopt;
+  const nlohmann::json j = read_measurement(dir / study::k_cost_probe_file);
+  if (!j.is_object()) return std::nullopt;  // none, or not ours: `--probe` measures again
   ProbeResult p;
   try {
     p.sample = j.at("sample").get<int>();

@@ -88,7 +88,8 @@ struct ProbeResult {
 /// `budget_seconds` of wall time (then it is killed with what it started), and writes DIR/cost_probe.json. A case that
 /// finishes gives its atom-steps over its run's CPU (wait4's rusage); a killed one its complete LIGGGHTS runs'
 /// atom-steps over their loop time times the share of a core the run had (as the standard run). Throws
-/// util::UserError when no LIGGGHTS run completed within the budget, or the case failed.
+/// util::UserError when no LIGGGHTS run completed within the budget, or the case failed; util::StopRequested when
+/// util::StopFlag was raised (Ctrl-C), after killing the run: nothing is stored then.
 ProbeResult probe_study(const study::StudyConfig& config, const std::filesystem::path& dir, double budget_seconds);
 
 /// DIR/cost_probe.json when it is there and still describes this study's first case and LIGGGHTS (the same cap, the

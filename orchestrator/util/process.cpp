@@ -277,6 +277,11 @@ CaptureResult run_capture(const std::vector<std::string>& argv, const CaptureOpt
   // before it reads its input, or fills stderr while demsa waits on stdout, cannot dead-lock with demsa.
   while (out_read.open() || err_read.open() || in_write.open()) {
     int wait_ms = -1;
+    if (options.should_stop && options.should_stop()) {
+      result.stopped = true;
+      ::kill(options.new_process_group ? -pid : pid, SIGKILL);
+      break;
+    }
     if (limited) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
       if (left <= 0) {
@@ -286,6 +291,7 @@ CaptureResult run_capture(const std::vector<std::string>& argv, const CaptureOpt
       }
       wait_ms = static_cast<int>(std::min<long long>(left, 1000));
     }
+    if (options.should_stop) wait_ms = wait_ms < 0 ? 200 : std::min(wait_ms, 200);
     pollfd fds[3] = {{out_read.get(), POLLIN, 0}, {err_read.get(), POLLIN, 0}, {in_write.get(), POLLOUT, 0}};
     if (::poll(fds, 3, wait_ms) < 0) {
       if (errno == EINTR) continue;

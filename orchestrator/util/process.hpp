@@ -14,6 +14,7 @@
 // fork, no pipe), util::InternalError is thrown naming the program.
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -35,6 +36,9 @@ struct CaptureOptions {
   std::filesystem::path cwd;             ///< working directory of the program; empty: demsa's
   Environment env;                       ///< set for the program only
   std::chrono::milliseconds timeout{0};  ///< killed (SIGKILL) after this long; 0: no limit
+  /// Polled at least every 200 ms while the program runs: once it returns true the program is killed (SIGKILL, with
+  /// its process group) and the result says `stopped` (demsa's Ctrl-C, which a new process group does not pass on).
+  std::function<bool()> should_stop;
   /// In a process group of its own: a Ctrl-C at the terminal reaches demsa only (which decides what to do, e.g.
   /// not leave an sbatch half-way), and a timeout kills what the program started too.
   bool new_process_group = true;
@@ -46,6 +50,7 @@ struct CaptureResult {
   int exit_code = -1;
   int signal = 0;             ///< the signal that ended it; 0 when it exited
   bool timed_out = false;     ///< killed because options.timeout passed (then signal = SIGKILL)
+  bool stopped = false;       ///< killed because options.should_stop returned true (then signal = SIGKILL)
   std::string start_error;    ///< why it could not be started ("cannot run PROG: ..."); empty when it ran
   std::string out;            ///< standard output (and standard error when merged)
   std::string err;            ///< standard error (empty when merged)

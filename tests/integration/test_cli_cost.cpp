@@ -4,6 +4,7 @@
 #include "orchestrator/exec/cost.hpp"
 #include "orchestrator/study/store.hpp"
 
+#include "support/process.hpp"
 #include "support/test_support.hpp"
 
 #include <fmt/core.h>
@@ -11,10 +12,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <thread>
 
 namespace demsa {
 namespace {
@@ -164,6 +168,33 @@ TEST(CliCost, AProbeThatCompletesNoRunInItsBudgetSaysSo) {
   EXPECT_NE(dry.exit_code, 0);
   EXPECT_NE(dry.err.find("the probe of sample 0 completed no LIGGGHTS run in 2 s"), std::string::npos) << dry.err;
   EXPECT_FALSE(fs::exists(tmp / "study" / "cost_probe.json"));
+}
+
+TEST(CliCost, ACtrlCStopsTheProbeAtOnceAndStoresNothing) {
+  // The probe runs its case in a process group of its own, which the terminal's Ctrl-C does not reach: demsa kills it.
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", test::StudyToml{.name = "probe",
+                                                       .samples = 2,
+                                                       .tables = "[pile]\nparticles = 300\n",
+                                                       .run = test::fake_liggghts_run_lines() + "parallel = 1\n"}
+                                           .text());
+  test::FakeLiggghtsEnvironment env("0:hang", tmp.path(), 0.0);
+  test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
+  const pid_t pid = test::spawn_demsa(
+      {"run", (tmp / "study.toml").string(), "--dir", (tmp / "study").string(), "--dry-run", "--probe", "600"},
+      tmp / "log.txt");
+  // Until the probe's copy of the case has started.
+  for (int i = 0; i < 100 && !fs::exists(tmp / "study" / ".cost-probe" / "log.liggghts"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(fs::exists(tmp / "study" / ".cost-probe" / "log.liggghts")) << test::read_file(tmp / "log.txt");
+  const auto sent = std::chrono::steady_clock::now();
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  const int status = test::wait_exit(pid);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  EXPECT_EQ(status, 128 + SIGINT) << test::read_file(tmp / "log.txt");
+  EXPECT_LT(seconds, 3.0);
+  EXPECT_FALSE(fs::exists(tmp / "study" / "cost_probe.json"));
+  EXPECT_FALSE(fs::exists(tmp / "study" / ".cost-probe"));
 }
 
 TEST(CliCost, VersionShowsTheMeasuredSpeedOfTheLiggghtsItFinds) {

@@ -110,6 +110,21 @@ TEST(Process, TimeoutKillsTheProgramAndWhatItStarted) {
   EXPECT_TRUE(wait_gone(std::stoi(r.out))) << "the program's child survived the timeout";
 }
 
+TEST(Process, AStopRequestKillsTheProgramAndWhatItStarted) {
+  CaptureOptions options;
+  const auto start = Clock::now();
+  options.should_stop = [&] { return Clock::now() - start > 300ms; };
+  const CaptureResult r = run_capture({"bash", "-c", "sleep 60 & echo $!; wait"}, options);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  EXPECT_TRUE(r.stopped);
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_EQ(r.signal, SIGKILL);
+  EXPECT_GE(seconds, 0.3);
+  EXPECT_LT(seconds, 5.0);
+  ASSERT_FALSE(r.out.empty());
+  EXPECT_TRUE(wait_gone(std::stoi(r.out))) << "the program's child survived the stop";
+}
+
 TEST(Process, PathsAndArgumentsWithQuotesAndSpaces) {
   test::TempDir tmp;
   const fs::path dir = tmp / "it's a \"dir\" $HOME";
