@@ -244,7 +244,7 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
   if (!exe) throw UserError(fmt::format("{}: no such LIGGGHTS executable", config.run.liggghts));
   const BinaryKey key = binary_key(*exe);
   // A copy of the case's own files (not its outputs' folders), run as the executor runs it: ./run.sh.
-  const fs::path work = dir / ".cost-probe";
+  const fs::path work = dir / study::k_cost_probe_folder;
   fs::remove_all(work);
   fs::create_directories(work);
   for (const fs::directory_entry& e : fs::directory_iterator(folder))
@@ -272,25 +272,28 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
   const fs::path log = work / study::k_case_log;
   std::vector<postprocess::LoopSummary> loops;
   if (fs::exists(log)) loops = postprocess::read_liggghts_log(log).loops;
-  std::string tail;
-  if (!loops.empty() || r.timed_out) {
-    std::error_code ec;
-    fs::remove_all(work, ec);
-  } else {
-    tail = fmt::format(" (its folder is kept: {})", work.string());
-  }
-  if (!r.timed_out && r.exit_code != 0)
-    throw UserError(fmt::format("the probe of sample {} failed: ./run.sh exited with {}{}", sample, r.exit_code, tail));
   double loop_cpu = 0.0;
   for (const postprocess::LoopSummary& l : loops) {
     p.atom_steps += static_cast<double>(l.steps) * static_cast<double>(l.atoms);
     loop_cpu += l.seconds * std::max(1, l.procs);
   }
-  if (!(p.atom_steps > 0.0) || !(loop_cpu > 0.0))
+  // A probe that failed, or ran no LIGGGHTS run to its end, keeps its folder for the user to look into.
+  const bool failed = !r.timed_out && r.exit_code != 0;
+  const bool measured = p.atom_steps > 0.0 && loop_cpu > 0.0;
+  std::string kept;
+  if (failed || !measured) {
+    kept = fmt::format(" (its folder is kept: {})", work.string());
+  } else {
+    std::error_code ec;
+    fs::remove_all(work, ec);
+  }
+  if (failed)
+    throw UserError(fmt::format("the probe of sample {} failed: ./run.sh exited with {}{}", sample, r.exit_code, kept));
+  if (!measured)
     throw UserError(
         fmt::format("the probe of sample {} completed no LIGGGHTS run in {:.0f} s: give --probe more "
                     "seconds{}",
-                    sample, budget_seconds, tail));
+                    sample, budget_seconds, kept));
   if (p.finished && r.cpu_seconds > 0.0) {
     p.cpu_seconds = r.cpu_seconds;  // what the runner will count: the run's rusage
   } else {

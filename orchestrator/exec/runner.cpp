@@ -248,7 +248,7 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
     const std::string store = k_store_file;
     for (const std::string& name :
          {store, store + "-wal", store + "-shm", std::string(k_design_file), std::string(k_cases_folder),
-          std::string(k_analysis_folder), std::string(k_cost_probe_file)})
+          std::string(k_analysis_folder), std::string(k_cost_probe_file), std::string(k_cost_probe_folder)})
       fs::remove_all(dir / name);
   }
   Store store(db.string());

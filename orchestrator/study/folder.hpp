@@ -20,6 +20,7 @@ inline constexpr const char* k_report_folder = "report";      ///< report/ outpu
 inline constexpr const char* k_lock_file = ".demsa.lock";     ///< held by the demsa that runs the study
 inline constexpr const char* k_cost_probe_file =
     "cost_probe.json";  ///< the probe of `run --dry-run --probe` (exec/cost.hpp)
+inline constexpr const char* k_cost_probe_folder = ".cost-probe";  ///< the probe's copy of the first case
 
 // ---------------------------------------------------------------- a case folder
 inline constexpr const char* k_case_input = "in.liggghts";       ///< main LIGGGHTS script

@@ -166,7 +166,28 @@ TEST(CliCost, AProbeThatCompletesNoRunInItsBudgetSaysSo) {
   test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
   const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--probe", "2"}));
   EXPECT_NE(dry.exit_code, 0);
-  EXPECT_NE(dry.err.find("the probe of sample 0 completed no LIGGGHTS run in 2 s"), std::string::npos) << dry.err;
+  EXPECT_NE(dry.err.find("the probe of sample 0 completed no LIGGGHTS run in 2 s: give --probe more seconds (its "
+                         "folder is kept: " +
+                         (tmp / "study" / ".cost-probe").string()),
+            std::string::npos)
+      << dry.err;
+  EXPECT_TRUE(fs::exists(tmp / "study" / ".cost-probe" / "log.liggghts"));
+  EXPECT_FALSE(fs::exists(tmp / "study" / "cost_probe.json"));
+}
+
+TEST(CliCost, AProbeWhoseCaseFailsSaysHowAndKeepsItsFolder) {
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", test::StudyToml{.name = "probe",
+                                                       .samples = 2,
+                                                       .tables = "[pile]\nparticles = 300\n",
+                                                       .run = test::fake_liggghts_run_lines() + "parallel = 1\n"}
+                                           .text());
+  test::FakeLiggghtsEnvironment env("0:error", tmp.path(), 0.0);
+  test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
+  const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--probe", "60"}));
+  EXPECT_EQ(dry.exit_code, 2);
+  EXPECT_NE(dry.err.find("the probe of sample 0 failed: ./run.sh exited with"), std::string::npos) << dry.err;
+  EXPECT_TRUE(fs::exists(tmp / "study" / ".cost-probe" / "log.liggghts"));
   EXPECT_FALSE(fs::exists(tmp / "study" / "cost_probe.json"));
 }
 
