@@ -101,6 +101,15 @@ TEST(CliCost, DryRunJsonThenStatusAfterTheRun) {
   ::unsetenv("FAKE_LIGGGHTS_RATE");
 }
 
+/// A study of `samples` piles of 300 particles on the fake LIGGGHTS, one case at a time (the probe's tests).
+void write_probe_study(const test::TempDir& tmp, int samples) {
+  test::write_file(tmp / "study.toml", test::StudyToml{.name = "probe",
+                                                       .samples = samples,
+                                                       .tables = "[pile]\nparticles = 300\n",
+                                                       .run = test::fake_liggghts_run_lines() + "parallel = 1\n"}
+                                           .text());
+}
+
 // `--probe` runs the first case from a copy of its folder: its rate and its ratio to the cap price the rest, the first
 // case's stored prediction uses them, and a probe that completes no LIGGGHTS run in its budget says so and hangs
 // nothing.
@@ -157,11 +166,7 @@ TEST(CliCost, AProbeRunsTheFirstCaseAndPricesTheStudyByIt) {
 
 TEST(CliCost, AProbeThatCompletesNoRunInItsBudgetSaysSo) {
   test::TempDir tmp;
-  test::write_file(tmp / "study.toml", test::StudyToml{.name = "probe",
-                                                       .samples = 2,
-                                                       .tables = "[pile]\nparticles = 300\n",
-                                                       .run = test::fake_liggghts_run_lines() + "parallel = 1\n"}
-                                           .text());
+  write_probe_study(tmp, 2);
   test::FakeLiggghtsEnvironment env("0:hang", tmp.path(), 0.0);  // writes a log of 0 steps, then never ends
   test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
   const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--probe", "2"}));
@@ -177,11 +182,7 @@ TEST(CliCost, AProbeThatCompletesNoRunInItsBudgetSaysSo) {
 
 TEST(CliCost, AProbeWhoseCaseFailsSaysHowAndKeepsItsFolder) {
   test::TempDir tmp;
-  test::write_file(tmp / "study.toml", test::StudyToml{.name = "probe",
-                                                       .samples = 2,
-                                                       .tables = "[pile]\nparticles = 300\n",
-                                                       .run = test::fake_liggghts_run_lines() + "parallel = 1\n"}
-                                           .text());
+  write_probe_study(tmp, 2);
   test::FakeLiggghtsEnvironment env("0:error", tmp.path(), 0.0);
   test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
   const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--probe", "60"}));
@@ -194,11 +195,7 @@ TEST(CliCost, AProbeWhoseCaseFailsSaysHowAndKeepsItsFolder) {
 TEST(CliCost, ACtrlCStopsTheProbeAtOnceAndStoresNothing) {
   // The probe runs its case in a process group of its own, which the terminal's Ctrl-C does not reach: demsa kills it.
   test::TempDir tmp;
-  test::write_file(tmp / "study.toml", test::StudyToml{.name = "probe",
-                                                       .samples = 2,
-                                                       .tables = "[pile]\nparticles = 300\n",
-                                                       .run = test::fake_liggghts_run_lines() + "parallel = 1\n"}
-                                           .text());
+  write_probe_study(tmp, 2);
   test::FakeLiggghtsEnvironment env("0:hang", tmp.path(), 0.0);
   test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
   const pid_t pid = test::spawn_demsa(
