@@ -78,6 +78,14 @@ nlohmann::json read_measurement(const fs::path& file) {
   return nlohmann::json::parse(text.str(), nullptr, false);
 }
 
+/// The share of its cores a run had: its CPU time (wait4's rusage) over its wall time on `ranks` cores, at most 1. A
+/// LIGGGHTS log's loop times are wall time; times this share they are the loops' CPU time on a loaded machine. 1 when
+/// the run measured no CPU or is shorter than its loops (a log it did not write).
+double core_share(const util::CaptureResult& run, int ranks, double loop_seconds) {
+  if (!(run.cpu_seconds > 0.0) || run.wall_seconds < loop_seconds || !(run.wall_seconds > 0.0)) return 1.0;
+  return std::min(1.0, run.cpu_seconds / (run.wall_seconds * std::max(1, ranks)));
+}
+
 /// Now, in UTC, as 2026-12-03T15:46:20Z: when a measurement was taken.
 std::string utc_now() {
   const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
@@ -169,10 +177,7 @@ LiggghtsRate machine_rate(const std::string& executable, const fs::path& cache_f
   // outlasts the run it came from is taken as it is).
   const double atom_steps = static_cast<double>(last->steps) * static_cast<double>(last->atoms);
   const int ranks = std::max(1, last->procs);
-  const double share = r.cpu_seconds > 0 && r.wall_seconds >= last->seconds
-                           ? std::min(1.0, r.cpu_seconds / (r.wall_seconds * ranks))
-                           : 1.0;
-  const double cpu = last->seconds * ranks * share;
+  const double cpu = last->seconds * ranks * core_share(r, ranks, last->seconds);
   const double rate = atom_steps / cpu;
   const std::string when = utc_now();
   nlohmann::json doc = read_cache(cache_file);
@@ -226,6 +231,24 @@ std::optional<double> case_cap_atom_steps(const study::StudyConfig& config, cons
   return c->atom_steps;
 }
 
+namespace {
+
+/// A probe as JSON: DIR/cost_probe.json and the estimate's "probe" (read_probe reads these keys back).
+nlohmann::ordered_json probe_json(const ProbeResult& p) {
+  return {{"sample", p.sample},
+          {"budget_seconds", p.budget_seconds},
+          {"finished", p.finished},
+          {"cap_atom_steps", p.cap_atom_steps},
+          {"atom_steps", p.atom_steps},
+          {"cpu_seconds", p.cpu_seconds},
+          {"atom_steps_per_cpu_second", p.rate},
+          {"binary", p.binary},
+          {"binary_mtime_ns", p.binary_mtime_ns},
+          {"measured_at", p.measured_at}};
+}
+
+}  // namespace
+
 ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, double budget_seconds) {
   if (!(budget_seconds > 0.0))
     throw UserError(fmt::format("--probe {}: give a positive number of seconds", budget_seconds));
@@ -269,14 +292,10 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
   p.binary = key.path;
   p.binary_mtime_ns = key.mtime_ns;
   p.finished = !r.timed_out && r.exit_code == 0;
-  const fs::path log = work / study::k_case_log;
-  std::vector<postprocess::LoopSummary> loops;
-  if (fs::exists(log)) loops = postprocess::read_liggghts_log(log).loops;
-  double loop_cpu = 0.0;
-  for (const postprocess::LoopSummary& l : loops) {
-    p.atom_steps += static_cast<double>(l.steps) * static_cast<double>(l.atoms);
-    loop_cpu += l.seconds * std::max(1, l.procs);
-  }
+  // Its complete LIGGGHTS runs, as a finished case's: atom-steps and loop time (wall time) on every rank.
+  const CaseActual loops = case_actual(work).value_or(CaseActual{});
+  p.atom_steps = loops.atom_steps;
+  const double loop_cpu = loops.cpu_seconds;
   // A probe that failed, or ran no LIGGGHTS run to its end, keeps its folder for the user to look into.
   const bool failed = !r.timed_out && r.exit_code != 0;
   const bool measured = p.atom_steps > 0.0 && loop_cpu > 0.0;
@@ -299,23 +318,11 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
   } else {
     // The loop times are wall time: credit them with the share of a core the run had (as the standard run).
     const int ranks = std::max(1, config.run.ranks);
-    const double share =
-        r.cpu_seconds > 0.0 && r.wall_seconds > 0.0 ? std::min(1.0, r.cpu_seconds / (r.wall_seconds * ranks)) : 1.0;
-    p.cpu_seconds = loop_cpu * share;
+    p.cpu_seconds = loop_cpu * core_share(r, ranks, loop_cpu / ranks);
   }
   p.rate = p.atom_steps / p.cpu_seconds;
   p.measured_at = utc_now();
-  const nlohmann::ordered_json j{{"sample", p.sample},
-                                 {"budget_seconds", p.budget_seconds},
-                                 {"finished", p.finished},
-                                 {"cap_atom_steps", p.cap_atom_steps},
-                                 {"atom_steps", p.atom_steps},
-                                 {"cpu_seconds", p.cpu_seconds},
-                                 {"atom_steps_per_cpu_second", p.rate},
-                                 {"binary", p.binary},
-                                 {"binary_mtime_ns", p.binary_mtime_ns},
-                                 {"measured_at", p.measured_at}};
-  util::write_file_atomically(dir / study::k_cost_probe_file, j.dump(2) + "\n");
+  util::write_file_atomically(dir / study::k_cost_probe_file, probe_json(p).dump(2) + "\n");
   return p;
 }
 
@@ -506,16 +513,7 @@ StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& d
 }
 
 nlohmann::ordered_json estimate_json(const StudyEstimate& e) {
-  nlohmann::ordered_json probe = nullptr;
-  if (e.probe)
-    probe = {{"sample", e.probe->sample},
-             {"budget_seconds", e.probe->budget_seconds},
-             {"finished", e.probe->finished},
-             {"cap_atom_steps", e.probe->cap_atom_steps},
-             {"atom_steps", e.probe->atom_steps},
-             {"cpu_seconds", e.probe->cpu_seconds},
-             {"atom_steps_per_cpu_second", e.probe->rate},
-             {"measured_at", e.probe->measured_at}};
+  const nlohmann::ordered_json probe = e.probe ? probe_json(*e.probe) : nlohmann::ordered_json(nullptr);
   nlohmann::ordered_json cases = nlohmann::ordered_json::array();
   for (const CaseEstimate& c : e.cases) {
     nlohmann::ordered_json j{
@@ -592,10 +590,12 @@ std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config
   for (const study::CaseCostRow& r : before)
     input.cases.push_back({r.sample, r.cap_atom_steps, true, CaseActual{r.atom_steps, r.cpu_seconds}});
   input.cases.push_back({sample, cost->atom_steps, cost->may_end_early, std::nullopt});
-  input.probe = read_probe(config, dir);
-  if (before.empty())
+  // The cases done before set the rate and the ratio when there are any; else the probe, else the machine's rate.
+  if (before.empty()) {
+    input.probe = read_probe(config, dir);
     if (const std::optional<std::string> exe = find_on_path(config.run.liggghts))
       input.rate = cached_rate(*exe, rate_cache_file());
+  }
   const StudyEstimate e = estimate(input);
   study::CaseCostRow row;
   row.run = run;

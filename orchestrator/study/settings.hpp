@@ -72,7 +72,7 @@ struct SettingError : std::runtime_error {
 
 /// One key of the study file.
 struct Setting {
-  std::string section;  ///< "pile", "run.slurm" (a table inside [run])
+  std::string section;  ///< "timestep", "run.slurm" (a table inside [run]), or an experiment's own section
   std::string key;
   SettingType type = SettingType::number;
   std::vector<std::string> choices;  ///< enumeration: the valid names; table: its keys
@@ -96,7 +96,7 @@ struct Setting {
 
 /// A section of the study file, in file order, with its prose for the docs.
 struct SettingSection {
-  std::string name;   ///< "pile", "run.slurm"
+  std::string name;   ///< "timestep", "run.slurm"
   std::string intro;  ///< markdown before its table (may be empty)
   std::string notes;  ///< markdown after its table (may be empty)
 };
@@ -116,9 +116,9 @@ class SectionCheck {
 /// What the settings table knows of one experiment: its name (the value of `[study] experiment`), the sections it
 /// owns and the rules that tie their keys together. The experiment's rows are rows of the table like any other.
 struct ExperimentSchema {
-  std::string name;                   ///< "pile"
+  std::string name;                   ///< the value of `[study] experiment` that selects it
   std::string summary;                ///< for the docs of `[study] experiment`: "angle of repose of a pile (§3)"
-  std::vector<std::string> sections;  ///< the sections only this experiment reads ("pile")
+  std::vector<std::string> sections;  ///< the sections only this experiment reads (usually one, of its name)
   /// Checks one of its sections once every key of it is read; throws through `at`. May be empty.
   std::function<void(const StudyConfig&, const SectionCheck& at)> check;
   /// Keys an earlier demsa read in its sections, each with the hint that follows "unknown key 'KEY'".
