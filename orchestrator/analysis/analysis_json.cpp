@@ -47,20 +47,7 @@ std::string analysis_to_json(const AnalysisSummary& summary) {
     json entry{{"name", o.name}, {"samples", o.samples}, {"mean", o.mean}, {"sd", o.sd}, {"models", models}};
     if (!o.error.empty()) entry["error"] = o.error;
     if (o.noise) {
-      const NoiseAnalysis& n = *o.noise;
-      entry["noise"] = {{"variance", number_to_json(n.estimate.variance)},
-                        {"lower", number_to_json(n.estimate.lower)},
-                        {"upper", number_to_json(n.estimate.upper)},
-                        {"confidence", n.estimate.confidence},
-                        {"points", n.estimate.points},
-                        {"values", n.estimate.values},
-                        {"dof", n.estimate.dof},
-                        {"share", number_to_json(n.share)},
-                        {"share_lower", number_to_json(n.share_lower)},
-                        {"share_upper", number_to_json(n.share_upper)},
-                        {"largest_s1", number_to_json(n.largest_s1)},
-                        {"dominates", n.dominates},
-                        {"nugget_share", number_to_json(n.nugget_share)}};
+      entry["noise"] = noise_json(*o.noise);
     }
     observables.push_back(entry);
   }
@@ -70,6 +57,22 @@ std::string analysis_to_json(const AnalysisSummary& summary) {
 
 bool noise_dominates(double share, double largest_s1) {
   return share > 0.5 || (!std::isnan(largest_s1) && share > largest_s1);
+}
+
+json noise_json(const NoiseAnalysis& n) {
+  return {{"variance", number_to_json(n.estimate.variance)},
+          {"lower", number_to_json(n.estimate.lower)},
+          {"upper", number_to_json(n.estimate.upper)},
+          {"confidence", n.estimate.confidence},
+          {"points", n.estimate.points},
+          {"values", n.estimate.values},
+          {"dof", n.estimate.dof},
+          {"share", number_to_json(n.share)},
+          {"share_lower", number_to_json(n.share_lower)},
+          {"share_upper", number_to_json(n.share_upper)},
+          {"largest_s1", number_to_json(n.largest_s1)},
+          {"dominates", n.dominates},
+          {"nugget_share", number_to_json(n.nugget_share)}};
 }
 
 AnalysisSummary read_analysis(const std::filesystem::path& file) {

@@ -19,6 +19,8 @@
 #include "sobol/noise.hpp"
 #include "sobol/saltelli.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -52,6 +54,10 @@ struct NoiseAnalysis {
 
 /// The flag of NoiseAnalysis::dominates: share > 0.5, or share > largest_s1 (a NaN largest_s1 never flags).
 bool noise_dominates(double share, double largest_s1);
+
+/// The one JSON form of a noise (analysis.json's "noise", `demsa sensitivity --json`'s): every field of
+/// NoiseAnalysis, non-finite numbers as null.
+nlohmann::json noise_json(const NoiseAnalysis& noise);
 
 struct ObservableAnalysis {
   std::string name;             ///< observable name ("angle", "settlement_1", ...)

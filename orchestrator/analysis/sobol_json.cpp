@@ -16,11 +16,14 @@ nlohmann::json number(double value) { return std::isfinite(value) ? nlohmann::js
 
 }  // namespace
 
-nlohmann::json index_estimate_json(const sobol::IndexEstimate& estimate) {
+nlohmann::json index_estimate_json(const sobol::IndexEstimate& estimate, IntervalJson bounds) {
+  if (bounds == IntervalJson::null_without)
+    return {{"value", number(estimate.value)}, {"lower", nullptr}, {"upper", nullptr}};
   return {{"value", number(estimate.value)}, {"lower", number(estimate.lower)}, {"upper", number(estimate.upper)}};
 }
 
-nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::vector<std::string>& inputs) {
+nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::vector<std::string>& inputs,
+                                 IntervalJson bounds) {
   assert(inputs.size() >= result.first.size() && result.first.size() == result.total.size());
   nlohmann::json j{{"method", result.method},
                    {"dimension", result.dimension},
@@ -28,14 +31,14 @@ nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::ve
                    {"evaluations", result.evaluations},
                    {"mean", number(result.mean)},
                    {"variance", number(result.variance)},
-                   {"residual", index_estimate_json(result.residual)},
+                   {"residual", index_estimate_json(result.residual, bounds)},
                    {"bootstrap", result.bootstrap},
                    {"confidence", result.confidence},
                    {"seed", result.seed}};
   nlohmann::json first = nlohmann::json::object(), total = nlohmann::json::object();
   for (std::size_t k = 0; k < result.first.size(); ++k) {
-    first[inputs[k]] = index_estimate_json(result.first[k]);
-    total[inputs[k]] = index_estimate_json(result.total[k]);
+    first[inputs[k]] = index_estimate_json(result.first[k], bounds);
+    total[inputs[k]] = index_estimate_json(result.total[k], bounds);
   }
   j["S1"] = first;
   j["ST"] = total;
@@ -43,7 +46,7 @@ nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::ve
   for (const sobol::SecondOrderIndex& s : result.second)
     second.push_back({{"i", inputs.at(static_cast<std::size_t>(s.i))},
                       {"j", inputs.at(static_cast<std::size_t>(s.j))},
-                      {"S2", index_estimate_json(s.s)}});
+                      {"S2", index_estimate_json(s.s, bounds)}});
   j["S2"] = second;
   if (result.replicates > 0) j["replicates"] = result.replicates;
   if (!result.note.empty()) j["note"] = result.note;

@@ -2,7 +2,8 @@
 // The one JSON form of Sobol' results and metamodel summaries, shared by `demsa sensitivity --json`, the study
 // analysis (analysis.json, sobol_<model>.json, metamodels.json) and the report that reads them back:
 //
-//   index estimate:  {"value": v, "lower": l, "upper": u}          (lower = upper = value without an interval)
+//   index estimate:  {"value": v, "lower": l, "upper": u}          (lower = upper = value without an interval, or
+//                                                                   null by IntervalJson::null_without)
 //   Sobol' result:   {"method", "dimension", "base", "evaluations", "mean", "variance",
 //                     "S1": {input: estimate, ...}, "ST": {input: estimate, ...},
 //                     "S2": [{"i": input, "j": input, "S2": estimate}, ...],      (i before j in input order)
@@ -24,10 +25,16 @@
 
 namespace demsa::analysis {
 
-nlohmann::json index_estimate_json(const sobol::IndexEstimate& estimate);
+/// How a result without intervals writes its bounds: as the estimate (what the analysis files hold), or as null
+/// (`demsa sensitivity --saltelli`: no zero-width interval that is not one).
+enum class IntervalJson { as_estimated, null_without };
+
+nlohmann::json index_estimate_json(const sobol::IndexEstimate& estimate,
+                                   IntervalJson bounds = IntervalJson::as_estimated);
 
 /// `inputs` names the result's inputs in order (at least `result.first.size()` names).
-nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::vector<std::string>& inputs);
+nlohmann::json sobol_result_json(const sobol::SobolResult& result, const std::vector<std::string>& inputs,
+                                 IntervalJson bounds = IntervalJson::as_estimated);
 
 nlohmann::json metamodel_summary_json(const sobol::MetamodelSummary& summary);
 

@@ -4,6 +4,7 @@
 // design comes in independently scrambled replicates by default (sobol::default_saltelli_replicates), from whose
 // spread `demsa sensitivity` takes its intervals.
 #include "sobol/design.hpp"
+#include "orchestrator/analysis/saltelli_design_file.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/util/csv.hpp"
@@ -307,18 +308,7 @@ void run_saltelli(const DesignArgs& given) {
   const sobol::SaltelliDesign d = sobol::saltelli_design(options);
   Eigen::MatrixXd values = d.stacked();
   if (p.scaled) values = sobol::to_physical(values, p.bounds);
-  // Rows are written as they are formatted, block and replicate computed on the way (block_codes() order): a
-  // design of N = 2^17 in d = 7 is 161 MB of text (bench/design-saltelli.sh).
-  const int extra = d.replicates > 1 ? 2 : 1;  // 'block' and, with replicates, 'replicate' (1..R)
-  const Eigen::Index per_replicate = d.base / d.replicates;
-  std::vector<std::string> header{"block"};
-  if (extra == 2) header.emplace_back("replicate");
-  header.insert(header.end(), p.names.begin(), p.names.end());
-  write_csv_rows(args.output, header, values.rows(), [&](Eigen::Index r, std::span<double> cells) {
-    cells[0] = static_cast<double>(r / d.base);
-    if (extra == 2) cells[1] = static_cast<double>(1 + (r % d.base) / per_replicate);
-    for (Eigen::Index k = 0; k < values.cols(); ++k) cells[static_cast<std::size_t>(extra + k)] = values(r, k);
-  });
+  analysis::write_saltelli_design(args.output, d, values, p.names);
   if (args.json) {
     // Only on request: the pair metrics take O(N^2) time (computed up to sobol::k_max_pair_metric_samples).
     const sobol::DesignMetrics m = sobol::design_metrics(d.a);

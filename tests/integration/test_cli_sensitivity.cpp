@@ -412,7 +412,14 @@ TEST(CliSensitivity, OneScrambledDesignHasNoIntervalsUnlessTheBootstrapIsNamed) 
   const nlohmann::json o = nlohmann::json::parse(r.out)["outputs"][0];
   EXPECT_EQ(o["bootstrap"], 0);
   EXPECT_FALSE(o.contains("replicates"));
-  EXPECT_EQ(o["S1"]["x1"]["lower"], o["S1"]["x1"]["value"]);
+  // No interval: no zero-width one either (null bounds, as the text shows none).
+  for (const char* index : {"S1", "ST"})
+    for (const char* input : {"x1", "x2", "x3"}) {
+      EXPECT_TRUE(o[index][input]["value"].is_number()) << o.dump();
+      EXPECT_TRUE(o[index][input]["lower"].is_null()) << index << " " << input << ": " << o.dump();
+      EXPECT_TRUE(o[index][input]["upper"].is_null()) << index << " " << input << ": " << o.dump();
+    }
+  EXPECT_TRUE(o["residual"]["lower"].is_null() && o["residual"]["upper"].is_null()) << o.dump();
   EXPECT_NE(o["note"].get<std::string>().find("no intervals"), std::string::npos) << o.dump();
   // --interval bootstrap, or --bootstrap B alone, names the bootstrap.
   for (const std::vector<std::string>& named :

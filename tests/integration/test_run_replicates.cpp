@@ -185,12 +185,23 @@ TEST(RunReplicates, NoiseIsMeasuredSetsTheNuggetAndIsReported) {
   EXPECT_EQ(csv.rfind("point,repeat,sample,assembly_seed,angle", 0), 0u) << csv;
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 21);
 
-  // `demsa sensitivity --replicates` measures the same noise from the same files.
+  // `demsa sensitivity --repeats` measures the same noise from the same files.
   const test::CommandResult sens = test::run_demsa(
       {"sensitivity", "--data", (tmp / "study" / "analysis" / "observables.csv").string(), "--inputs", "mu_pp,mu_r_pp",
-       "--response", "angle", "--replicates", (tmp / "study" / "analysis" / "replicates.csv").string(), "--metamodels",
+       "--response", "angle", "--repeats", (tmp / "study" / "analysis" / "replicates.csv").string(), "--metamodels",
        "gp", "--bootstrap", "0", "--base", "512", "--json", (tmp / "sensitivity.json").string()});
   ASSERT_EQ(sens.exit_code, 0) << sens.out << sens.err;
+  EXPECT_EQ(sens.err.find("deprecated"), std::string::npos) << sens.err;
+  // The old spelling, --replicates, still works, with a warning naming the new one.
+  const test::CommandResult old = test::run_demsa(
+      {"sensitivity", "--data", (tmp / "study" / "analysis" / "observables.csv").string(), "--inputs", "mu_pp,mu_r_pp",
+       "--response", "angle", "--replicates", (tmp / "study" / "analysis" / "replicates.csv").string(), "--metamodels",
+       "gp", "--bootstrap", "0", "--base", "512", "--json", "-"});
+  ASSERT_EQ(old.exit_code, 0) << old.out << old.err;
+  EXPECT_NE(old.err.find("--replicates is deprecated and will be removed in the next version: use --repeats"),
+            std::string::npos)
+      << old.err;
+  EXPECT_EQ(nlohmann::json::parse(old.out).at("outputs").at(0).at("noise").at("dof").get<int>(), 15);
   EXPECT_NE(sens.out.find("share of the variance over the design"), std::string::npos) << sens.out;
   const nlohmann::json sj = nlohmann::json::parse(test::read_file(tmp / "sensitivity.json"));
   EXPECT_NEAR(sj.at("outputs").at(0).at("noise").at("variance").get<double>(), variance, 1e-9 * variance);
