@@ -1,12 +1,18 @@
 #include "orchestrator/analysis/refinement.hpp"
 
 #include "orchestrator/analysis/fit.hpp"
+#include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/analysis/training_data.hpp"
 #include "orchestrator/experiments/registry.hpp"
+#include "orchestrator/study/design_file.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/observables.hpp"
+#include "orchestrator/util/atomic_file.hpp"
+#include "orchestrator/util/errors.hpp"
 #include "sobol/augment.hpp"
 #include "sobol/gp.hpp"
 #include "sobol/scaling.hpp"
+#include "sobol/stop.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -169,6 +175,118 @@ std::string refine_history_json(const std::vector<RefineStep>& steps) {
                                                     : nlohmann::ordered_json::parse(s.indices_json)}});
   }
   return j.dump(2) + "\n";
+}
+
+std::string half_width_text(double width) {
+  return std::isfinite(width) ? fmt::format("{:.4f}", width) : std::string("none");
+}
+
+namespace {
+
+void write_refine_history(const std::filesystem::path& dir, const std::vector<study::RefineStep>& steps) {
+  const std::filesystem::path out = dir / study::k_analysis_folder;
+  std::filesystem::create_directories(out);
+  util::write_file_atomically(out / "refine.csv", refine_history_csv(steps));
+  util::write_file_atomically(out / "refine.json", refine_history_json(steps));
+}
+
+}  // namespace
+
+RefineSummary refine_study(const RefineOptions& options) {
+  using study::RefineStep;
+  using study::SampleRow;
+  using study::Store;
+  const std::filesystem::path& dir = options.dir;
+  const std::filesystem::path study_file = dir / study::k_frozen_study;
+  const auto should_stop = [&options] { return options.should_stop && options.should_stop(); };
+  RefineSummary result;
+  result.max_samples = options.max_samples;
+  if (result.max_samples == 0)
+    result.max_samples = 2L * Store::open_read_only((dir / study::k_store_file).string()).design_samples();
+  if (options.on_start) options.on_start(result.max_samples);
+
+  for (;;) {
+    const RefineRun ran = options.run_cases();
+    if (ran.interrupted) {
+      result.end = RefineEnd::stopped_in_runs;
+      return result;
+    }
+    if (ran.done < 2)
+      throw util::UserError(
+          fmt::format("{}: {} of {} samples done; the indices need at least 2", dir.string(), ran.done, ran.samples));
+    result.done = ran.done;
+
+    // The analysis and the new samples hold the study as `demsa analyze` does (no `demsa run` in between).
+    const auto lock = study::hold_study_for_results(dir);
+    AnalyzeOptions analyze;
+    analyze.dir = dir;
+    analyze.second_order = 0;  // the stop rule reads S1 and ST; the last step computes S2 if the study asks
+    analyze.should_stop = should_stop;
+    try {
+      result.analysis = analyze_study(analyze);
+    } catch (const sobol::Stopped&) {
+      result.end = RefineEnd::stopped_in_analysis;
+      return result;
+    }
+    const RefinementCheck check = check_refinement(result.analysis);
+    result.worst = check.worst();
+
+    Store store((dir / study::k_store_file).string());
+    const study::StudyConfig config = experiments::load_study(study_file);
+    const std::vector<SampleRow> samples = store.samples();
+    std::vector<RefineStep> history = store.refine_history();
+    RefineStep step;
+    step.iteration = static_cast<int>(history.size()) + 1;
+    for (const RefineStep& h : history)
+      if (h.samples == ran.done) step.iteration = h.iteration;
+    step.samples = ran.done;
+    step.target = options.target;
+    step.time = study::unix_now();
+    step.max_half_width = check.max_half_width;
+    step.indices_json = check.indices_json;
+    const bool reached = check.reached(options.target);
+    const long room = result.max_samples - static_cast<long>(samples.size());
+    std::vector<SampleRow> added;
+    if (reached) {
+      step.decision = "reached";
+    } else if (room <= 0) {
+      step.decision = "budget";
+    } else {
+      const int batch = static_cast<int>(std::min<long>(options.batch, room));
+      // One seed per step: the study's, mixed with the number of samples it starts from.
+      const std::uint64_t seed = config.seed ^ (0xD1B54A32D192ED03ULL * static_cast<std::uint64_t>(samples.size()));
+      added = choose_refinement_points(config, store, batch, seed);
+      step.decision = fmt::format("added {}", added.size());
+    }
+    store.record_refine_step(step);
+    if (!added.empty())
+      store.add_samples(
+          added, "refined",
+          fmt::format("{} samples added by refine step {} (samples {} to {}; worst half-width {})", added.size(),
+                      step.iteration, added.front().sample, added.back().sample, half_width_text(check.worst())));
+    util::write_file_atomically(dir / study::k_design_file, study::design_csv(config, store.samples()));
+    history = store.refine_history();
+    write_refine_history(dir, history);
+    if (options.on_step) options.on_step(step);
+    if (added.empty()) {
+      if (config.analysis.second_order) {
+        analyze.second_order = -1;
+        try {
+          result.analysis = analyze_study(analyze);
+        } catch (const sobol::Stopped&) {
+          result.end = RefineEnd::stopped;
+          return result;
+        }
+        write_refine_history(dir, history);  // the analysis folder was rewritten
+      }
+      result.end = reached ? RefineEnd::reached : RefineEnd::budget;
+      return result;
+    }
+    if (should_stop()) {
+      result.end = RefineEnd::stopped;
+      return result;
+    }
+  }
 }
 
 }  // namespace demsa::analysis

@@ -1,7 +1,14 @@
 #pragma once
-// `demsa refine` (cli/refine.cpp), its analysis half: how sure the Sobol' indices of a study are, and where the next
-// cases go.
+// `demsa refine` (docs/refine.md): how sure the Sobol' indices of a study are, where the next cases go, and the loop
+// that runs, analyses and grows the study until they are sure enough.
 //
+//   - refine_study: run what is left (handed in: the command line runs exec::run_study, so that analysis never runs
+//     LIGGGHTS), fit the study's metamodels, compute the indices with their intervals, and stop once every S1 and ST
+//     interval half-width is at most the target W (for every observable) or the study holds the most samples
+//     allowed; otherwise add a batch of samples where the metamodels are least sure and go round again. Resumable
+//     and kill -9 safe as `demsa run` is: a batch's samples enter the store in one transaction before any of them
+//     runs, and a step's history row is keyed by its number of done samples, so a restarted refine runs what its
+//     predecessor added and records each step once.
 //   - check_refinement: for every observable, the metamodel with the largest Q² that gave indices with intervals
 //     (fit.hpp's ranking), and the largest half-width (upper − lower)/2 of its S1 and ST intervals (those of
 //     `[analysis] interval`: the design bootstrap or the GP posterior, sobol/metamodel_sobol.hpp). The loop stops
@@ -19,6 +26,8 @@
 #include "orchestrator/study/store.hpp"
 
 #include <cstdint>
+#include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -50,5 +59,49 @@ std::vector<study::SampleRow> choose_refinement_points(const study::StudyConfig&
 std::string refine_history_csv(const std::vector<study::RefineStep>& steps);
 /// DIR/analysis/refine.json: the steps with their indices.
 std::string refine_history_json(const std::vector<study::RefineStep>& steps);
+
+/// A half-width as the refine step prints and notes it: 4 decimals, or "none" when there is no interval.
+std::string half_width_text(double width);
+
+/// What running the study's cases came to in one round of refine_study.
+struct RefineRun {
+  bool interrupted = false;  ///< the runs stopped on a signal
+  int done = 0;              ///< design and refinement samples done
+  int samples = 0;           ///< design and refinement samples in the store
+};
+
+struct RefineOptions {
+  std::filesystem::path dir;  ///< study folder (its frozen study file and store)
+  double target = 0.0;        ///< largest admissible S1 or ST interval half-width W, > 0
+  long batch = 4;             ///< samples added per step, >= 1
+  long max_samples = 0;       ///< most samples the study may hold; 0: twice the design samples
+  /// Runs what is left of the study (every sample of the store without a done run); required.
+  std::function<RefineRun()> run_cases;
+  std::function<bool()> should_stop;               ///< polled between the steps and in the analysis (empty: never)
+  std::function<void(long max_samples)> on_start;  ///< before the first round, with the budget resolved
+  std::function<void(const study::RefineStep&)> on_step;  ///< each step once recorded
+};
+
+/// How refine_study ended.
+enum class RefineEnd {
+  reached,              ///< every half-width is at most the target
+  budget,               ///< the most samples allowed are spent
+  stopped_in_runs,      ///< should_stop (or a signal) stopped the runs
+  stopped_in_analysis,  ///< should_stop stopped an analysis of a step
+  stopped,              ///< should_stop between steps, or in the closing analysis
+};
+
+struct RefineSummary {
+  RefineEnd end = RefineEnd::stopped;
+  long max_samples = 0;      ///< the budget resolved
+  int done = 0;              ///< samples done at the last step
+  double worst = 0.0;        ///< the largest half-width at the last step (NaN when one has none)
+  AnalysisSummary analysis;  ///< the last analysis (reached, budget)
+};
+
+/// The refine loop (top of this file); writes DIR/analysis/ (the analysis, refine.csv and refine.json) and
+/// DIR/design.csv at every step and records each step in the store. Throws util::UserError when fewer than two samples
+/// are done.
+RefineSummary refine_study(const RefineOptions& options);
 
 }  // namespace demsa::analysis

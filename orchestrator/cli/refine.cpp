@@ -3,26 +3,18 @@
 // half-width is at most W (for every observable) or the study holds M samples; otherwise add B samples where the
 // metamodels are least sure (analysis/refinement.hpp) and go round again.
 //
-// Resumable and kill -9 safe as `demsa run` is: the cases run through run_study (the same executor, local or SLURM,
-// the same recovery), a batch's samples enter the store in one transaction before any of them runs, and a step's
-// history row is keyed by its number of done samples, so a restarted refine runs what its predecessor added and
-// records each step once.
+// The loop is analysis::refine_study; the cases run through exec::run_study (the same executor, local or SLURM, the
+// same recovery), handed in here.
 #include "orchestrator/analysis/refinement.hpp"
-#include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/exec/runner.hpp"
-#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
-#include "orchestrator/study/store.hpp"
-#include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
-#include "sobol/stop.hpp"
 
 #include <fmt/core.h>
 
-#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -49,121 +41,59 @@ int interrupted_status() {
   return sig > 0 ? k_exit_signal_base + sig : k_exit_check_failed;
 }
 
-std::string width_text(double w) { return std::isfinite(w) ? fmt::format("{:.4f}", w) : std::string("none"); }
-
 void print_step(const RefineStep& step) {
   std::string widths;
-  for (const auto& [name, w] : step.max_half_width) widths += fmt::format("  {} {}", name, width_text(w));
+  for (const auto& [name, w] : step.max_half_width)
+    widths += fmt::format("  {} {}", name, analysis::half_width_text(w));
   fmt::print("refine: step {:>3}  {:>5} samples  max half-width:{}  -> {}\n", step.iteration, step.samples, widths,
              step.decision);
-}
-
-void write_history(const fs::path& dir, const std::vector<RefineStep>& steps) {
-  const fs::path out = dir / k_analysis_folder;
-  fs::create_directories(out);
-  write_file_atomically(out / "refine.csv", analysis::refine_history_csv(steps));
-  write_file_atomically(out / "refine.json", analysis::refine_history_json(steps));
 }
 
 int do_refine(const RefineArgs& args) {
   const fs::path dir = args.dir;
   require_study_folder(dir);
-  const fs::path study_file = dir / k_frozen_study;
   StopFlag::install();
-  const auto should_stop = [] { return StopFlag::raised(); };
-  long max_samples = args.max_samples;
-  if (max_samples == 0) max_samples = 2L * Store::open_read_only((dir / k_store_file).string()).design_samples();
-  fmt::print("refine {}: target half-width {}, batches of {}, at most {} samples\n", dir.string(), args.target,
-             args.batch, max_samples);
-
-  for (;;) {
+  analysis::RefineOptions options;
+  options.dir = dir;
+  options.target = args.target;
+  options.batch = args.batch;
+  options.max_samples = args.max_samples;
+  options.should_stop = [] { return StopFlag::raised(); };
+  options.run_cases = [&args, &dir] {
     exec::RunOptions run;
-    run.study_file = study_file;
+    run.study_file = dir / k_frozen_study;
     run.dir = dir;
     run.quiet = args.quiet;
     const exec::RunSummary ran = exec::run_study(run);
-    if (ran.interrupted) {
+    return analysis::RefineRun{ran.interrupted, ran.done, ran.samples};
+  };
+  options.on_start = [&args, &dir](long max_samples) {
+    fmt::print("refine {}: target half-width {}, batches of {}, at most {} samples\n", dir.string(), args.target,
+               args.batch, max_samples);
+  };
+  options.on_step = print_step;
+  const analysis::RefineSummary refined = analysis::refine_study(options);
+  switch (refined.end) {
+    case analysis::RefineEnd::stopped_in_runs:
       fmt::print("interrupted: `demsa refine {} --target-ci {}` resumes\n", dir.string(), args.target);
       return interrupted_status();
-    }
-    if (ran.done < 2)
-      throw UserError(
-          fmt::format("{}: {} of {} samples done; the indices need at least 2", dir.string(), ran.done, ran.samples));
-
-    // The analysis and the new samples hold the study as `demsa analyze` does (no `demsa run` in between).
-    const auto lock = hold_study_for_results(dir);
-    analysis::AnalyzeOptions analyze;
-    analyze.dir = dir;
-    analyze.second_order = 0;  // the stop rule reads S1 and ST; the last step computes S2 if the study asks
-    analyze.should_stop = should_stop;
-    analysis::AnalysisSummary summary;
-    try {
-      summary = analysis::analyze_study(analyze);
-    } catch (const sobol::Stopped&) {
+    case analysis::RefineEnd::stopped_in_analysis:
       fmt::print("interrupted during the analysis: `demsa refine {} --target-ci {}` resumes\n", dir.string(),
                  args.target);
       return interrupted_status();
-    }
-    const analysis::RefinementCheck check = analysis::check_refinement(summary);
-
-    Store store((dir / k_store_file).string());
-    const StudyConfig config = experiments::load_study(study_file);
-    const std::vector<SampleRow> samples = store.samples();
-    std::vector<RefineStep> history = store.refine_history();
-    RefineStep step;
-    step.iteration = static_cast<int>(history.size()) + 1;
-    for (const RefineStep& h : history)
-      if (h.samples == ran.done) step.iteration = h.iteration;
-    step.samples = ran.done;
-    step.target = args.target;
-    step.time = unix_now();
-    step.max_half_width = check.max_half_width;
-    step.indices_json = check.indices_json;
-    const bool reached = check.reached(args.target);
-    const long room = max_samples - static_cast<long>(samples.size());
-    std::vector<SampleRow> added;
-    if (reached) {
-      step.decision = "reached";
-    } else if (room <= 0) {
-      step.decision = "budget";
-    } else {
-      const int batch = static_cast<int>(std::min<long>(args.batch, room));
-      // One seed per step: the study's, mixed with the number of samples it starts from.
-      const std::uint64_t seed = config.seed ^ (0xD1B54A32D192ED03ULL * static_cast<std::uint64_t>(samples.size()));
-      added = analysis::choose_refinement_points(config, store, batch, seed);
-      step.decision = fmt::format("added {}", added.size());
-    }
-    store.record_refine_step(step);
-    if (!added.empty())
-      store.add_samples(
-          added, "refined",
-          fmt::format("{} samples added by refine step {} (samples {} to {}; worst half-width {})", added.size(),
-                      step.iteration, added.front().sample, added.back().sample, width_text(check.worst())));
-    write_file_atomically(dir / k_design_file, exec::design_csv(config, store.samples()));
-    history = store.refine_history();
-    write_history(dir, history);
-    print_step(step);
-    if (added.empty()) {
-      if (config.analysis.second_order) {
-        analyze.second_order = -1;
-        try {
-          summary = analysis::analyze_study(analyze);
-        } catch (const sobol::Stopped&) {
-          return interrupted_status();
-        }
-        write_history(dir, history);  // the analysis folder was rewritten
-      }
-      print_analysis_tables(summary);
-      if (reached) {
-        fmt::print("refine: every S1 and ST half-width is at most {} with {} samples\n", args.target, ran.done);
-        return k_exit_ok;
-      }
-      fmt::print("refine: the budget of {} samples is spent; worst half-width {} > {}\n", max_samples,
-                 width_text(check.worst()), args.target);
+    case analysis::RefineEnd::stopped:
+      return interrupted_status();
+    case analysis::RefineEnd::reached:
+      print_analysis_tables(refined.analysis);
+      fmt::print("refine: every S1 and ST half-width is at most {} with {} samples\n", args.target, refined.done);
+      return k_exit_ok;
+    case analysis::RefineEnd::budget:
+      print_analysis_tables(refined.analysis);
+      fmt::print("refine: the budget of {} samples is spent; worst half-width {} > {}\n", refined.max_samples,
+                 analysis::half_width_text(refined.worst), args.target);
       return k_exit_check_failed;
-    }
-    if (should_stop()) return interrupted_status();
   }
+  return k_exit_internal;
 }
 
 }  // namespace

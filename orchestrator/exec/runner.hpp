@@ -102,9 +102,6 @@ std::vector<study::SampleRow> design_extension(const study::StudyConfig& config,
                                                const std::vector<study::SampleRow>& existing, int design_samples,
                                                int added);
 
-/// The text of DIR/design.csv for these samples.
-std::string design_csv(const study::StudyConfig& config, const std::vector<study::SampleRow>& samples);
-
 /// `demsa extend DIR --samples N`: grows the design of the study in `dir` (its frozen study file) to `samples` design
 /// points, as a raised `[design] samples` does in `demsa run`: the new points are added to the store in one
 /// transaction, design.csv and the frozen study file follow. Nothing runs. Returns the number of points added (0
