@@ -32,12 +32,11 @@ mkdir -p "$work/corpus" "$work/artifacts" "$work/obj"
 flags=(-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize=unreachable
   -fno-sanitize-recover=undefined
   -I"$src" -isystem /usr/include/eigen3 -DFMT_SHARED "-DTOML_ASSERT(expr)=static_cast<void>(0)")
-# The parser and the settings tables of every experiment (the registry's); an object newer than its source and the
-# headers is kept from an earlier build.
+# The parser and the settings tables of every experiment (the registry's: each folder's settings.cpp, found, so that a
+# new experiment needs no edit here); an object newer than its source and the headers is kept from an earlier build.
 sources=(orchestrator/study/config.cpp orchestrator/study/settings.cpp orchestrator/study/parameters.cpp
-  orchestrator/experiments/registry.cpp orchestrator/experiments/pile/settings.cpp
-  orchestrator/experiments/oedometer/settings.cpp orchestrator/experiments/incline/settings.cpp
-  orchestrator/experiments/drawdown/settings.cpp)
+  orchestrator/experiments/registry.cpp)
+for f in "$src"/orchestrator/experiments/*/settings.cpp; do sources+=("${f#"$src"/}"); done
 newest_header="$(find "$src/orchestrator" "$src/sobol" -name '*.hpp' -newer "$work/obj" -print -quit 2>/dev/null || true)"
 objects=()
 for f in "${sources[@]}"; do
