@@ -5,6 +5,7 @@
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/experiments/case_record.hpp"
+#include "orchestrator/experiments/pile/case_angle.hpp"
 #include "orchestrator/experiments/pile/pile.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -56,12 +57,20 @@ CasePile pile_of(const CompareArgs& args, const fs::path& dump) {
   const nlohmann::json doc = experiments::read_case_json(folder);
   const std::optional<std::string> name = experiments::case_string(doc, file, "experiment");
   if (name && *name != experiments::pile::experiment().name) return pile;
-  pp::PileAngleOptions recorded = experiments::pile::case_angle_options(doc, file);
-  if (args.pedestal_radius != nullptr && args.pedestal_radius->count() > 0)
-    recorded.pedestal_radius = pile.options.pedestal_radius;
-  if (args.pedestal_top != nullptr && args.pedestal_top->count() > 0) recorded.pedestal_top = pile.options.pedestal_top;
-  pile.options = recorded;
-  pile.base_particles = experiments::pile::read_case_angle_settings(doc, file).base_particles.value_or(0);
+  experiments::pile::ChosenAngleOptions chosen;  // the case's measurement, but for a pedestal given here
+  chosen.pedestal_radius = args.pedestal_radius != nullptr && args.pedestal_radius->count() > 0;
+  chosen.pedestal_top = args.pedestal_top != nullptr && args.pedestal_top->count() > 0;
+  chosen.options.pedestal_radius = pile.options.pedestal_radius;
+  chosen.options.pedestal_top = pile.options.pedestal_top;
+  experiments::pile::CaseAngle angle;
+  try {
+    angle = experiments::pile::case_angle(doc, file, chosen);
+  } catch (const UserError& e) {
+    throw UserError(
+        name_options(e.what(), {{"pedestal_radius", "--pedestal-radius"}, {"pedestal_top", "--pedestal-top"}}));
+  }
+  pile.options = angle.options;
+  pile.base_particles = angle.base_particles;
   return pile;
 }
 

@@ -5,7 +5,10 @@
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/experiments/case_record.hpp"
+#include "orchestrator/experiments/oedometer/measurement_json.hpp"
 #include "orchestrator/experiments/oedometer/oedometer.hpp"
+#include "orchestrator/experiments/pile/angle_json.hpp"
+#include "orchestrator/experiments/pile/case_angle.hpp"
 #include "orchestrator/experiments/pile/pile.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -34,96 +37,6 @@ namespace fs = std::filesystem;
 namespace pp = demsa::postprocess;
 
 namespace {
-
-nlohmann::json to_json(const pp::PileAngleResult& r, const std::string& dump, const std::string& case_json) {
-  nlohmann::json j;
-  j["dump"] = dump;
-  j["case_json"] = case_json.empty() ? nlohmann::json(nullptr) : nlohmann::json(case_json);
-  j["options"] = {{"pedestal_radius_m", r.options.pedestal_radius},
-                  {"pedestal_top_m", r.options.pedestal_top},
-                  {"axis_x_m", r.options.axis_x},
-                  {"axis_y_m", r.options.axis_y},
-                  {"particle_type", r.options.particle_type},
-                  {"directions", r.options.directions},
-                  {"levels", r.options.levels},
-                  {"level_low", r.options.low_level()},
-                  {"level_high", r.options.high_level()},
-                  {"min_points", r.options.min_points},
-                  {"point", pp::to_string(r.options.point)},
-                  {"estimator", pp::to_string(r.options.estimator)},
-                  {"target_angle_deg", r.options.target_angle}};
-  j["particles_total"] = r.particles_total;
-  j["particles_on_pedestal"] = r.particles_on_pedestal;
-  j["pile_height_m"] = r.pile_height;
-  j["level_heights_m"] = r.level_heights;
-  j["directions_used"] = r.directions_used;
-  j["angle_deg"] = r.angle;
-  j["angle_sd_deg"] = r.angle_sd;
-  j["angle_min_deg"] = r.angle_min;
-  j["angle_max_deg"] = r.angle_max;
-  j["angle_error_deg2"] = r.angle_error;
-  nlohmann::json lines = nlohmann::json::array();
-  for (const pp::DirectionLine& l : r.lines)
-    lines.push_back({{"direction", l.direction},
-                     {"phi_deg", l.phi},
-                     {"ex", l.ex},
-                     {"ey", l.ey},
-                     {"points", l.points},
-                     {"used", l.used},
-                     {"angle_deg", l.angle},
-                     {"rms_distance_m", l.rms_distance},
-                     {"radial_low_m", l.radial_low},
-                     {"height_low_m", l.height_low},
-                     {"radial_high_m", l.radial_high},
-                     {"height_high_m", l.height_high}});
-  j["lines"] = std::move(lines);
-  nlohmann::json boundary = nlohmann::json::array();
-  for (const pp::BoundaryParticle& b : r.boundary)
-    boundary.push_back({{"direction", b.direction},
-                        {"level", b.level},
-                        {"id", b.id},
-                        {"x_m", b.x},
-                        {"y_m", b.y},
-                        {"z_m", b.z},
-                        {"radius_m", b.radius},
-                        {"radial_m", b.radial},
-                        {"height_m", b.height}});
-  j["boundary"] = std::move(boundary);
-  return j;
-}
-
-nlohmann::json to_json(const pp::OedometerResult& r) {
-  nlohmann::json j;
-  j["options"] = {{"box_side_m", r.options.box_side},
-                  {"floor_z_m", r.options.floor_z},
-                  {"solid_volume_m3", r.options.solid_volume},
-                  {"measured_settlements_m", r.options.measured_settlements}};
-  nlohmann::json steps = nlohmann::json::array();
-  for (const pp::OedometerStep& s : r.steps) {
-    nlohmann::json step = {{"load_N", s.load_N},       {"plate_z_m", s.plate_z_m},       {"force_N", s.force_N},
-                           {"converged", s.converged}, {"settlement_m", s.settlement_m}, {"stress_Pa", s.stress_Pa}};
-    step["void_ratio"] = s.void_ratio ? nlohmann::json(*s.void_ratio) : nlohmann::json(nullptr);
-    steps.push_back(std::move(step));
-  }
-  j["steps"] = std::move(steps);
-  j["settlements_m"] = r.settlements;
-  j["settlement_error_m"] = r.settlement_error ? nlohmann::json(*r.settlement_error) : nlohmann::json(nullptr);
-  j["all_converged"] = r.all_converged;
-  if (r.history) {
-    const pp::PlateHistory& h = *r.history;
-    nlohmann::json history = {{"file", h.file},     {"columns", h.columns},     {"step", h.step},
-                              {"load_N", h.load_N}, {"plate_z_m", h.plate_z_m}, {"force_N", h.force_N}};
-    if (!h.trial.empty()) history["trial"] = h.trial;
-    if (!h.delta_m.empty()) history["delta_m"] = h.delta_m;
-    if (!h.accepted.empty()) history["accepted"] = h.accepted;
-    j["history"] = std::move(history);
-    j["trials_accepted"] = r.trials_accepted;
-    j["trials_rejected"] = r.trials_rejected;
-  } else {
-    j["history"] = nullptr;
-  }
-  return j;
-}
 
 /// A dump given directly, or the `pile_final.dump` of a case folder.
 fs::path resolve_dump(const std::string& arg, const char* final_name) {
@@ -158,12 +71,23 @@ struct PileArgs {
 
 bool given(const CLI::Option* option) { return option != nullptr && option->count() > 0; }
 
+/// The option of each field of postprocess::PileAngleOptions.
+const OptionNames k_pile_option_names{{"pedestal_radius", "--pedestal-radius"},
+                                      {"pedestal_top", "--pedestal-top"},
+                                      {"axis_x", "--axis-x"},
+                                      {"axis_y", "--axis-y"},
+                                      {"particle_type", "--type"},
+                                      {"directions", "--directions"},
+                                      {"levels", "--levels"},
+                                      {"level_low", "--level-low"},
+                                      {"level_high", "--level-high"},
+                                      {"min_points", "--min-points"},
+                                      {"target_angle", "--target-angle"}};
+
 /// Takes the pile's pedestal and measurement settings from the case.json of the case that holds `dump` (the folder
-/// given, or the dump's own folder); command-line options win. Returns the case.json read, or "" when there is none.
-///
-/// Without a case.json (a dump not written by a demsa case) the options stand, defaults included, with a warning when
-/// the pedestal was not given. A case.json without the pedestal (written before demsa recorded it) is an error unless
-/// both --pedestal-radius and --pedestal-top are given: the defaults would measure another pedestal silently.
+/// given, or the dump's own folder; experiments::pile::case_angle); command-line options win. Returns the case.json
+/// read, or "" when there is none: then the options stand, defaults included, with a warning when the pedestal was
+/// not given.
 std::string apply_case_settings(const PileArgs& a, const fs::path& dump, pp::PileAngleOptions& options,
                                 long& base_particles) {
   const fs::path folder = dump.parent_path().empty() ? fs::path(".") : dump.parent_path();
@@ -177,31 +101,21 @@ std::string apply_case_settings(const PileArgs& a, const fs::path& dump, pp::Pil
           dump.string(), study::k_case_json, options.pedestal_radius, options.pedestal_top);
     return {};
   }
-  const nlohmann::json doc = experiments::read_case_json(folder);
-  if (const std::optional<std::string> name = experiments::case_string(doc, file, "experiment");
-      name && *name != experiments::pile::experiment().name)
-    throw UserError(
-        file.string(), 0,
-        fmt::format("experiment = \"{}\": not a pile case; `demsa measure {}` measures it", *name, folder.string()));
-  const experiments::pile::CaseAngleSettings recorded = experiments::pile::read_case_angle_settings(doc, file);
-  for (const auto& [value, key, option] :
-       {std::tuple{recorded.pedestal_radius, "pile.pedestal_radius_m", a.pedestal_radius},
-        std::tuple{recorded.pedestal_top, "pile.pedestal_height_m", a.pedestal_top}}) {
-    if (!value && !given(option))
-      throw UserError(file.string(), 0,
-                      fmt::format("records no {} (a case written by an older demsa): give the pile's pedestal as "
-                                  "--pedestal-radius and --pedestal-top",
-                                  key));
+  experiments::pile::ChosenAngleOptions chosen;
+  chosen.options = options;
+  chosen.pedestal_radius = given(a.pedestal_radius);
+  chosen.pedestal_top = given(a.pedestal_top);
+  chosen.directions = given(a.directions);
+  chosen.levels = given(a.levels);
+  chosen.estimator = given(a.estimator_option);
+  experiments::pile::CaseAngle angle;
+  try {
+    angle = experiments::pile::case_angle(experiments::read_case_json(folder), file, chosen);
+  } catch (const UserError& e) {
+    throw UserError(name_options(e.what(), k_pile_option_names));
   }
-  // The measurement settings of the study (absent from cases written before demsa recorded them: the defaults).
-  if (recorded.pedestal_radius && !given(a.pedestal_radius)) options.pedestal_radius = *recorded.pedestal_radius;
-  if (recorded.pedestal_top && !given(a.pedestal_top)) options.pedestal_top = *recorded.pedestal_top;
-  // A pile on a base layer ([pile] base = "particles"): measured without the layer, from its mean top.
-  if (recorded.base_top && !given(a.pedestal_top)) options.pedestal_top = *recorded.base_top;
-  base_particles = recorded.base_particles.value_or(0);
-  if (recorded.directions && !given(a.directions)) options.directions = *recorded.directions;
-  if (recorded.levels && !given(a.levels)) options.levels = *recorded.levels;
-  if (recorded.estimator && !given(a.estimator_option)) options.estimator = *recorded.estimator;
+  options = angle.options;
+  base_particles = angle.base_particles;
   try {
     options.validate();
   } catch (const std::invalid_argument& e) {
@@ -225,7 +139,7 @@ void run_pile(const PileArgs& a) {
     throw UserError(dump.string(), 0, e.what());
   }
   if (a.json) {
-    fmt::print("{}\n", to_json(r, dump.string(), case_json).dump(2));
+    fmt::print("{}\n", experiments::pile::angle_result_json(r, dump.string(), case_json).dump(2));
     return;
   }
   fmt::print("dump                   {}\n", dump.string());
@@ -311,7 +225,7 @@ void run_oedometer(const OedometerArgs& a) {
     throw UserError(source, 0, e.what());
   }
   if (a.json) {
-    nlohmann::json j = to_json(r);
+    nlohmann::json j = experiments::oedometer::measurement_json(r);
     j["states_file"] = states_file ? nlohmann::json(states_file->string()) : nlohmann::json(nullptr);
     j["dump"] = dump_file ? nlohmann::json(dump_file->string()) : nlohmann::json(nullptr);
     fmt::print("{}\n", j.dump(2));
@@ -398,17 +312,7 @@ void register_postprocess_command(CLI::App& app, CliState& state) {
       pile->options.level_low = pile->level_low_value;
       pile->options.level_high = pile->level_high_value;
     }
-    validate_command_line(pile->options, {{"pedestal_radius", "--pedestal-radius"},
-                                          {"pedestal_top", "--pedestal-top"},
-                                          {"axis_x", "--axis-x"},
-                                          {"axis_y", "--axis-y"},
-                                          {"particle_type", "--type"},
-                                          {"directions", "--directions"},
-                                          {"levels", "--levels"},
-                                          {"level_low", "--level-low"},
-                                          {"level_high", "--level-high"},
-                                          {"min_points", "--min-points"},
-                                          {"target_angle", "--target-angle"}});
+    validate_command_line(pile->options, k_pile_option_names);
     run_pile(*pile);
   });
 

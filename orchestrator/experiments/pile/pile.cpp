@@ -1,4 +1,5 @@
 #include "orchestrator/experiments/pile/pile.hpp"
+#include "orchestrator/experiments/pile/case_angle.hpp"
 
 #include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/study/folder.hpp"
@@ -16,6 +17,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 // The pile's descriptor: its measurement (paper §3.3), its observables, its report section and its ParaView
 // surfaces. Its settings are in settings.cpp, its case in case.cpp.
@@ -105,20 +107,50 @@ CaseAngleSettings read_case_angle_settings(const nlohmann::json& doc, const fs::
   return s;
 }
 
+namespace {
+
+/// `chosen`'s options with what the case records in place of those the caller did not choose.
+pp::PileAngleOptions recorded_angle_options(const CaseAngleSettings& s, const ChosenAngleOptions& chosen) {
+  pp::PileAngleOptions options = chosen.options;
+  if (s.pedestal_radius && !chosen.pedestal_radius) options.pedestal_radius = *s.pedestal_radius;
+  if (s.pedestal_top && !chosen.pedestal_top) options.pedestal_top = *s.pedestal_top;
+  if (s.directions && !chosen.directions) options.directions = *s.directions;
+  if (s.levels && !chosen.levels) options.levels = *s.levels;
+  if (s.estimator && !chosen.estimator) options.estimator = *s.estimator;
+  // A pile on a base layer stands on the layer: heights and levels start at its mean top.
+  if (s.base_top && !chosen.pedestal_top) options.pedestal_top = *s.base_top;
+  return options;
+}
+
+}  // namespace
+
 pp::PileAngleOptions case_angle_options(const nlohmann::json& doc, const fs::path& file) {
   const CaseAngleSettings s = read_case_angle_settings(doc, file);
   for (const auto& [value, key] :
        {std::pair{s.pedestal_radius, "pile.pedestal_radius_m"}, std::pair{s.pedestal_top, "pile.pedestal_height_m"}})
     if (!value) throw util::UserError(file.string(), 0, fmt::format("records no {} (the pile's pedestal)", key));
-  pp::PileAngleOptions options;
-  options.pedestal_radius = *s.pedestal_radius;
-  options.pedestal_top = *s.pedestal_top;
-  if (s.directions) options.directions = *s.directions;
-  if (s.levels) options.levels = *s.levels;
-  if (s.estimator) options.estimator = *s.estimator;
-  // A pile on a base layer stands on the layer: heights and levels start at its mean top.
-  if (s.base_top) options.pedestal_top = *s.base_top;
-  return options;
+  return recorded_angle_options(s, ChosenAngleOptions{});
+}
+
+CaseAngle case_angle(const nlohmann::json& doc, const fs::path& file, const ChosenAngleOptions& chosen) {
+  if (const std::optional<std::string> name = case_string(doc, file, "experiment"); name && *name != experiment().name)
+    throw util::UserError(file.string(), 0,
+                          fmt::format("experiment = \"{}\": not a pile case; `demsa measure {}` measures it", *name,
+                                      file.parent_path().string()));
+  const CaseAngleSettings recorded = read_case_angle_settings(doc, file);
+  for (const auto& [value, key, given] :
+       {std::tuple{recorded.pedestal_radius, "pile.pedestal_radius_m", chosen.pedestal_radius},
+        std::tuple{recorded.pedestal_top, "pile.pedestal_height_m", chosen.pedestal_top}}) {
+    if (!value && !given)
+      throw util::UserError(file.string(), 0,
+                            fmt::format("records no {} (a case written by an older demsa): give the pile's pedestal "
+                                        "as PileAngleOptions.pedestal_radius and PileAngleOptions.pedestal_top",
+                                        key));
+  }
+  CaseAngle angle;
+  angle.options = recorded_angle_options(recorded, chosen);
+  angle.base_particles = recorded.base_particles.value_or(0);
+  return angle;
 }
 
 pp::Particles without_base(const pp::Particles& particles, long base_particles) {
