@@ -1,5 +1,6 @@
 #include "orchestrator/experiments/drawdown/drawdown.hpp"
 
+#include "orchestrator/experiments/particle_sets.hpp"
 #include "orchestrator/study/setting_row.hpp"
 
 #include <fmt/core.h>
@@ -13,8 +14,7 @@ namespace {
 
 void apply_preset(DrawdownSettings& s, const std::string& preset) {
   // Paper Table 2: the radii of particle sets 1 and 2.
-  s.radii = preset == "set1" ? RadiusDistribution{1.0e-3, 3.5e-3, 2.0e-3, 0.5e-3}
-                             : RadiusDistribution{0.8e-3, 2.5e-3, 1.5e-3, 0.35e-3};
+  s.radii = preset_radii(preset);
   s.preset = preset;
 }
 

@@ -1,5 +1,6 @@
 #include "orchestrator/experiments/pile/pile.hpp"
 
+#include "orchestrator/experiments/particle_sets.hpp"
 #include "orchestrator/study/setting_row.hpp"
 
 #include <fmt/core.h>
@@ -16,13 +17,8 @@ namespace {
 
 void apply_preset(PileSettings& pile, const std::string& preset) {
   // Paper Table 2: particle sets 1 and 2.
-  if (preset == "set1") {
-    pile.particles = 6000;
-    pile.radii = RadiusDistribution{1.0e-3, 3.5e-3, 2.0e-3, 0.5e-3};
-  } else {
-    pile.particles = 8000;
-    pile.radii = RadiusDistribution{0.8e-3, 2.5e-3, 1.5e-3, 0.35e-3};
-  }
+  pile.particles = preset == "set1" ? 6000 : 8000;
+  pile.radii = preset_radii(preset);
   pile.preset = preset;
 }
 
