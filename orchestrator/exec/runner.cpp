@@ -9,8 +9,8 @@
 #include "orchestrator/exec/local_executor.hpp"
 #include "orchestrator/exec/measure.hpp"
 #include "orchestrator/exec/open_study.hpp"
-#include "orchestrator/exec/plan.hpp"
 #include "orchestrator/exec/progress.hpp"
+#include "orchestrator/exec/run_queue.hpp"
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/settings.hpp"
@@ -140,7 +140,7 @@ struct InFlight {
 };
 
 /// One invocation's loop, in the shape of ninja's Builder (src/build.h): the study, the executor (the
-/// CommandRunner), what is left (the Plan) and the cases in flight.
+/// CommandRunner), what is left (the RunQueue, ninja's Plan) and the cases in flight.
 struct Loop {
   const RunOptions& options;
   const StudyConfig& config;
@@ -149,7 +149,7 @@ struct Loop {
   Executor& executor;
   RunSummary& summary;
   std::function<bool()> should_stop;
-  Plan plan;
+  RunQueue queue;
   std::map<std::string, InFlight> in_flight = {};  ///< by case folder
   std::vector<double> walls = {};                  ///< [s] wall times of the done runs, for the ETA
 };
@@ -166,17 +166,17 @@ void recover_submitted(Loop& loop) {
       outcome.exit_code = 0;
       outcome.message = "recovered from result.json after an interruption";
       loop.store.record_done(r.id, outcome, *observables);
-      loop.plan.mark_done(r.sample, r.attempt);
+      loop.queue.mark_done(r.sample, r.attempt);
       ++loop.summary.recovered;
       continue;
     }
     if (loop.options.submit_only) {
-      loop.plan.leave_submitted(r.sample);
+      loop.queue.leave_submitted(r.sample);
       continue;
     }
     adopt.push_back({CaseTask{r.sample, r.attempt, folder}, r.job_id});
     loop.in_flight[folder.string()] = InFlight{r.id, r.sample, r.attempt, configured_particles(loop.config)};
-    loop.plan.adopt(r.sample);
+    loop.queue.adopt(r.sample);
   }
   if (!adopt.empty()) {
     loop.store.add_event("resume", fmt::format("{} runs left in flight by an earlier demsa", adopt.size()));
@@ -201,14 +201,14 @@ std::vector<long> start_batch(Executor& executor, Store& store, const std::vecto
   return runs;
 }
 
-/// Takes from the front of the plan as many cases as the executor has room for, writes each case folder anew and
+/// Takes from the front of the queue as many cases as the executor has room for, writes each case folder anew and
 /// starts them in one batch.
 void start_what_fits(Loop& loop, const std::map<int, StudyCase>& cases) {
   std::vector<CaseTask> batch;
   std::vector<InFlight> flights;
   const int slots = loop.executor.free_slots();
   while (static_cast<int>(batch.size()) < slots) {
-    const std::optional<PlannedCase> next = loop.plan.next();
+    const std::optional<QueuedCase> next = loop.queue.next();
     if (!next) break;
     const fs::path folder = case_dir(loop.dir, next->sample);
     long particles = 0;
@@ -262,7 +262,7 @@ void record_case_cost(Loop& loop, const fs::path& folder, long run, int sample, 
 }
 
 /// One case ended (ninja's Builder::FinishCommand): classify it, measure it, write its result.json, commit its run
-/// (done, failed or requeued: one store transaction) and tell the plan. result.json is written atomically before
+/// (done, failed or requeued: one store transaction) and tell the queue. result.json is written atomically before
 /// the commit, so a crash between the two is recovered from it (recover_submitted).
 void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& flight) {
   const fs::path& folder = finished.task.folder;
@@ -272,7 +272,7 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
     if (!finished.exit.detail.empty())
       loop.store.add_event("requeued", fmt::format("run {}: {}: {}", flight.run, report.message, finished.exit.detail),
                            flight.sample);
-    loop.plan.requeue(flight.sample, loop.should_stop());
+    loop.queue.requeue(flight.sample, loop.should_stop());
     return;
   }
   RunOutcome outcome = outcome_from(finished.exit);
@@ -291,7 +291,7 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
     write_file_atomically(folder / k_result_file, result_json(finished, flight, observables));
     loop.store.record_done(flight.run, outcome, observables);
     record_case_cost(loop, folder, flight.run, flight.sample, finished.exit.cpu_seconds);
-    loop.plan.mark_done(flight.sample, flight.attempt);
+    loop.queue.mark_done(flight.sample, flight.attempt);
     ++loop.summary.done_now;
     if (finished.exit.wall_seconds > 0) loop.walls.push_back(finished.exit.wall_seconds);
     return;
@@ -301,11 +301,11 @@ void finish_case(Loop& loop, const FinishedCase& finished, const InFlight& fligh
   outcome.log_tail = report.log_tail;
   loop.store.record_failed(flight.run, outcome);
   ++loop.summary.failures_by_class[to_string(report.failure)];
-  // collect_only: the plan neither retries nor gives up; the next `demsa run` retries it.
+  // collect_only: the queue neither retries nor gives up; the next `demsa run` retries it.
   if (report.final)
-    loop.plan.give_up(flight.sample, flight.attempt);
+    loop.queue.give_up(flight.sample, flight.attempt);
   else
-    loop.plan.retry_or_give_up(flight.sample, flight.attempt, !loop.options.collect_only && loop.should_stop());
+    loop.queue.retry_or_give_up(flight.sample, flight.attempt, !loop.options.collect_only && loop.should_stop());
 }
 
 /// Polls the executor (waiting up to `wait`) and finishes every case that ended; first stores the real job ids it
@@ -335,14 +335,14 @@ void collect(Loop& loop, std::chrono::milliseconds wait) {
 
 /// Whether the loop goes on: samples left to start, or (unless submit_only, which does not poll) cases in flight.
 bool work_left(const Loop& loop) {
-  return loop.plan.has_queued() || (!loop.options.submit_only && loop.executor.in_flight() > 0);
+  return loop.queue.has_queued() || (!loop.options.submit_only && loop.executor.in_flight() > 0);
 }
 
 ProgressCounts counts(const Loop& loop) {
   ProgressCounts c;
-  c.done = loop.plan.done_count();
+  c.done = loop.queue.done_count();
   c.running = static_cast<int>(loop.in_flight.size());
-  c.failed = loop.plan.failed_count();
+  c.failed = loop.queue.failed_count();
   c.total = loop.summary.samples + loop.summary.replicates;
   return c;
 }
@@ -352,7 +352,7 @@ double eta(const Loop& loop, int parallel) {
   for (double w : loop.walls) mean += w;
   mean = loop.walls.empty() ? 0.0 : mean / static_cast<double>(loop.walls.size());
   const int remaining =
-      loop.summary.samples + loop.summary.replicates - loop.plan.done_count() - loop.plan.failed_count();
+      loop.summary.samples + loop.summary.replicates - loop.queue.done_count() - loop.queue.failed_count();
   return estimate_remaining(remaining, parallel, mean);
 }
 
@@ -434,14 +434,14 @@ RunSummary run_study(const RunOptions& options) {
             .executor = *executor,
             .summary = summary,
             .should_stop = options.should_stop ? options.should_stop : [] { return StopFlag::raised(); },
-            .plan = Plan(PlanOptions{.retries = config.run.retries, .collect_only = options.collect_only})};
+            .queue = RunQueue(RunQueueOptions{.retries = config.run.retries, .collect_only = options.collect_only})};
   // Who is done, which attempt each sample is at; then the runs an earlier demsa left in flight; then the queue.
   for (const RunRow& r : store.runs()) {
-    loop.plan.add_past_run(r);
+    loop.queue.add_past_run(r);
     if (r.state == RunState::done && r.wall_seconds > 0) loop.walls.push_back(r.wall_seconds);
   }
   recover_submitted(loop);
-  loop.plan.queue_remaining(order);
+  loop.queue.queue_remaining(order);
 
   Progress progress(options.quiet || options.collect_only ? nullptr : stderr, Progress::is_terminal(stderr),
                     options.progress_interval);
@@ -458,10 +458,10 @@ RunSummary run_study(const RunOptions& options) {
   if (!options.collect_only && loop.should_stop()) handle_interrupt(loop);
   progress.finish(counts(loop));
 
-  summary.left_running = static_cast<int>(loop.in_flight.size()) + loop.plan.left_submitted_count();
+  summary.left_running = static_cast<int>(loop.in_flight.size()) + loop.queue.left_submitted_count();
   for (const auto& [sample, c] : cases)
-    (c.replicate ? summary.replicates_done : summary.done) += loop.plan.is_done(sample);
-  summary.failed_samples = loop.plan.failed_samples();
+    (c.replicate ? summary.replicates_done : summary.done) += loop.queue.is_done(sample);
+  summary.failed_samples = loop.queue.failed_samples();
   summary.failed = static_cast<int>(summary.failed_samples.size());
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (options.collect_only)

@@ -22,20 +22,20 @@
 
 namespace demsa::exec {
 
-struct PlanOptions {
+struct RunQueueOptions {
   int retries = 0;            ///< starts per sample in this invocation beyond the first (< 0 counts as 0)
   bool collect_only = false;  ///< queue nothing, retry nothing: only commit what ends
 };
 
 /// One start of one sample.
-struct PlannedCase {
+struct QueuedCase {
   int sample = 0;
   int attempt = 1;  ///< 1 for the sample's first run, then one more per run that counted
 };
 
-class Plan {
+class RunQueue {
  public:
-  explicit Plan(const PlanOptions& options);
+  explicit RunQueue(const RunQueueOptions& options);
 
   /// A run of an earlier invocation, as the store holds it: done samples are done; every run that was not requeued
   /// numbers an attempt.
@@ -51,7 +51,7 @@ class Plan {
 
   /// The next sample to start, with its attempt number, or nothing when the queue is empty. Done samples in the
   /// queue are skipped. Counts one start against the sample's budget.
-  std::optional<PlannedCase> next();
+  std::optional<QueuedCase> next();
 
   /// A case that was cancelled or lost (not the case's fault): it goes first, unless `stopping` or collect_only.
   void requeue(int sample, bool stopping);

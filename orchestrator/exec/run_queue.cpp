@@ -1,45 +1,45 @@
-#include "orchestrator/exec/plan.hpp"
+#include "orchestrator/exec/run_queue.hpp"
 
 #include <algorithm>
 
 namespace demsa::exec {
 
-Plan::Plan(const PlanOptions& options)
+RunQueue::RunQueue(const RunQueueOptions& options)
     : m_budget(1 + std::max(0, options.retries)), m_collect_only(options.collect_only) {}
 
-void Plan::add_past_run(const study::RunRow& run) {
+void RunQueue::add_past_run(const study::RunRow& run) {
   if (run.state == study::RunState::done) m_done.insert(run.sample);
   if (run.state != study::RunState::requeued) m_attempts[run.sample] = std::max(m_attempts[run.sample], run.attempt);
 }
 
-void Plan::adopt(int sample) { m_adopted.insert(sample); }
+void RunQueue::adopt(int sample) { m_adopted.insert(sample); }
 
-void Plan::leave_submitted(int sample) { m_left_submitted.insert(sample); }
+void RunQueue::leave_submitted(int sample) { m_left_submitted.insert(sample); }
 
-void Plan::queue_remaining(const std::vector<int>& samples) {
+void RunQueue::queue_remaining(const std::vector<int>& samples) {
   if (m_collect_only) return;
   for (int sample : samples)
     if (!m_done.count(sample) && !m_adopted.count(sample) && !m_left_submitted.count(sample)) m_queue.push_back(sample);
 }
 
-std::optional<PlannedCase> Plan::next() {
+std::optional<QueuedCase> RunQueue::next() {
   while (!m_queue.empty()) {
     const int sample = m_queue.front();
     m_queue.pop_front();
     if (m_done.count(sample)) continue;
     const int attempt = ++m_attempts[sample];
     ++m_starts[sample];
-    return PlannedCase{sample, attempt};
+    return QueuedCase{sample, attempt};
   }
   return std::nullopt;
 }
 
-void Plan::requeue(int sample, bool stopping) {
+void RunQueue::requeue(int sample, bool stopping) {
   // Not the case's fault: it runs again before the samples still waiting and before the retries of failed ones.
   if (!stopping && !m_collect_only) m_queue.push_front(sample);
 }
 
-bool Plan::retry_or_give_up(int sample, int attempt, bool stopping) {
+bool RunQueue::retry_or_give_up(int sample, int attempt, bool stopping) {
   m_attempts[sample] = std::max(m_attempts[sample], attempt);
   if (m_collect_only) return false;
   if (m_starts[sample] < m_budget && !stopping) {
@@ -50,17 +50,17 @@ bool Plan::retry_or_give_up(int sample, int attempt, bool stopping) {
   return false;
 }
 
-void Plan::give_up(int sample, int attempt) {
+void RunQueue::give_up(int sample, int attempt) {
   m_attempts[sample] = std::max(m_attempts[sample], attempt);
   if (!m_collect_only) m_failed.insert(sample);
 }
 
-void Plan::mark_done(int sample, int attempt) {
+void RunQueue::mark_done(int sample, int attempt) {
   m_attempts[sample] = std::max(m_attempts[sample], attempt);
   m_done.insert(sample);
 }
 
-std::vector<int> Plan::failed_samples() const {
+std::vector<int> RunQueue::failed_samples() const {
   std::vector<int> samples;
   for (int sample : m_failed)
     if (!m_done.count(sample)) samples.push_back(sample);
