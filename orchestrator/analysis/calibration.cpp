@@ -256,7 +256,7 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
   }
 
   fs::create_directories(dir / "analysis");
-  write_file_atomically(dir / "analysis" / "calibration.json", calibration_to_json(outcome));
+  write_file_atomically(dir / k_analysis_folder / k_calibration_json, calibration_to_json(outcome));
   return outcome;
 }
 

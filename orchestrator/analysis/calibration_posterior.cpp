@@ -4,6 +4,7 @@
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/joint_studies.hpp"
 #include "orchestrator/experiments/registry.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/parameters.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/csv.hpp"
@@ -421,7 +422,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
     }
   }
 
-  outcome.out = options.out.empty() ? options.dirs.front() / "calibration" : options.out;
+  outcome.out = options.out.empty() ? options.dirs.front() / k_posterior_folder : options.out;
   fs::create_directories(outcome.out);
   // The samples in physical units, thinned to at most 20000 rows (every k-th kept draw).
   {
@@ -498,7 +499,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
       outcome.verification.push_back(vp);
     }
   }
-  write_file_atomically(outcome.out / "posterior.json", posterior_to_json(outcome));
+  write_file_atomically(outcome.out / k_posterior_json, posterior_to_json(outcome));
   return outcome;
 }
 

@@ -32,7 +32,7 @@ std::string joined(const std::set<std::string>& names) {
 /// The model file of a study folder that the options name (or the best by Q²).
 fs::path study_model_file(const PredictOptions& args) {
   const fs::path dir(args.source);
-  const fs::path models_dir = dir / study::k_analysis_folder / "models";
+  const fs::path models_dir = dir / study::k_analysis_folder / study::k_models_folder;
   if (!fs::is_directory(models_dir))
     throw UserError(args.source, 0,
                     fmt::format("no saved metamodels ({} does not exist): run `demsa analyze {}` first",
@@ -73,7 +73,7 @@ fs::path study_model_file(const PredictOptions& args) {
     return models_dir / model_file_name(observable, args.model);
   }
   // The analysis' choice: the largest leave-one-out Q² (analysis/fit.hpp best_by_q2), in the analysis' order.
-  const fs::path analysis_file = dir / study::k_analysis_folder / "analysis.json";
+  const fs::path analysis_file = dir / study::k_analysis_folder / study::k_analysis_json;
   const AnalysisSummary summary = read_analysis(analysis_file);
   const auto rank = [](double q2) { return std::isfinite(q2) ? q2 : -std::numeric_limits<double>::infinity(); };
   std::string best;

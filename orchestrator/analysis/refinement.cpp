@@ -186,8 +186,8 @@ namespace {
 void write_refine_history(const std::filesystem::path& dir, const std::vector<study::RefineStep>& steps) {
   const std::filesystem::path out = dir / study::k_analysis_folder;
   std::filesystem::create_directories(out);
-  util::write_file_atomically(out / "refine.csv", refine_history_csv(steps));
-  util::write_file_atomically(out / "refine.json", refine_history_json(steps));
+  util::write_file_atomically(out / study::k_refine_csv, refine_history_csv(steps));
+  util::write_file_atomically(out / study::k_refine_json, refine_history_json(steps));
 }
 
 }  // namespace

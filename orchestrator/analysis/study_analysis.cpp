@@ -261,7 +261,7 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
       }
       text += "\n";
     }
-    write_text(summary.out_dir / "observables.csv", text);
+    write_text(summary.out_dir / k_observables_csv, text);
   }
   // replicates.csv: the replicate cases beside the design case of their point (repeat 0).
   if (!replicates.empty()) {
@@ -285,10 +285,10 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
       previous = r.point;
       row(r.point, r.repeat, r.sample, std::to_string(r.seed));
     }
-    write_text(summary.out_dir / "replicates.csv", text);
+    write_text(summary.out_dir / k_replicates_csv, text);
   } else {
     std::error_code ec;
-    fs::remove(summary.out_dir / "replicates.csv", ec);
+    fs::remove(summary.out_dir / k_replicates_csv, ec);
   }
 
   // metamodels.json, table_<observable>.csv, analysis.json, sobol_<model>.{csv,json}
@@ -311,9 +311,9 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     }
     write_text(summary.out_dir / fmt::format("table_{}.csv", o.name), table);
   }
-  write_text(summary.out_dir / "metamodels.json", metamodels_json.dump(2) + "\n");
+  write_text(summary.out_dir / k_metamodels_json, metamodels_json.dump(2) + "\n");
   // models/ holds the models of this analysis only: a file of a metamodel or observable no longer analysed goes.
-  const fs::path models_dir = summary.out_dir / "models";
+  const fs::path models_dir = summary.out_dir / k_models_folder;
   fs::create_directories(models_dir);
   for (const fs::directory_entry& entry : fs::directory_iterator(models_dir)) {
     const std::string file = entry.path().filename().string();
@@ -322,7 +322,7 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     if (!current && entry.is_regular_file() && entry.path().extension() == ".json") fs::remove(entry.path());
   }
   for (const auto& [file, text] : model_files) write_text(models_dir / file, text);
-  write_text(summary.out_dir / "analysis.json", analysis_to_json(summary));
+  write_text(summary.out_dir / k_analysis_json, analysis_to_json(summary));
 
   for (const std::string& model_name : models) {
     std::string csv = "observable,parameter,S1,S1_lower,S1_upper,ST,ST_lower,ST_upper\n";

@@ -66,7 +66,7 @@ int do_analyze(const AnalyzeArgs& args) {
     return k_exit_signal_base + StopFlag::signal_number();
   }
   if (args.json)
-    fmt::print("{}\n", read_file(summary.out_dir / "analysis.json"));
+    fmt::print("{}\n", read_file(summary.out_dir / study::k_analysis_json));
   else
     print_analysis_tables(summary);
   if (const std::string failure = analysis_failure(summary); !failure.empty()) throw UserError(failure);

@@ -815,7 +815,7 @@ ReportSummary write_study_report(const ReportOptions& options) {
     s.refine = store.refine_history();
     s.costs = store.case_costs();
   }
-  const fs::path analysis_file = dir / "analysis" / "analysis.json";
+  const fs::path analysis_file = dir / k_analysis_folder / k_analysis_json;
   if (!fs::exists(analysis_file)) {
     AnalyzeOptions analyze;
     analyze.dir = dir;
@@ -859,14 +859,14 @@ ReportSummary write_study_report(const ReportOptions& options) {
     }
   }
 
-  const fs::path calibration_file = dir / "analysis" / "calibration.json";
+  const fs::path calibration_file = dir / k_analysis_folder / k_calibration_json;
   if (fs::exists(calibration_file))
     doc.sections.push_back(calibration_section(read_calibration(calibration_file), plotter, summary.out_dir, summary));
   else
     doc.sections.back().paragraphs.push_back(
         fmt::format("No calibration yet: `demsa calibrate {}` adds one to this report.", dir.string()));
 
-  const fs::path posterior_file = dir / "calibration" / "posterior.json";
+  const fs::path posterior_file = dir / k_posterior_folder / k_posterior_json;
   if (fs::exists(posterior_file))
     doc.sections.push_back(posterior_section(read_posterior(posterior_file),
                                              dir / "calibration" / "posterior_samples.csv", plotter, summary.out_dir,

@@ -22,6 +22,19 @@ inline constexpr const char* k_cost_probe_file =
     "cost_probe.json";  ///< the probe of `run --dry-run --probe` (exec/cost.hpp)
 inline constexpr const char* k_cost_probe_folder = ".cost-probe";  ///< the probe's copy of the first case
 
+// ---------------------------------------------------------------- in the analysis folder (k_analysis_folder)
+inline constexpr const char* k_analysis_json = "analysis.json";        ///< everything the analysis found
+inline constexpr const char* k_observables_csv = "observables.csv";    ///< the training data
+inline constexpr const char* k_replicates_csv = "replicates.csv";      ///< the replicate cases' observables
+inline constexpr const char* k_metamodels_json = "metamodels.json";    ///< each metamodel's quality
+inline constexpr const char* k_models_folder = "models";               ///< one file per fitted metamodel
+inline constexpr const char* k_calibration_json = "calibration.json";  ///< `demsa calibrate` on the metamodels
+inline constexpr const char* k_refine_csv = "refine.csv";              ///< `demsa refine`'s steps
+inline constexpr const char* k_refine_json = "refine.json";            ///< the steps with their indices
+// ---------------------------------------------------------------- in the posterior's folder (DIR/calibration)
+inline constexpr const char* k_posterior_folder = "calibration";   ///< `demsa calibrate --method bayes`'s output
+inline constexpr const char* k_posterior_json = "posterior.json";  ///< the posterior (analysis/calibration_posterior)
+
 // ---------------------------------------------------------------- a case folder
 inline constexpr const char* k_case_input = "in.liggghts";       ///< main LIGGGHTS script
 inline constexpr const char* k_case_params = "params.liggghts";  ///< generated variables
