@@ -2,6 +2,7 @@
 // leave two parameters on a ridge and pin both together, a parameter no observable depends on, and a linear-Gaussian
 // posterior whose width halves with the sd.
 #include "orchestrator/study/config.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/store.hpp"
 #include "support/synthetic_study.hpp"
 #include "support/test_support.hpp"
@@ -117,6 +118,41 @@ TEST(PlanCli, HalvingTheSdHalvesALinearGaussianPosterior) {
   EXPECT_NEAR(narrow / wide, 0.5, 0.05) << wide << " " << narrow;
 }
 
+/// The 90 % width of mu_pp over its prior width in `demsa calibrate` on both studies at a = b = 0.5, each measured
+/// with sd `sd`.
+double calibrated_width(const fs::path& dir, double sd) {
+  const CommandResult r =
+      run_demsa({"calibrate", (dir / "sum").string(), (dir / "difference").string(), "--target",
+                 fmt::format("sum:angle=25±{}", sd), "--target", fmt::format("difference:angle=30±{}", sd), "--json",
+                 "--no-plots", "--out", (dir / fmt::format("calibration-{}", sd)).string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out).at("parameters").at(0).at("width_ratio").get<double>();
+}
+
+TEST(PlanCli, AMorePreciseMeasurementNeverPlansWiderAndAgreesWithCalibrate) {
+  // issue 45: the fallback sampler's fixed chain, started uniformly in the box, could not reach a narrow posterior:
+  // below some sd its widths were its starting spread (0.03, 0.01, 0.36, 0.80, 0.84 over falling sds).
+  TempDir dir;
+  write_study(dir / "sum", "sum", 11, [](const std::vector<double>& u) { return 20.0 + 5.0 * (u[0] + u[1]); });
+  write_study(dir / "difference", "difference", 12,
+              [](const std::vector<double>& u) { return 30.0 + 5.0 * (u[0] - u[1]); });
+  double previous = 1.0;
+  for (const double sd : {0.3, 0.1, 0.03, 0.01, 0.003, 0.001}) {
+    const nlohmann::json j =
+        plan({(dir / "sum").string(), (dir / "difference").string(), "--sd", fmt::format("angle={}", sd), "--truths",
+              "10", "--no-plots", "--out", (dir / fmt::format("plan-{}", sd)).string()});
+    const nlohmann::json& both = subset(j, {"sum", "difference"});
+    const double w = width(both, 0);
+    // a = (y1 + y2 - 50) / 10: sd √2 sd / 10, a 90 % width of 0.465 sd (a little less where the range cuts it).
+    EXPECT_LE(w, 0.465 * sd * 1.15) << "sd " << sd << ": " << both.dump();
+    EXPECT_GE(w, 0.465 * sd * 0.7) << "sd " << sd << ": " << both.dump();
+    EXPECT_LT(w, previous) << "sd " << sd;
+    previous = w;
+    EXPECT_TRUE(j.at("checks").at("passed").get<bool>()) << j.at("checks").dump();
+    EXPECT_NEAR(w, calibrated_width(dir, sd), 0.05) << "sd " << sd;
+  }
+}
+
 TEST(PlanCli, NearAGuessedValueTheWidthsAreThoseAroundIt) {
   TempDir dir;
   write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
@@ -195,6 +231,42 @@ TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
   refused({"--truths", "1"}, "--truths 1: must be in 2..1000");
   refused({"--truths", "5000"}, "--truths 5000: must be in 2..1000");
   refused({study}, "are the same study");
+  // issue 45: an sd whose square overflows made every posterior the prior, silently; one sd given twice kept the
+  // first without a word.
+  refused({"--sd", "angle=1e200"}, "--sd 'angle=1e200': 1e+200 squared overflows a double");
+  refused({"--sd", "angle=1", "--sd", "angle=2"},
+          "--sd 'angle=1' and --sd 'angle=2': the same observable's sd given twice");
+  refused({"--sd", "angle=1", "--sd", "line:angle=2"},
+          "--sd 'angle=1' and --sd 'line:angle=2' both give the sd of "
+          "line:angle");
+  // --out that cannot be a folder: refused before the work, not an internal error after it.
+  write_file(dir / "a-file", "x\n");
+  refused({"--out", (dir / "a-file").string()}, "--out " + (dir / "a-file").string() + ": exists and is not a folder");
+}
+
+TEST(PlanCli, TwoStudiesOfOneNameAreRefusedAndEveryStudyIsHeld) {
+  TempDir dir;
+  write_study(dir / "a", "same", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
+  write_study(dir / "b", "same", 14, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[1]; });
+  const CommandResult r = run_demsa({"plan", (dir / "a").string(), (dir / "b").string(), "--no-plots"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("share the name 'same'"), std::string::npos) << r.err;
+  // issue 45: plan held only its first study; a `demsa run` extending the second meanwhile went unnoticed.
+  write_study(dir / "c", "other", 15, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[1]; });
+  {
+    const StudyLock held(dir / "c");  // this process stands for the `demsa run` that holds it
+    const CommandResult held_run = run_demsa({"plan", (dir / "a").string(), (dir / "c").string(), "--no-plots"});
+    EXPECT_EQ(held_run.exit_code, 2) << held_run.err;
+    EXPECT_NE(held_run.err.find((dir / "c").string() + ": another demsa (pid "), std::string::npos) << held_run.err;
+  }
+  // A [study] name that STUDY:NAME cannot express is refused by the study file.
+  for (const char* name : {"pile:wall", "a=b"}) {
+    write_file(dir / "named.toml", StudyToml{.name = name, .samples = 4}.text());
+    const CommandResult named =
+        run_demsa({"run", (dir / "named.toml").string(), "--dir", (dir / "n").string(), "--dry-run"});
+    EXPECT_EQ(named.exit_code, 2) << named.err;
+    EXPECT_NE(named.err.find("[study] name: '" + std::string(name) + "' holds"), std::string::npos) << named.err;
+  }
 }
 
 }  // namespace
