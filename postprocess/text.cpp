@@ -18,6 +18,7 @@ std::optional<std::string> special_file_kind(const std::filesystem::path& path) 
   const fs::file_status status = fs::status(path, ec);  // stat(2): follows links, never opens
   switch (status.type()) {
     case fs::file_type::regular:
+    case fs::file_type::directory:  // each reader names a folder in its own words
     case fs::file_type::not_found:
     case fs::file_type::none:
       return std::nullopt;
@@ -29,8 +30,6 @@ std::optional<std::string> special_file_kind(const std::filesystem::path& path) 
       return "a character device";
     case fs::file_type::block:
       return "a block device";
-    case fs::file_type::directory:
-      return "a folder";
     default:
       return ec ? std::nullopt : std::optional<std::string>("not a regular file");
   }
