@@ -1,10 +1,6 @@
 // The table of study settings: every row is read by the parser into its own field, the design hash is that of the
 // previous version for unchanged measurement settings and sees [pile] levels and directions, and
 // docs/study-file.md holds the table's rendering.
-#include "orchestrator/experiments/case_record.hpp"
-#include "orchestrator/experiments/drawdown/drawdown.hpp"
-#include "orchestrator/experiments/incline/incline.hpp"
-#include "orchestrator/experiments/pile/pile.hpp"
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/settings.hpp"
@@ -20,7 +16,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -227,70 +222,6 @@ TEST(StudySettings, RangesComeFromTheTable) {
             "times is unstable for Hertz contacts; below 1e-6 it underflows for the smallest particles");
   EXPECT_EQ(settings_table().find("pile", "levels")->range_text, "[2, 100000]");
   EXPECT_EQ(settings_table().find("parameters", "nu")->bounds.text(), "(0, 0.5)");
-}
-
-TEST(StudySettings, AMeasurementSettingHasOneRangeForTheStudyFileAndTheCaseReader) {
-  // issue 45: [pile] drift_window = 1e-300 passed the study file (> 0) and the dry run; every case then ran, was
-  // retried and failed at its measurement, whose reader of case.json asked for >= 1e-12. Each such setting now has
-  // one range, its experiment's, that the row and the reader both check.
-  struct Shared {
-    std::string experiment, section, key, case_path;
-    SettingBounds bounds;
-  };
-  const std::vector<Shared> shared{
-      {"pile", "pile", "drift_window", "pile.angle_measurement.drift_window_s", pile::drift_window_bounds()},
-      {"pile", "pile", "drift_limit", "pile.angle_measurement.drift_limit_deg_s", pile::drift_limit_bounds()},
-      {"incline", "incline", "onset_distance", "incline.onset_distance_m", incline::onset_distance_bounds()},
-      {"incline", "incline", "speed_angle", "incline.speed_angle_deg", incline::tilt_bounds()},
-      {"incline", "incline", "max_angle", "incline.max_angle_deg", incline::tilt_bounds()},
-      {"drawdown", "drawdown", "bin_width", "drawdown.measurement.bin_width_m", drawdown::bin_width_bounds()},
-  };
-  for (const Shared& x : shared) {
-    SCOPED_TRACE(x.section + "." + x.key);
-    EXPECT_EQ(settings_table().find(x.section, x.key)->bounds.text(), x.bounds.text());
-    StudyMap study = minimal_study();
-    study["study"]["experiment"] = "\"" + x.experiment + "\"";
-    study[x.section][x.key] = "1e-300";
-    try {
-      parse_study(study_text(study), "study.toml");
-      ADD_FAILURE() << "1e-300 accepted";
-    } catch (const util::UserError& e) {
-      EXPECT_NE(std::string(e.what()).find(fmt::format("[{}] {}: {}, got 1e-300", x.section, x.key, x.bounds.rule())),
-                std::string::npos)
-          << e.what();
-    }
-    // The reader takes the lowest value the study file accepts, and refuses what it refuses.
-    nlohmann::json doc;
-    doc[nlohmann::json::json_pointer("/" + std::regex_replace(x.case_path, std::regex("\\."), "/"))] =
-        x.bounds.low->value;
-    EXPECT_EQ(case_number(doc, "case.json", x.case_path, x.bounds), x.bounds.low->value);
-    doc[nlohmann::json::json_pointer("/" + std::regex_replace(x.case_path, std::regex("\\."), "/"))] = 1e-300;
-    EXPECT_THROW(case_number(doc, "case.json", x.case_path, x.bounds), util::UserError);
-  }
-  // [incline] record_angle: each record is a LIGGGHTS run and a dump frame; near 0 it asked for millions of them.
-  StudyMap study = minimal_study();
-  study["study"]["experiment"] = "\"incline\"";
-  study["incline"]["record_angle"] = "1e-6";
-  EXPECT_THROW(parse_study(study_text(study), "study.toml"), util::UserError);
-}
-
-TEST(StudySettings, ADrawdownBoxTooSmallForItsParticlesIsRefusedAtItsLine) {
-  // issue 45: the case writer found out in every case, without the study file's name or line, and its count ("only N
-  // of M particles fit") was the count when one particle jammed, not how many fit.
-  StudyMap study = minimal_study();
-  study["study"]["experiment"] = "\"drawdown\"";
-  study["drawdown"]["particles"] = "20000";
-  try {
-    parse_study(study_text(study), "study.toml");
-    ADD_FAILURE() << "20000 particles accepted";
-  } catch (const util::UserError& e) {
-    const std::string m = e.what();
-    EXPECT_NE(m.find("study.toml:7: [drawdown] particles: 20000 particles"), std::string::npos) << m;
-    EXPECT_NE(m.find("placed one by one at random they jam near 0.38: lower particles to at most"), std::string::npos)
-        << m;
-  }
-  study["drawdown"]["particles"] = "1850";  // the default fills about a tenth of the box
-  EXPECT_NO_THROW(parse_study(study_text(study), "study.toml"));
 }
 
 TEST(StudySettings, EveryNumberHasAPhysicalRange) {
