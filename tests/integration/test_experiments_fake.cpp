@@ -61,20 +61,23 @@ TEST(ExperimentsFake, MeasureRefusesAnInclineItCannotHaveMeasured) {
   // issue 45: `demsa measure` stored onsets above the case's maximum tilt and measured a dump with one probe's id on
   // two rows (taking either).
   test::TempDir tmp;
-  test::write_file(tmp / "study.toml", study("incline", 1));
+  test::write_file(tmp / "study.toml", study("incline", 2));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"})).exit_code, 0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const fs::path folder = tmp / "study" / "cases" / "000000";
   const test::CommandResult as_run = test::run_demsa({"measure", folder.string(), "--json"});
   ASSERT_EQ(as_run.exit_code, 0) << as_run.err;
   const double slide = nlohmann::json::parse(as_run.out).at("observables").at("slide_angle").get<double>();
-  // The schedule said the tilt stops below the locked probes' onsets: they have none, and no slide_angle is stored.
+  // The schedule said the tilt stops below the locked probes' onsets: they have none, and the case has no slide_angle.
   nlohmann::json doc = nlohmann::json::parse(test::read_file(folder / "case.json"));
   doc["incline"]["max_angle_deg"] = slide - 1.0;
   test::write_file(folder / "case.json", doc.dump(2));
   const test::CommandResult capped = test::run_demsa({"measure", folder.string(), "--json"});
-  ASSERT_EQ(capped.exit_code, 0) << capped.err;
-  EXPECT_FALSE(nlohmann::json::parse(capped.out).at("observables").contains("slide_angle")) << capped.out;
+  EXPECT_EQ(capped.exit_code, 2) << capped.out << capped.err;
+  EXPECT_NE(capped.err.find("slide_angle not measured: 12 of 12 free probes rolled and 0 of 12 locked probes slid"),
+            std::string::npos)
+      << capped.err;
   // One probe's id on two rows of a frame: exit 2 naming the file and the id.
   std::string dump = test::read_file(folder / "incline_probes.dump");
   const std::size_t atoms = dump.find("ITEM: ATOMS");
