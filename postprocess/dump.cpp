@@ -392,6 +392,8 @@ DumpReader::DumpReader(const std::filesystem::path& path, DumpReaderOptions opti
   s.path = path;
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw ParseError(s.name, 0, "is a directory, not a dump file");
+  if (const std::optional<std::string> kind = special_file_kind(path))
+    throw ParseError(s.name, 0, special_file_message(*kind));
   s.file = std::fopen(path.c_str(), "rb");
   if (s.file == nullptr) throw ParseError(s.name, 0, fmt::format("cannot open: {}", std::strerror(errno)));
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
@@ -456,6 +458,8 @@ long long find_last_frame(std::FILE* f, std::uint64_t size) {
 
 DumpFrame read_last_frame(const std::filesystem::path& path, const DumpReaderOptions& options) {
   options.validate();
+  if (const std::optional<std::string> kind = special_file_kind(path))
+    throw ParseError(path.string(), 0, special_file_message(*kind));
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
   long long offset = -1;
@@ -490,6 +494,27 @@ DumpFrame read_first_frame(const std::filesystem::path& path, const DumpReaderOp
 }
 
 // ------------------------------------------------------------------------------------------------ particles
+
+void check_unique_ids(const DumpFrame& frame) {
+  // An id names one atom (LAMMPS atom_modify id yes): two rows with one id are a corrupt dump, and every observable
+  // matched or counted by id would silently take one of them.
+  const std::span<const double> id = frame.column("id");
+  const std::size_t n = id.size();
+  std::vector<std::pair<double, std::size_t>> by_id(n);
+  for (std::size_t i = 0; i < n; ++i) by_id[i] = {id[i], i};
+  std::sort(by_id.begin(), by_id.end());
+  for (std::size_t k = 1; k < n; ++k)
+    if (by_id[k].first == by_id[k - 1].first) {
+      const std::size_t first = by_id[k - 1].second, second = by_id[k].second;
+      const long line = frame.atoms_line > 0 ? frame.atoms_line + static_cast<long>(second) + 1 : 0;
+      const std::string where =
+          frame.atoms_line > 0 ? fmt::format("lines {} and {}", frame.atoms_line + static_cast<long>(first) + 1, line)
+                               : fmt::format("atom rows {} and {}", first + 1, second + 1);
+      throw ParseError(frame.file, line,
+                       fmt::format("atom id {} appears twice in the frame of time step {} ({})",
+                                   static_cast<std::int64_t>(by_id[k].first), frame.timestep, where));
+    }
+}
 
 Particles particles_from_frame(const DumpFrame& frame, int only_type) {
   auto fail_row = [&frame](std::size_t row, const std::string& message) -> ParseError {
@@ -551,22 +576,7 @@ Particles particles_from_frame(const DumpFrame& frame, int only_type) {
     p.z.push_back(c[2]);
     p.radius.push_back(radius[i]);
   }
-  // An id names one atom (LAMMPS atom_modify id yes): two rows with one id are a corrupt dump, and every observable
-  // matched or counted by id would silently take one of them.
-  std::vector<std::pair<double, std::size_t>> by_id(n);
-  for (std::size_t i = 0; i < n; ++i) by_id[i] = {id[i], i};
-  std::sort(by_id.begin(), by_id.end());
-  for (std::size_t k = 1; k < n; ++k)
-    if (by_id[k].first == by_id[k - 1].first) {
-      const std::size_t first = by_id[k - 1].second, second = by_id[k].second;
-      const long line = frame.atoms_line > 0 ? frame.atoms_line + static_cast<long>(second) + 1 : 0;
-      const std::string where =
-          frame.atoms_line > 0 ? fmt::format("lines {} and {}", frame.atoms_line + static_cast<long>(first) + 1, line)
-                               : fmt::format("atom rows {} and {}", first + 1, second + 1);
-      throw ParseError(frame.file, line,
-                       fmt::format("atom id {} appears twice in the frame of time step {} ({})",
-                                   static_cast<std::int64_t>(by_id[k].first), frame.timestep, where));
-    }
+  check_unique_ids(frame);
   return p;
 }
 

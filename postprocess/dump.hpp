@@ -129,6 +129,10 @@ struct Particles {
   std::size_t size() const { return id.size(); }
 };
 
+/// Throws ParseError (the file, the line of the second row, both lines) when two rows of the frame's `id` column
+/// hold one id: a corrupt dump, whose observables matched or counted by id would take one of the two at random.
+void check_unique_ids(const DumpFrame& frame);
+
 /// Particles from a frame that has `id type radius` and either `x y z`, unwrapped `xu yu zu`, or scaled `xs ys zs`
 /// (scaled coordinates are unscaled with the box; orthogonal boxes only). Rows whose id or type is not an integer,
 /// and an id on two rows (file, line, time step and id in the message), throw ParseError. `only_type` > 0 keeps only

@@ -1,5 +1,7 @@
 #include "postprocess/incline.hpp"
 
+#include "postprocess/error.hpp"
+
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -38,6 +40,8 @@ void InclineOptions::validate() const {
   if (!(speed_angle >= 0 && speed_angle < 90))
     throw std::invalid_argument(fmt::format("speed_angle = {}: must lie in [0, 90)", speed_angle));
   if (rolling_probes < 0) throw std::invalid_argument(fmt::format("rolling_probes = {}: must be >= 0", rolling_probes));
+  if (!(max_tilt > 0 && max_tilt <= 90))
+    throw std::invalid_argument(fmt::format("max_tilt = {}: must lie in (0, 90]", max_tilt));
 }
 
 double incline_onset(double measured, double distance, double k, double tilt_rate, double gravity) {
@@ -67,7 +71,14 @@ InclineResult measure_incline(const std::filesystem::path& dump, const InclineOp
   DumpFrame frame;
   while (reader.next(frame)) {
     const double tilt = options.tilt_rate * static_cast<double>(frame.timestep - options.tilt_start_step) * options.dt;
+    // A tilt beyond 90° turns the plate over: the frame's time step is not of the schedule the options describe.
+    if (tilt > 90.0)
+      throw InputError(fmt::format(
+          "{}: the frame of time step {} lies at a tilt of {:.6g}° (tilt_rate {} deg/s from step {}, dt {} s), beyond "
+          "90°: the dump does not follow its case's schedule",
+          dump.string(), frame.timestep, tilt, options.tilt_rate, options.tilt_start_step, options.dt));
     result.last_tilt = tilt;
+    check_unique_ids(frame);
     const std::span<const double> ids = frame.column("id");
     const std::span<const double> x = frame.column("x");
     const bool has_vx = frame.has_column("vx");
@@ -100,6 +111,9 @@ InclineResult measure_incline(const std::filesystem::path& dump, const InclineOp
   std::vector<double> roll, slide, speed;
   for (auto& [id, p] : probes) {
     (p.rolling ? result.rolling_probes : result.sliding_probes) += 1;
+    // The schedule records past max_tilt up to one record; an onset found there lies beyond the tilt the case
+    // applied and is none.
+    if (p.onset_raw && *p.onset_raw > options.max_tilt) p.onset_raw.reset();
     if (p.onset_raw) {
       p.onset = incline_onset(*p.onset_raw, options.onset_distance, p.rolling ? 5.0 / 7.0 : 1.0, options.tilt_rate,
                               options.gravity);

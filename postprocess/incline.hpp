@@ -28,7 +28,10 @@ struct InclineOptions {
   double onset_distance = 2e-3;  ///< down-slope displacement that marks a probe's onset [m], > 0
   double speed_angle = 5.0;      ///< the tilt at which the rolling probes' speed is read [deg]
   long rolling_probes = 0;       ///< atoms 1..rolling_probes roll; the others (sliding probes) cannot; >= 0
-  void validate() const;         ///< throws std::invalid_argument naming the field
+  /// The tilt the schedule stops at [deg], in (0, 90]: a probe that moves its onset_distance only after it (between
+  /// the last records) has no onset, and a frame beyond 90° is not of this schedule.
+  double max_tilt = 90.0;
+  void validate() const;  ///< throws std::invalid_argument naming the field
 };
 
 /// One probe.
@@ -57,7 +60,8 @@ double incline_onset(double measured, double distance, double k, double tilt_rat
 
 /// Reads every frame of the probes' dump (columns id, x and, for the speed, vx; the timestep gives the tilt) and
 /// measures each probe. A probe removed from the dump (it left the test) keeps what its frames showed. Throws
-/// ParseError on a malformed dump and std::invalid_argument on invalid options.
+/// ParseError on a malformed dump (an id on two rows of a frame included), InputError on a frame whose tilt exceeds
+/// 90° (the dump does not follow the options' schedule), and std::invalid_argument on invalid options.
 InclineResult measure_incline(const std::filesystem::path& dump, const InclineOptions& options);
 
 }  // namespace demsa::postprocess

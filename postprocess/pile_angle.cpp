@@ -347,6 +347,13 @@ PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOp
     const std::size_t n = sorted.size();
     result.angle = n % 2 == 1 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
   }
+  // A pile's flank falls outward: its angle lies in (0°, 90°). Outside it the particles on the pedestal are a bowl, a
+  // ring or a scattering (a snapshot before the pile formed, a pile that slid off), and no angle of repose exists.
+  if (!(result.angle > 0.0 && result.angle < 90.0))
+    throw InputError(fmt::format(
+        "angle {:.3g}° over {} directions (h_P = {} m, {} particles on the pedestal): their outer edge does not fall "
+        "outward, no pile to measure",
+        result.angle, angles.size(), result.pile_height, kept.size()));
   double ss = 0.0;
   for (double a : angles) ss += (a - mean) * (a - mean);
   result.angle_sd = angles.size() > 1 ? std::sqrt(ss / static_cast<double>(angles.size() - 1)) : 0.0;

@@ -12,6 +12,36 @@
 
 namespace demsa::postprocess {
 
+std::optional<std::string> special_file_kind(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);  // stat(2): follows links, never opens
+  switch (status.type()) {
+    case fs::file_type::regular:
+    case fs::file_type::directory:  // each reader names a folder in its own words
+    case fs::file_type::not_found:
+    case fs::file_type::none:
+      return std::nullopt;
+    case fs::file_type::fifo:
+      return "a FIFO";
+    case fs::file_type::socket:
+      return "a socket";
+    case fs::file_type::character:
+      return "a character device";
+    case fs::file_type::block:
+      return "a block device";
+    default:
+      return ec ? std::nullopt : std::optional<std::string>("not a regular file");
+  }
+}
+
+std::string special_file_message(const std::string& kind) {
+  return fmt::format(
+      "{}, not a regular file: demsa reads regular files only (a read from a FIFO or a device can wait "
+      "for ever)",
+      kind);
+}
+
 std::vector<std::string> split_words(const std::string& line) {
   std::vector<std::string> out;
   std::istringstream in(line);
@@ -66,6 +96,8 @@ LineReader::LineReader(const std::filesystem::path& path, LineLimits limits) : m
   m_limits.validate();
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw ParseError(m_name, 0, "is a directory, not a text file");
+  if (const std::optional<std::string> kind = special_file_kind(path))
+    throw ParseError(m_name, 0, special_file_message(*kind));
   m_file = std::fopen(path.c_str(), "rb");
   if (m_file == nullptr) throw ParseError(m_name, 0, fmt::format("cannot open: {}", std::strerror(errno)));
   if (m_limits.max_bytes > 0 && std::filesystem::is_regular_file(path, ec)) {

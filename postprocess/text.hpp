@@ -6,11 +6,20 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace demsa::postprocess {
+
+/// What `path` is when it exists and is neither a regular file nor a folder ("a FIFO", "a socket", "a character
+/// device", "a block device"), by stat(2), which does not block; none for a regular file (or a link to one), a folder
+/// (each reader names it in its own words) and a path that does not exist. demsa's readers refuse such a path before
+/// they open it: opening a FIFO for reading waits for a writer for ever, a terminal for its user.
+std::optional<std::string> special_file_kind(const std::filesystem::path& path);
+/// "a FIFO, not a regular file: ..." for a special_file_kind `kind` (the caller's error names the file).
+std::string special_file_message(const std::string& kind);
 
 /// The whitespace-separated words of a line.
 std::vector<std::string> split_words(const std::string& line);

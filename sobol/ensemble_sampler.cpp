@@ -55,6 +55,8 @@ Eigen::VectorXd EnsembleResult::chain(int walker, int j) const {
   return c;
 }
 
+Eigen::MatrixXd EnsembleResult::last() const { return draws.bottomRows(walkers); }
+
 EnsembleResult sample_ensemble(const BatchLogDensity& log_density, const std::vector<double>& lower,
                                const std::vector<double>& upper, const EnsembleOptions& options) {
   const int d = static_cast<int>(lower.size());
@@ -81,11 +83,27 @@ EnsembleResult sample_ensemble(const BatchLogDensity& log_density, const std::ve
   r.seed = options.seed;
   r.best_log_density = -std::numeric_limits<double>::infinity();
 
-  // Initial ensemble: uniform draws from the box (the uniform prior), redrawn where the density is zero.
+  // Initial ensemble: the given one, else uniform draws from the box (the uniform prior), redrawn where the density
+  // is zero.
   Eigen::MatrixXd x(n_walkers, d);
   Eigen::VectorXd lp = Eigen::VectorXd::Constant(n_walkers, -std::numeric_limits<double>::infinity());
   std::vector<int> missing(n_walkers);
   for (int w = 0; w < n_walkers; ++w) missing[w] = w;
+  if (options.start.size() > 0) {
+    if (options.start.rows() != n_walkers || options.start.cols() != d)
+      throw InputError(fmt::format("ensemble sampler: a starting ensemble of {} × {} for {} walkers in {} dimensions",
+                                   options.start.rows(), options.start.cols(), n_walkers, d));
+    for (int w = 0; w < n_walkers; ++w)
+      if (!inside(options.start.row(w).transpose()))
+        throw InputError(fmt::format("ensemble sampler: starting walker {} lies outside the box", w + 1));
+    x = options.start;
+    lp = log_density(x);
+    r.evaluations += n_walkers;
+    for (int w = 0; w < n_walkers; ++w)
+      if (!std::isfinite(lp(w)))
+        throw InputError(fmt::format("ensemble sampler: starting walker {} has density zero", w + 1));
+    missing.clear();
+  }
   for (int attempt = 0; !missing.empty(); ++attempt) {
     if (attempt >= 100)
       throw InputError(fmt::format("ensemble sampler: no point of finite density in {} uniform draws from the box",

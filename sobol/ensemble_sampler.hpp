@@ -34,6 +34,9 @@ struct EnsembleOptions {
   int burn_in = 1000;    ///< steps per walker discarded first, >= 0
   double stretch = 2.0;  ///< the stretch-move scale a > 1 (Goodman & Weare's a = 2)
   std::uint64_t seed = 12345;
+  /// The starting ensemble (walkers × d, every row inside the box with a finite density), e.g. the last ensemble of
+  /// an earlier run or points of high density found otherwise; empty: uniform draws from the box.
+  Eigen::MatrixXd start;
   int walkers_for(int dimension) const;  ///< the ensemble size used for this dimension
   /// Throws InputError naming the field, value and rule; also when burn_in + steps, or the density evaluations
   /// (walkers × (burn_in + steps)), overflow an int, or the kept draws exceed k_max_draw_values.
@@ -54,10 +57,13 @@ struct EnsembleResult {
   int evaluations = 0;  ///< log-density evaluations (points)
   /// Walker w's chain of parameter j (steps values).
   Eigen::VectorXd chain(int walker, int j) const;
+  /// The walkers at the last kept step (walkers × d): the start of a run that continues this one.
+  Eigen::MatrixXd last() const;
 };
 
-/// Initial walkers uniform in the box [lower, upper] (drawn until each has a finite density; InputError when
-/// 100 · walkers draws found none), then burn_in + steps stretch moves. Points outside the box have density zero.
+/// Initial walkers `options.start`, else uniform in the box [lower, upper] (drawn until each has a finite density;
+/// InputError when 100 · walkers draws found none), then burn_in + steps stretch moves. Points outside the box have
+/// density zero. A `start` of the wrong shape, outside the box or of zero density is an InputError.
 EnsembleResult sample_ensemble(const BatchLogDensity& log_density, const std::vector<double>& lower,
                                const std::vector<double>& upper, const EnsembleOptions& options);
 

@@ -15,7 +15,9 @@ namespace demsa::sobol {
 double constant_model_variance(const Metamodel& model) {
   if (model.kind() == MetamodelKind::gp) return 0.0;
   const Eigen::VectorXd e = model.loo_residuals();
-  if (e.size() == 0 || !e.allFinite()) return 0.0;
+  // A model without leave-one-out residuals, or with 0/0 ones (fitted on as many samples as terms), has an error that
+  // cannot be measured: NaN, which GaussianPosterior refuses, never 0.
+  if (e.size() == 0 || !e.allFinite()) return std::numeric_limits<double>::quiet_NaN();
   return e.squaredNorm() / static_cast<double>(e.size());  // PRESS / n
 }
 
@@ -46,6 +48,13 @@ GaussianPosterior::GaussianPosterior(std::vector<GaussianTarget> targets, int di
     if (!(t.weight >= 0.0) || !std::isfinite(t.weight))
       throw InputError(fmt::format("target {}: weight {} must be >= 0", t.name, t.weight));
     const double s2 = constant_model_variance(*t.model);
+    if (t.model->kind() != MetamodelKind::gp && !std::isfinite(s2))
+      throw InputError(fmt::format(
+          "target {}: the metamodel's leave-one-out error cannot be measured (as many samples as terms): its "
+          "variance is unknown, not 0",
+          t.name));
+    if (!std::isfinite(t.sd * t.sd))
+      throw InputError(fmt::format("target {}: standard deviation {:g}: its square overflows", t.name, t.sd));
     if (t.model->kind() != MetamodelKind::gp && t.sd == 0.0 && s2 == 0.0)
       throw InputError(fmt::format(
           "target {}: no uncertainty (measurement standard deviation 0 and a metamodel without leave-one-out "

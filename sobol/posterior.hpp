@@ -36,12 +36,14 @@ struct GaussianTarget {
   double weight = 1.0;               ///< w_k >= 0
 };
 
-/// The metamodel variance s_k² of a model that is not a GP (mean squared leave-one-out residual); for a GP the
-/// variance is predictive and depends on u (0 is returned here).
+/// The metamodel variance s_k² of a model that is not a GP (mean squared leave-one-out residual; NaN when the
+/// residuals cannot be computed: a model fitted on as many samples as terms); for a GP the variance is predictive
+/// and depends on u (0 is returned here).
 double constant_model_variance(const Metamodel& model);
 
 /// The log-posterior of the targets on the box, batched over rows of u. Validates the targets (InputError: no
-/// target, an unfitted model, an input map outside the dimension, σ_k and s_k both zero, a bad weight).
+/// target, an unfitted model, an input map outside the dimension, σ_k and s_k both zero, s_k unknown, σ_k² overflowing,
+/// a bad weight).
 class GaussianPosterior {
  public:
   GaussianPosterior(std::vector<GaussianTarget> targets, int dimension);

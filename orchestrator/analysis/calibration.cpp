@@ -181,14 +181,9 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
         measured_noise(store.replicates(), observables, spec.name, config.analysis.confidence, sd);
     std::vector<FittedMetamodel> fits = fit_metamodels(
         kinds, with_measured_noise(config.analysis.metamodel_options(), noise, data.y), data.unit, data.y);
-    const std::optional<std::size_t> best_index = best_by_q2(fits);
-    if (!best_index) {
-      std::string errors;
-      for (const FittedMetamodel& f : fits) errors += fmt::format("\n  {}: {}", f.name(), f.error);
-      throw UserError(fmt::format("{}: no metamodel could be fitted to {}:{}", dir.string(), spec.name, errors));
-    }
-    std::unique_ptr<sobol::Metamodel> best = std::move(fits[*best_index].model);
-    const sobol::MetamodelSummary& best_summary = fits[*best_index].quality;
+    const std::size_t best_index = best_measurable(fits, dir.string(), spec.name, data.size());
+    std::unique_ptr<sobol::Metamodel> best = std::move(fits[best_index].model);
+    const sobol::MetamodelSummary& best_summary = fits[best_index].quality;
     CalibratedTarget t;
     t.name = spec.name;
     t.model = best->name();

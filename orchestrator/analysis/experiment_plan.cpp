@@ -23,6 +23,8 @@
 #include <memory>
 #include <numeric>
 
+#include <unistd.h>
+
 namespace demsa::analysis {
 
 using namespace demsa::util;
@@ -51,6 +53,13 @@ SdOverride parse_sd(const std::string& text) {
         fmt::format("--sd '{}': '{}' must be a number > 0 (the observable's standard deviation, in the "
                     "units demsa stores it: SI, angles in degrees)",
                     text, trim(text.substr(eq + 1))));
+  // The likelihood's variance is sd² (plus the metamodel's): beyond ~1.3e154 it overflows to infinity, and every
+  // truth's posterior would be the prior without a word.
+  if (!std::isfinite(*v * *v))
+    throw UserError(
+        fmt::format("--sd '{}': {:g} squared overflows a double (the likelihood's variance): give an sd "
+                    "below 1e150",
+                    text, *v));
   o.sd = *v;
   o.text = text;
   return o;
@@ -93,6 +102,57 @@ std::pair<double, double> weighted_interval(const Eigen::MatrixXd& u, const std:
 
 std::string subset_label(const PlanSubset& s) { return join(s.studies, " + "); }
 
+struct PlanChain {
+  std::vector<std::pair<double, double>> interval;  ///< 90 % interval per parameter
+  bool converged = false;
+  std::string advice;  ///< the diagnostics' words when not converged
+};
+
+/// One truth's posterior where importance sampling falls short: the ensemble sampler, started at the
+/// k_plan_walkers_per_parameter d + 2 prior points of largest weight rather than uniformly in the box. A posterior
+/// narrower than the prior sample's spacing is then found at once; started uniformly, the stretch move (whose steps
+/// scale with the ensemble's own spread, Goodman & Weare 2010 §3) had to shrink the ensemble by orders of magnitude
+/// and, in a fixed chain, did not: its widths were its starting spread. emcee's advice is the same: start the walkers
+/// in a small region of high density (Foreman-Mackey et al. 2013, PASP 125, §4). The chain is then doubled, each run
+/// continuing the last ensemble, until sobol::diagnose calls it converged (steps >= 50 τ, split R̂ < 1.05) or
+/// k_plan_max_steps.
+PlanChain sample_plan_posterior(const sobol::GaussianPosterior& posterior, const Eigen::MatrixXd& u,
+                                const Eigen::VectorXd& log_w, std::uint64_t seed) {
+  const int d = static_cast<int>(u.cols());
+  const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
+  sobol::EnsembleOptions sampler;
+  sampler.walkers = k_plan_walkers_per_parameter * d + 2;
+  std::vector<int> best(static_cast<size_t>(log_w.size()));
+  std::iota(best.begin(), best.end(), 0);
+  std::partial_sort(best.begin(), best.begin() + sampler.walkers, best.end(),
+                    [&](int a, int b) { return log_w(a) > log_w(b); });
+  sampler.start.resize(sampler.walkers, d);
+  for (int w = 0; w < sampler.walkers; ++w) sampler.start.row(w) = u.row(best[static_cast<size_t>(w)]);
+  sampler.burn_in = k_plan_burn_in;
+  sampler.steps = k_plan_steps;
+  sampler.seed = seed;
+  const sobol::BatchLogDensity density = sobol::posterior_function(posterior);
+  sobol::EnsembleResult r = sobol::sample_ensemble(density, lower, upper, sampler);
+  sobol::ChainDiagnostics diag = sobol::diagnose(r);
+  while (!diag.converged && 2 * sampler.steps <= k_plan_max_steps) {
+    sampler.start = r.last();
+    sampler.burn_in = 0;
+    sampler.steps *= 2;
+    ++sampler.seed;
+    r = sobol::sample_ensemble(density, lower, upper, sampler);
+    diag = sobol::diagnose(r);
+  }
+  PlanChain chain;
+  const std::vector<sobol::MarginalSummary> m = sobol::summarise_marginals(r, lower, upper);
+  for (int j = 0; j < d; ++j) chain.interval.emplace_back(m[static_cast<size_t>(j)].q05, m[static_cast<size_t>(j)].q95);
+  chain.converged = diag.converged;
+  chain.advice = fmt::format(
+      "its chain of {} steps of {} walkers has τ up to {:.0f} steps (converged: >= 50 τ) and "
+      "split R̂ {:.3f} (converged: < 1.05)",
+      r.steps, r.walkers, diag.max_tau, diag.max_rhat);
+  return chain;
+}
+
 }  // namespace
 
 void PlanOptions::validate() const {
@@ -113,6 +173,25 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   options.validate();
   const auto start = std::chrono::steady_clock::now();
   const std::vector<JointStudy> studies = load_joint_studies(options.dirs, "plan");
+  // The table and STUDY:NAME name studies by their [study] name: two folders of one name could not be told apart.
+  for (size_t i = 0; i < studies.size(); ++i)
+    for (size_t k = 0; k < i; ++k)
+      if (studies[k].config.name == studies[i].config.name)
+        throw UserError(fmt::format(
+            "plan: the studies {} and {} share the name '{}', so the plan's rows and STUDY:NAME cannot tell them "
+            "apart; give them different [study] names",
+            studies[k].dir.string(), studies[i].dir.string(), studies[i].config.name));
+  // The output folder is checked before any work: a --out that is a file or cannot be written fails now, not after.
+  const fs::path out = options.out.empty() ? options.dirs.front() / "plan" : options.out;
+  {
+    std::error_code ec;
+    if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+      throw UserError(fmt::format("--out {}: exists and is not a folder", out.string()));
+    fs::create_directories(out, ec);
+    if (ec) throw UserError(fmt::format("--out {}: cannot create the folder: {}", out.string(), ec.message()));
+    if (::access(out.c_str(), W_OK) != 0)
+      throw UserError(fmt::format("--out {}: cannot write into the folder", out.string()));
+  }
   const JointPrior prior = joint_prior(studies);
   const int d = prior.dimension();
   PlanOutcome outcome;
@@ -123,7 +202,13 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   outcome.prior_points = k_plan_prior_points;
 
   std::vector<SdOverride> sds;
-  for (const std::string& text : options.sds) sds.push_back(parse_sd(text));
+  for (const std::string& text : options.sds) {
+    sds.push_back(parse_sd(text));
+    for (size_t k = 0; k + 1 < sds.size(); ++k)
+      if (sds[k].target.study == sds.back().target.study && sds[k].target.name == sds.back().target.name)
+        throw UserError(fmt::format("--sd '{}' and --sd '{}': the same observable's sd given twice; give it once",
+                                    sds[k].text, text));
+  }
   std::vector<QualifiedName> observe;
   for (const std::string& text : options.observe) observe.push_back(qualified_name("--observe", text));
   for (size_t k = 0; k < observe.size(); ++k)
@@ -179,6 +264,11 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
         po.total_index[static_cast<size_t>(prior.column(s.config.parameters[j].name))] = st[j];
       const auto given =
           std::find_if(sds.begin(), sds.end(), [&](const SdOverride& o) { return o.target.matches(s, name); });
+      if (given != sds.end())
+        for (auto other = given + 1; other != sds.end(); ++other)
+          if (other->target.matches(s, name))
+            throw UserError(fmt::format("--sd '{}' and --sd '{}' both give the sd of {}:{}; give it once", given->text,
+                                        other->text, s.config.name, name));
       if (given != sds.end()) {
         given->used = true;
         po.sd = given->sd;
@@ -293,7 +383,6 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
     for (int k = 0; k < n_targets; ++k) measured(t, k) = truth_mean(t, k) + truth_sd(t, k) * random.normal();
 
   const int n_studies = static_cast<int>(studies.size());
-  const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
   for (int mask = 1; mask < (1 << n_studies); ++mask) {
     PlanSubset subset;
     std::vector<int> ks;
@@ -330,16 +419,14 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
           chosen.push_back(g);
         }
         const sobol::GaussianPosterior posterior(chosen, d);
-        sobol::EnsembleOptions sampler;
-        sampler.walkers = 2 * d + 2;
-        sampler.burn_in = k_plan_burn_in;
-        sampler.steps = k_plan_steps;
-        sampler.seed = outcome.seed + 7919u * static_cast<std::uint64_t>(mask) + static_cast<std::uint64_t>(t);
-        const sobol::EnsembleResult r =
-            sobol::sample_ensemble(sobol::posterior_function(posterior), lower, upper, sampler);
-        const std::vector<sobol::MarginalSummary> m = sobol::summarise_marginals(r, lower, upper);
-        for (int j = 0; j < d; ++j)
-          interval[static_cast<size_t>(j)] = {m[static_cast<size_t>(j)].q05, m[static_cast<size_t>(j)].q95};
+        const PlanChain chain = sample_plan_posterior(
+            posterior, u, log_w,
+            outcome.seed + 7919u * static_cast<std::uint64_t>(mask) + static_cast<std::uint64_t>(t));
+        interval = chain.interval;
+        if (!chain.converged) {
+          ++subset.unconverged;
+          subset.unconverged_advice = chain.advice;
+        }
         ++subset.sampled;
       }
       for (int j = 0; j < d; ++j) {
@@ -364,6 +451,11 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       subset.worst_sensitive = std::max(subset.worst_sensitive, w);
       if (w > options.goal) subset.meets_goal = false;
     }
+    if (subset.unconverged > 0)
+      outcome.problems.push_back(fmt::format(
+          "{}: the posterior of {} of {} truths did not converge ({}); its widths are those of an unfinished chain, "
+          "not of the measurement",
+          subset_label(subset), subset.unconverged, options.truths, subset.unconverged_advice));
     outcome.subsets.push_back(subset);
   }
 
@@ -412,8 +504,7 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
         }());
   }
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  outcome.out = options.out.empty() ? options.dirs.front() / "plan" : options.out;
-  fs::create_directories(outcome.out);
+  outcome.out = out;
   write_file_atomically(outcome.out / "plan.json", plan_to_json(outcome));
   return outcome;
 }
@@ -479,6 +570,7 @@ std::string plan_to_json(const PlanOutcome& o) {
                            {"outside_all", s.outside_all},
                            {"cpu_seconds", number(s.cpu_seconds)},
                            {"sampled", s.sampled},
+                           {"unconverged", s.unconverged},
                            {"meets_goal", s.meets_goal},
                            {"worst_sensitive", s.worst_sensitive}});
   j["subsets"] = subsets;
@@ -494,7 +586,9 @@ std::string plan_to_json(const PlanOutcome& o) {
                        {"sensitive_total_index", k_plan_sensitive},
                        {"min_ess", k_plan_min_ess},
                        {"burn_in", k_plan_burn_in},
-                       {"steps", k_plan_steps}};
+                       {"steps", k_plan_steps},
+                       {"max_steps", k_plan_max_steps}};
+  j["checks"] = json{{"passed", o.problems.empty()}, {"problems", o.problems}};
   return j.dump(2) + "\n";
 }
 
@@ -536,6 +630,7 @@ PlanOutcome read_plan(const fs::path& file) {
       s.outside_all = e.at("outside_all");
       s.cpu_seconds = number_of(e.at("cpu_seconds"));
       s.sampled = e.at("sampled");
+      s.unconverged = e.value("unconverged", 0);  // written since the convergence check
       s.meets_goal = e.at("meets_goal");
       s.worst_sensitive = e.at("worst_sensitive");
       if (s.width.size() != o.parameters.size())
@@ -555,6 +650,7 @@ PlanOutcome read_plan(const fs::path& file) {
     o.seed = j.at("seed");
     o.prior_points = j.at("prior_points");
     o.seconds = j.at("seconds");
+    if (j.contains("checks")) o.problems = j.at("checks").at("problems").get<std::vector<std::string>>();
   } catch (const json::exception& e) {
     throw UserError(fmt::format("{}: not a plan file: {}", file.string(), e.what()));
   }
@@ -605,6 +701,10 @@ std::string plan_text(const PlanOutcome& o) {
   text += fmt::format("parameters with ST >= {:g} in some measured observable: {}\n", k_plan_sensitive,
                       o.sensitive.empty() ? "none" : join(o.sensitive));
   text += fmt::format("recommendation: {}\n", o.recommendation);
+  if (!o.problems.empty()) {
+    text += "Check failed: the widths above are not all those of the measurements\n";
+    for (const std::string& p : o.problems) text += fmt::format("  {}\n", p);
+  }
   text += fmt::format("written to {}\n", o.out.string());
   return text;
 }

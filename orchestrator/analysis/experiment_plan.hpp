@@ -17,7 +17,8 @@
 //      is computed by self-normalised importance sampling from one shared prior sample (Owen 2013, "Monte Carlo
 //      theory, methods and examples", §9.2; its effective sample size (Σw)²/Σw², §9.3) where that sample holds at
 //      least k_plan_min_ess effective points, and otherwise by the calibration's ensemble sampler
-//      (sobol/ensemble_sampler.hpp, 2d + 2 walkers, a fixed chain of k_plan_burn_in + k_plan_steps steps);
+//      (sobol/ensemble_sampler.hpp, 2d + 2 walkers started at the prior sample's points of largest weight, the chain
+//      lengthened until it converges; a truth whose chain does not converge fails the plan's check);
 //   4. the averages over the truths, the cost of one more study of each subset (median CPU per done case × design
 //      samples, per study), and a recommendation: the cheapest subset that brings every parameter with a total
 //      index ST >= k_plan_sensitive for some measured observable to <= `goal` of its prior width, or else the subset
@@ -42,10 +43,13 @@ inline constexpr double k_plan_sensitive = 0.1;
 /// is used instead.
 inline constexpr int k_plan_prior_points = 16384;
 inline constexpr double k_plan_min_ess = 400.0;
-/// The ensemble sampler's chain where importance sampling falls short: the smallest ensemble the stretch move allows
-/// (2d + 2 walkers) and a fixed length; widths averaged over the truths need no more.
+/// The ensemble sampler's chain where importance sampling falls short: k_plan_walkers_per_parameter · d + 2 walkers
+/// started at the prior points of largest weight, k_plan_burn_in + k_plan_steps steps, the kept steps doubled until
+/// the chain converges or reaches k_plan_max_steps (a truth whose chain does not converge fails the plan's check).
+inline constexpr int k_plan_walkers_per_parameter = 2;
 inline constexpr int k_plan_burn_in = 300;
 inline constexpr int k_plan_steps = 600;
+inline constexpr int k_plan_max_steps = 9600;
 
 struct PlanOptions {
   std::vector<std::filesystem::path> dirs;  ///< 1..k_plan_max_studies study folders
@@ -87,9 +91,11 @@ struct PlanSubset {
   std::vector<double> outside;               ///< share of truths outside the 90 % interval, per parameter
   double outside_all = 0.0;                  ///< the same over all parameters
   double cpu_seconds = 0.0;                  ///< one more study of each experiment of the subset (NaN: unknown)
-  int sampled = 0;               ///< truths that needed the ensemble sampler (the rest: importance sampling)
-  bool meets_goal = false;       ///< every sensitive parameter at <= goal
-  double worst_sensitive = 0.0;  ///< the largest width among the sensitive parameters
+  int sampled = 0;                 ///< truths that needed the ensemble sampler (the rest: importance sampling)
+  int unconverged = 0;             ///< of those, the truths whose chain did not converge by k_plan_max_steps
+  std::string unconverged_advice;  ///< the last such chain's diagnostics (not written to plan.json)
+  bool meets_goal = false;         ///< every sensitive parameter at <= goal
+  double worst_sensitive = 0.0;    ///< the largest width among the sensitive parameters
 };
 
 struct PlanStudy {
@@ -116,6 +122,9 @@ struct PlanOutcome {
   int prior_points = 0;
   double seconds = 0.0;  ///< wall time of the computation
   std::filesystem::path out;
+  /// What makes the widths untrustworthy (an unconverged posterior); empty: the check passed. `demsa plan` exits 1
+  /// when it is not empty, after writing plan.json with `checks.passed` false.
+  std::vector<std::string> problems;
 };
 
 PlanOutcome plan_experiments(const PlanOptions& options);

@@ -1,5 +1,9 @@
 #include "orchestrator/analysis/fit.hpp"
 
+#include "orchestrator/util/errors.hpp"
+
+#include <fmt/core.h>
+
 #include <cmath>
 #include <limits>
 
@@ -47,6 +51,27 @@ std::optional<std::size_t> best_by_q2(const std::vector<FittedMetamodel>& fits) 
     if (!best || rank(fits[i].quality.q2) > rank(fits[*best].quality.q2)) best = i;
   }
   return best;
+}
+
+std::size_t best_measurable(const std::vector<FittedMetamodel>& fits, const std::string& where,
+                            const std::string& observable, std::size_t samples) {
+  std::optional<std::size_t> best;
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    if (!fits[i].ok() || !std::isfinite(fits[i].quality.q2) || !std::isfinite(fits[i].quality.rmse_loo)) continue;
+    if (!best || fits[i].quality.q2 > fits[*best].quality.q2) best = i;
+  }
+  if (best) return *best;
+  std::string reasons;
+  for (const FittedMetamodel& f : fits)
+    reasons += fmt::format("\n  {}: {}", f.name(),
+                           f.ok() ? fmt::format("leave-one-out Q² is not finite on {} samples: as many as its terms, "
+                                                "so its error cannot be measured",
+                                                samples)
+                                  : f.error);
+  throw util::UserError(fmt::format(
+      "{}: no metamodel of {} whose error can be measured:{}\nrun more cases of the study, or name a metamodel with "
+      "fewer terms (--model rsm1)",
+      where, observable, reasons));
 }
 
 }  // namespace demsa::analysis

@@ -127,17 +127,12 @@ FittedObservable fit_observable(const JointStudy& s, const std::string& observab
       model.empty() ? s.config.analysis.metamodels : std::vector<std::string>{model};
   std::vector<FittedMetamodel> fits =
       fit_metamodels(metamodel_kinds(candidates), s.config.analysis.metamodel_options(), data.unit, data.y);
-  const std::optional<std::size_t> best = best_by_q2(fits);
-  if (!best) {
-    std::string errors;
-    for (const FittedMetamodel& f : fits) errors += fmt::format("\n  {}: {}", f.name(), f.error);
-    throw UserError(fmt::format("{}: no metamodel could be fitted to {}:{}", s.dir.string(), observable, errors));
-  }
+  const std::size_t best = best_measurable(fits, s.dir.string(), observable, data.size());
   FittedObservable f;
   f.name = observable;
-  f.model_name = fits[*best].name();
-  f.q2 = fits[*best].quality.q2;
-  f.model = std::move(fits[*best].model);
+  f.model_name = fits[best].name();
+  f.q2 = fits[best].quality.q2;
+  f.model = std::move(fits[best].model);
   f.observed_low = data.y.minCoeff();
   f.observed_high = data.y.maxCoeff();
   f.observed_median = sobol::quantile(std::vector<double>(data.y.data(), data.y.data() + data.y.size()), 0.5);

@@ -32,8 +32,10 @@ int do_plan(PlanArgs& args) {
   for (const std::string& d : args.dirs) args.options.dirs.emplace_back(d);
   args.options.out = args.out;
   if (args.seed != 0) args.options.seed = args.seed;
-  // Reads the studies' stores; writes only into the first study's plan/ (or --out).
-  const auto lock = study::hold_study_for_results(args.options.dirs.front());
+  // Reads every study's store (none may be extended by a `demsa run` meanwhile); writes only into the first study's
+  // plan/ (or --out).
+  std::vector<std::unique_ptr<study::StudyLock>> locks;
+  for (const std::filesystem::path& d : args.options.dirs) locks.push_back(study::hold_study_for_results(d));
   const PlanOutcome outcome = plan_experiments(args.options);
   std::string plot_note;
   if (!args.no_plots) {
@@ -47,7 +49,7 @@ int do_plan(PlanArgs& args) {
     fmt::print("{}", plan_to_json(outcome));
   else
     fmt::print("{}{}", plan_text(outcome), plot_note.empty() ? "" : plot_note + "\n");
-  return k_exit_ok;
+  return outcome.problems.empty() ? k_exit_ok : k_exit_check_failed;
 }
 
 }  // namespace

@@ -65,7 +65,7 @@ int do_run(const RunArgs& args) {
   if (args.submit_only && args.dry_run)
     throw UserError("--submit-only and --dry-run: a dry run submits nothing; use one of them");
   if (args.json && !args.dry_run) throw UserError("--json goes with --dry-run: the estimate of a study as JSON");
-  if (args.probe > 0.0 && !args.dry_run)
+  if (args.probe != 0.0 && !args.dry_run)
     throw UserError("--probe goes with --dry-run: a short run of the first case that measures the study's own rate");
   if (::isatty(STDIN_FILENO) == 1)
     options.ask_cancel = [](int in_flight) { return ask_cancel_on_interrupt(in_flight, std::cin, std::cerr); };
@@ -75,8 +75,8 @@ int do_run(const RunArgs& args) {
   if (summary.dry_run) {
     // The bill before the run (exec/cost.hpp): the written cases' schedules at this LIGGGHTS's rate.
     study::StudyConfig config = experiments::load_study(options.study_file);
-    resolve_liggghts(config, args.probe > 0.0);
-    if (args.probe > 0.0) {
+    resolve_liggghts(config, args.probe != 0.0);
+    if (args.probe != 0.0) {
       if (!args.json && !args.quiet)
         fmt::print(stderr, "probing: the first case runs for at most {:.0f} s (LIGGGHTS on 1 case, {} rank(s))\n",
                    args.probe, config.run.ranks);

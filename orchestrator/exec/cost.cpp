@@ -10,6 +10,7 @@
 #include "orchestrator/util/process.hpp"
 #include "orchestrator/util/signals.hpp"
 #include "postprocess/liggghts_log.hpp"
+#include "postprocess/text.hpp"
 
 #include <fmt/core.h>
 #include <unistd.h>
@@ -71,6 +72,9 @@ run             4000
 /// The JSON of `file`; discarded (is_discarded()) when it is missing or not JSON. The rate cache and the probe hold
 /// only measurements: one that is not ours (cut, edited) is measured again rather than refused.
 nlohmann::json read_measurement(const fs::path& file) {
+  // A FIFO would wait for a writer for ever: refused, naming the file (DEMSA_RATE_CACHE, the study's probe).
+  if (const std::optional<std::string> kind = postprocess::special_file_kind(file))
+    throw UserError(file.string(), 0, postprocess::special_file_message(*kind));
   std::ifstream in(file);
   if (!in) return nlohmann::json(nlohmann::json::value_t::discarded);
   std::stringstream text;
@@ -132,18 +136,30 @@ fs::path rate_cache_file() {
 
 std::string rate_benchmark_input() { return k_rate_input; }
 
+bool plausible_rate(double rate) { return rate >= k_min_plausible_rate && rate <= k_max_plausible_rate; }
+
 std::optional<LiggghtsRate> cached_rate(const std::string& executable, const fs::path& cache_file) {
   const BinaryKey key = binary_key(executable);
   const nlohmann::json doc = read_cache(cache_file);
   if (!doc.contains("rates")) return std::nullopt;
   for (const nlohmann::json& e : doc["rates"]) {
-    if (!e.is_object() || e.value("binary", "") != key.path) continue;
-    if (e.value("size", std::uintmax_t{0}) != key.size || e.value("mtime_ns", std::int64_t{0}) != key.mtime_ns)
+    if (!e.is_object() || !e.contains("binary") || !e["binary"].is_string() || e["binary"] != key.path) continue;
+    // An entry of the wrong types (edited, written by another program) is measured again, never read as a default.
+    const auto field = [&](const char* name) { return e.contains(name) ? &e[name] : nullptr; };
+    const nlohmann::json* size = field("size");
+    const nlohmann::json* mtime = field("mtime_ns");
+    const nlohmann::json* rate = field("atom_steps_per_cpu_second");
+    if (size == nullptr || !size->is_number_unsigned() || mtime == nullptr || !mtime->is_number_integer() ||
+        rate == nullptr || !rate->is_number())
+      return std::nullopt;
+    if (size->get<std::uintmax_t>() != key.size || mtime->get<std::int64_t>() != key.mtime_ns)
       return std::nullopt;  // the binary changed since it was measured
-    const double rate = e.value("atom_steps_per_cpu_second", 0.0);
-    if (!(rate > 0.0)) return std::nullopt;
-    return LiggghtsRate{rate, fmt::format("the standard run of {} measured {} (cached in {})", key.path,
-                                          e.value("measured_at", std::string("earlier")), cache_file.string())};
+    if (!plausible_rate(rate->get<double>())) return std::nullopt;
+    const nlohmann::json* when = field("measured_at");
+    return LiggghtsRate{
+        rate->get<double>(),
+        fmt::format("the standard run of {} measured {} (cached in {})", key.path,
+                    when != nullptr && when->is_string() ? when->get<std::string>() : "earlier", cache_file.string())};
   }
   return std::nullopt;
 }
@@ -179,6 +195,11 @@ LiggghtsRate machine_rate(const std::string& executable, const fs::path& cache_f
   const int ranks = std::max(1, last->procs);
   const double cpu = last->seconds * ranks * core_share(r, ranks, last->seconds);
   const double rate = atom_steps / cpu;
+  if (!plausible_rate(rate))
+    throw UserError(fmt::format(
+        "{}: the standard run measured {:.3g} atom-steps per CPU-second, outside [{:.0e}, {:.0e}]: no LIGGGHTS runs "
+        "at that speed (its log: {} steps of {} atoms in {:.3g} s); not cached",
+        key.path, rate, k_min_plausible_rate, k_max_plausible_rate, last->steps, last->atoms, last->seconds));
   const std::string when = utc_now();
   nlohmann::json doc = read_cache(cache_file);
   if (!doc.contains("rates")) doc = {{"rates", nlohmann::json::array()}};
@@ -250,8 +271,12 @@ nlohmann::ordered_json probe_json(const ProbeResult& p) {
 }  // namespace
 
 ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, double budget_seconds) {
-  if (!(budget_seconds > 0.0))
-    throw UserError(fmt::format("--probe {}: give a positive number of seconds", budget_seconds));
+  // A budget that rounds to 0 ms would be run_capture's "no timeout": the probe would run the whole case.
+  if (!(budget_seconds >= k_min_probe_seconds) || !std::isfinite(budget_seconds))
+    throw UserError(
+        fmt::format("--probe {}: give at least {:g} s (LIGGGHTS alone takes a fraction of a second to "
+                    "start; a shorter budget measures nothing)",
+                    budget_seconds, k_min_probe_seconds));
   const study::Store store = study::Store::open_read_only((dir / study::k_store_file).string());
   const std::vector<study::SampleRow> samples = store.samples();
   if (samples.empty()) throw UserError(fmt::format("{}: the study has no samples to probe", dir.string()));
@@ -277,7 +302,8 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
   util::CaptureOptions options;
   options.cwd = work;
   options.merge_stderr = true;
-  options.timeout = std::chrono::milliseconds(static_cast<long long>(std::min(budget_seconds, 1e9) * 1000.0));
+  options.timeout =
+      std::chrono::milliseconds(static_cast<long long>(std::ceil(std::min(budget_seconds, 1e9) * 1000.0)));
   options.should_stop = [] { return util::StopFlag::raised(); };  // Ctrl-C: its own process group does not see it
   const util::CaptureResult r = util::run_capture({"./" + std::string(study::k_case_run_script)}, options);
   if (r.stopped) {
@@ -500,6 +526,9 @@ StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& d
     input.cases.push_back(c);
   }
   input.probe = read_probe(config, dir);
+  // A rate cache that is a FIFO or a device is the user's mistake to fix, not a rate that could not be measured.
+  if (const std::optional<std::string> kind = postprocess::special_file_kind(options.cache_file))
+    throw UserError(options.cache_file.string(), 0, postprocess::special_file_message(*kind));
   if (const std::optional<std::string> exe = find_on_path(config.run.liggghts)) {
     try {
       input.rate = options.measure_rate ? std::optional<LiggghtsRate>(machine_rate(*exe, options.cache_file))

@@ -45,7 +45,14 @@ std::filesystem::path rate_cache_file();
 /// compacting under gravity: 1000 steps to start, then 4000 measured steps. About 3 s of CPU.
 std::string rate_benchmark_input();
 
-/// The rate of `executable` from `cache_file`, when its key is there; none otherwise (a changed binary included).
+/// The window of plausible LIGGGHTS rates [atom-steps per CPU-second]: three decades either side of what the standard
+/// run and the studies measured (3.5e6 to 6.3e6, docs/cost.md). A cached rate outside it, or an entry whose fields
+/// have other types, is measured again; a standard run that measures one outside it is an error, not cached.
+inline constexpr double k_min_plausible_rate = 1e3;
+inline constexpr double k_max_plausible_rate = 1e10;
+
+/// The rate of `executable` from `cache_file`, when its key is there with fields of the right types and a rate inside
+/// [k_min_plausible_rate, k_max_plausible_rate]; none otherwise (a changed binary included).
 std::optional<LiggghtsRate> cached_rate(const std::string& executable, const std::filesystem::path& cache_file);
 
 /// The cached rate of `executable`, or, when there is none, the rate measured now by the standard run (in a temporary
@@ -90,6 +97,9 @@ struct ProbeResult {
 /// atom-steps over their loop time times the share of a core the run had (as the standard run). Throws
 /// util::UserError when no LIGGGHTS run completed within the budget, or the case failed; util::StopRequested when
 /// util::StopFlag was raised (Ctrl-C), after killing the run: nothing is stored then.
+/// The shortest probe budget [s]: LIGGGHTS starts in a fraction of a second, and a budget below a millisecond would
+/// round to no timeout at all.
+inline constexpr double k_min_probe_seconds = 1.0;
 ProbeResult probe_study(const study::StudyConfig& config, const std::filesystem::path& dir, double budget_seconds);
 
 /// DIR/cost_probe.json when it is there and still describes this study's first case and LIGGGHTS (the same cap, the

@@ -81,11 +81,12 @@ LiggghtsInfo query_liggghts_at(const std::string& executable) {
   if (const auto it = known.find(executable); it != known.end()) return it->second;
   // `liggghts -h` prints its banner and the compiled styles and models, and exits 1 (stdin is /dev/null: it never
   // waits for input). Run from its argv, not through a shell, so that any path works; a LIGGGHTS that hangs is not
-  // worth waiting for.
+  // worth waiting for. LAMMPS, and LIGGGHTS with it, opens its log file before it reads -h: `-log none` (LAMMPS's
+  // "Command-line options": no log file) keeps it from leaving log.liggghts where demsa was started.
   util::CaptureOptions options;
   options.merge_stderr = true;
   options.timeout = std::chrono::seconds(30);
-  const util::CaptureResult r = util::run_capture({executable, "-h"}, options);
+  const util::CaptureResult r = util::run_capture({executable, "-log", "none", "-h"}, options);
   return known[executable] = parse_liggghts_help(executable, r.out);
 }
 

@@ -1,8 +1,10 @@
 #include "orchestrator/experiments/case_record.hpp"
 
 #include "orchestrator/study/folder.hpp"
+#include "orchestrator/study/setting_row.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
+#include "postprocess/text.hpp"
 
 #include <fmt/core.h>
 
@@ -10,6 +12,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <vector>
 
 namespace demsa::experiments {
@@ -22,6 +25,8 @@ nlohmann::json read_case_json(const fs::path& case_dir) {
   if (!fs::is_directory(case_dir, ec)) throw util::UserError(case_dir.string(), 0, "no such case folder");
   if (!fs::exists(file, ec))
     throw util::UserError(case_dir.string(), 0, fmt::format("not a case folder (no {})", study::k_case_json));
+  if (const std::optional<std::string> kind = postprocess::special_file_kind(file))
+    throw util::UserError(file.string(), 0, postprocess::special_file_message(*kind));
   std::ifstream in(file, std::ios::binary);
   if (!in) throw util::UserError(file.string(), 0, "cannot be read");
   std::string text(k_max_case_json_bytes + 1, '\0');
@@ -81,6 +86,15 @@ std::optional<double> case_number(const nlohmann::json& doc, const fs::path& fil
   const double x = v->get<double>();
   if (x < low || x > high)
     throw util::UserError(file.string(), 0, fmt::format("{} = {}: must lie in [{}, {}]", path, v->dump(), low, high));
+  return x;
+}
+
+std::optional<double> case_number(const nlohmann::json& doc, const fs::path& file, const std::string& path,
+                                  const study::SettingBounds& bounds) {
+  const std::optional<double> x =
+      case_number(doc, file, path, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+  if (x && !bounds.contains(*x))
+    throw util::UserError(file.string(), 0, fmt::format("{} = {}: {}", path, study::shortest(*x), bounds.rule()));
   return x;
 }
 

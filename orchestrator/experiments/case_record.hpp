@@ -3,6 +3,8 @@
 // sample, the experiment's schedule and measurement), for the measurement of a finished case, `demsa measure`,
 // `demsa postprocess pile CASE`, `demsa compare` and the ParaView files. Values are checked as the study file's rows
 // check them: a case.json edited by hand or cut is refused naming the file and the key, never narrowed.
+#include "orchestrator/study/settings.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
@@ -24,6 +26,10 @@ nlohmann::json read_case_json(const std::filesystem::path& case_dir);
 /// util::UserError "FILE: PATH = VALUE: ..." when it is there but not a finite number, or lies outside [low, high].
 std::optional<double> case_number(const nlohmann::json& doc, const std::filesystem::path& file, const std::string& path,
                                   double low, double high);
+/// The same against the bounds of the study file's row that wrote the value (the experiment's one range of a
+/// setting, shared by its row and this reader): what the study file accepts the measurement reads back.
+std::optional<double> case_number(const nlohmann::json& doc, const std::filesystem::path& file, const std::string& path,
+                                  const study::SettingBounds& bounds);
 /// The same for an integer in [low, high] (a fraction or a number beyond the range is refused, not narrowed).
 std::optional<long> case_integer(const nlohmann::json& doc, const std::filesystem::path& file, const std::string& path,
                                  long low, long high);

@@ -58,6 +58,14 @@ std::vector<std::string> liggghts_limit_violations(const Material& material, con
   return problems;
 }
 
+void check_run_count(long runs, long steps_per_run, std::string_view what) {
+  if (runs > k_max_runs_per_case)
+    throw util::UserError(fmt::format(
+        "{} gives {} LIGGGHTS runs of {} step{} in one case, more than {}: each run costs its setup (neighbour lists, "
+        "fixes, a dump frame) beyond its steps; lengthen the interval",
+        what, runs, steps_per_run, steps_per_run == 1 ? "" : "s", k_max_runs_per_case));
+}
+
 long steps_for(double duration, double dt, std::string_view what) {
   const double steps = std::round(duration / dt);
   // Checked before the rounding to an integer, which is undefined beyond a long's range (and for a time step that

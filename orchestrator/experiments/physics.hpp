@@ -66,4 +66,12 @@ std::optional<std::filesystem::path> liggghts_library_dir(const std::string& exe
 /// duration's setting, "[pile] settle_time") when they are more than study::k_max_steps.
 long steps_for(double duration, double dt, std::string_view what);
 
+/// The most LIGGGHTS `run` commands one case's schedule may hold (records, settling checks, windows). Each run costs
+/// its setup (neighbour lists rebuilt, fixes initialised, often a dump frame) beyond its steps, which the bill's
+/// atom-steps do not count: a million one-step runs cost far more than a million steps.
+inline constexpr long k_max_runs_per_case = 100000;
+/// Throws util::UserError naming `what` (the interval's setting, "[incline] record_angle") when `runs` exceeds
+/// k_max_runs_per_case.
+void check_run_count(long runs, long steps_per_run, std::string_view what);
+
 }  // namespace demsa::experiments

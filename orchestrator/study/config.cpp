@@ -4,6 +4,7 @@
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
+#include "postprocess/text.hpp"
 #include "sobol/design.hpp"
 #include "sobol/error.hpp"
 #include "sobol/metamodel.hpp"
@@ -543,6 +544,8 @@ StudyConfig SettingsTable::load(const std::filesystem::path& file) const {
                                 std::filesystem::exists(file / k_frozen_study, ec)
                                     ? fmt::format("; this folder's frozen copy is {}", (file / k_frozen_study).string())
                                     : ""));
+  if (const std::optional<std::string> kind = postprocess::special_file_kind(file))
+    throw UserError(file.string(), 0, postprocess::special_file_message(*kind));
   std::ifstream in(file, std::ios::binary);
   if (!in) throw UserError(file.string() + ": cannot read the study file");
   // Read at most one byte more than a study file may hold: /dev/zero or a huge file is refused, not read whole.

@@ -56,7 +56,20 @@ std::vector<Setting> build_core_settings() {
   const auto add = [&](Row& row) { rows.push_back(std::move(row)); };
 
   // [study]
-  add(Row("study", "name").string(FIELD(name)).non_empty().required().default_text("— (required)").doc("study name"));
+  add(Row("study", "name")
+          .string(FIELD(name))
+          .non_empty()
+          .check([](const SettingValue& v) {
+            // `calibrate --target STUDY:NAME=V±E` and `plan --sd STUDY:NAME=SD` split at the first ':' and the
+            // last '=': a study named with either could not be named there.
+            const std::string& text = std::get<std::string>(v);
+            if (const std::size_t at = text.find_first_of(":="); at != std::string::npos)
+              throw SettingError(fmt::format("'{}' holds '{}': a STUDY:NAME target could not name it", text, text[at]));
+          })
+          .range("non-empty, without ':' or '='")
+          .required()
+          .default_text("— (required)")
+          .doc("study name (the STUDY of `calibrate`'s and `plan`'s STUDY:NAME)"));
   // The experiments' names are the table's (SettingsTable's constructor makes this row an enumeration of them).
   add(Row("study", "experiment")
           .string(FIELD(experiment))

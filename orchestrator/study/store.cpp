@@ -1,6 +1,7 @@
 #include "orchestrator/study/store.hpp"
 
 #include "orchestrator/util/errors.hpp"
+#include "postprocess/text.hpp"
 #include "sobol/enum_names.hpp"
 
 #include <SQLiteCpp/SQLiteCpp.h>
@@ -266,6 +267,9 @@ namespace {
 /// Opens the database and reads its schema version once, so that a file that is not a database, or cannot be
 /// opened, fails here with its path in the message (SQLite's own messages do not name the file).
 std::unique_ptr<SQLite::Database> open_database(const std::string& path, int flags) {
+  // SQLite would open a FIFO or a device and wait in its first read.
+  if (const std::optional<std::string> kind = postprocess::special_file_kind(path))
+    throw util::UserError(path, 0, postprocess::special_file_message(*kind));
   try {
     auto db = std::make_unique<SQLite::Database>(path, flags, k_busy_timeout_ms);
     db->exec("SELECT count(*) FROM sqlite_master");

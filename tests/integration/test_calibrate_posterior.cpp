@@ -295,6 +295,42 @@ TEST(CalibratePosteriorCli, BadTargetsNameTheOptionAndTheValue) {
   EXPECT_NE(optimize_two.err.find("--method optimize: one study folder"), std::string::npos) << optimize_two.err;
 }
 
+TEST(CalibratePosteriorCli, AMetamodelWhoseErrorCannotBeMeasuredIsRefused) {
+  // issue 45: a study with half its cases failed left rsm2 (6 terms in 2 parameters) fitted on 6 samples: its
+  // leave-one-out Q² was NaN, its error taken as 0, and calibrate said "converged, identified" with intervals that
+  // excluded the truth.
+  TempDir dir;
+  SyntheticStudy study = start_synthetic_study(dir / "study",
+                                               StudyToml{.name = "half-failed",
+                                                         .seed = 3,
+                                                         .samples = 12,
+                                                         .parameters = k_ranges,
+                                                         .analysis = "metamodels = [\"rsm2\"]\n"}
+                                                   .text(),
+                                               2);
+  for (size_t i = 0; i < 6; ++i) {  // the other 6 samples have no done run
+    const SampleRow& row = study.samples[i];
+    RunOutcome done;
+    done.exit_code = 0;
+    study.store.record_done(study.store.add_run(row.sample, 1), done,
+                            {{"angle", 20.0 + 10.0 * row.unit[0] + 3.0 * row.unit[1] * row.unit[1]}});
+  }
+  const std::string folder = (dir / "study").string();
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"calibrate", folder, "--target", "angle=27±0.5", "--no-plots"},
+        std::vector<std::string>{"calibrate", folder, "--target", "angle=27", "--method", "optimize"},
+        std::vector<std::string>{"plan", folder, "--no-plots"}}) {
+    const CommandResult r = run_demsa(args);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.out << r.err;
+    EXPECT_NE(r.err.find("no metamodel of angle whose error can be measured"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("rsm2: leave-one-out Q² is not finite on 6 samples"), std::string::npos) << r.err;
+  }
+  // With a metamodel of fewer terms (rsm1: 3) the error is measured and the calibration runs.
+  const CommandResult rsm1 =
+      run_demsa({"calibrate", folder, "--target", "angle=27±0.5", "--model", "rsm1", "--no-plots", "--steps", "500"});
+  EXPECT_NE(rsm1.exit_code, 2) << rsm1.err;
+}
+
 TEST(CalibratePosteriorCli, AMeasuredCurveFromACsvFile) {
   TempDir dir;
   write_oedometer(dir / "oedometer", "mu_pw = { low = 1.0, high = 2.5 }\n");

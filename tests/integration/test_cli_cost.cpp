@@ -3,6 +3,7 @@
 // store holds predicted against actual per case.
 #include "orchestrator/exec/cost.hpp"
 #include "orchestrator/study/store.hpp"
+#include "orchestrator/util/errors.hpp"
 
 #include "support/process.hpp"
 #include "support/test_support.hpp"
@@ -227,6 +228,81 @@ TEST(CliCost, VersionShowsTheMeasuredSpeedOfTheLiggghtsItFinds) {
   EXPECT_NE(r.out.find("speed: 4e+06 atom-steps per CPU-second (the standard run of " + fake.string()),
             std::string::npos)
       << r.out;
+}
+
+TEST(CliCost, VersionLeavesNoLiggghtsLogWhereItRuns) {
+  // issue 45: LIGGGHTS opens log.liggghts before it reads -h, so `demsa --version` left one in the current folder.
+  test::TempDir tmp;
+  const fs::path fake = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts" / "liggghts";
+  fs::create_directories(tmp / "here");
+  const test::CommandResult r =
+      test::run_command({"env", "-C", (tmp / "here").string(), "DEMSA_LIGGGHTS=" + fake.string(),
+                         "DEMSA_RATE_CACHE=" + (tmp / "rates.json").string(), DEMSA_BINARY, "--version"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("3.8.0"), std::string::npos) << r.out;  // its help text was read
+  EXPECT_TRUE(fs::is_empty(tmp / "here")) << fs::directory_iterator(tmp / "here")->path();
+}
+
+TEST(CliCost, ACachedRateOutsideAPlausibleWindowOrOfWrongTypesIsMeasuredAgain) {
+  // issue 45: a cached rate of 1e-3 billed 1.2e8 CPU-hours, one of 1e30 billed 0 s, and a size written as a string
+  // ended the dry run with exit 3 and nlohmann's type_error.
+  test::TempDir tmp;
+  const fs::path fake = fs::path(DEMSA_SOURCE_DIR) / "tests" / "integration" / "fake_liggghts" / "liggghts";
+  const exec::BinaryKey key = exec::binary_key(fake.string());
+  const fs::path cache = tmp / "rates.json";
+  const auto entry = [&](const nlohmann::json& size, const nlohmann::json& mtime, const nlohmann::json& rate) {
+    return nlohmann::json{
+        {"rates", {{{"binary", key.path}, {"size", size}, {"mtime_ns", mtime}, {"atom_steps_per_cpu_second", rate}}}}};
+  };
+  for (const nlohmann::json& doc :
+       {entry(key.size, key.mtime_ns, 1e-3), entry(key.size, key.mtime_ns, 1e30),
+        entry(std::to_string(key.size), key.mtime_ns, 5e6), entry(key.size, key.mtime_ns, "5e6"),
+        entry(key.size, 1.5, 5e6), entry(nullptr, key.mtime_ns, 5e6)}) {
+    SCOPED_TRACE(doc.dump());
+    test::write_file(cache, doc.dump());
+    EXPECT_FALSE(exec::cached_rate(fake.string(), cache));
+    EXPECT_DOUBLE_EQ(exec::machine_rate(fake.string(), cache).atom_steps_per_cpu_second, 4e6);  // measured again
+    EXPECT_DOUBLE_EQ(exec::cached_rate(fake.string(), cache)->atom_steps_per_cpu_second, 4e6);
+  }
+  // A plausible one is used as it is.
+  test::write_file(cache, entry(key.size, key.mtime_ns, 5e6).dump());
+  EXPECT_DOUBLE_EQ(exec::cached_rate(fake.string(), cache)->atom_steps_per_cpu_second, 5e6);
+  // A standard run that reports an implausible speed is an error, not a cached bill.
+  fs::remove(cache);
+  test::ScopedEnv slow("FAKE_LIGGGHTS_RATE", "1e-3");
+  EXPECT_THROW(exec::machine_rate(fake.string(), cache), util::UserError);
+  EXPECT_FALSE(fs::exists(cache));
+}
+
+TEST(CliCost, ASchedulesOfAMillionOneStepRunsIsRefused) {
+  // issue 45: an interval near 0 (here the pile's settling check) made every step a LIGGGHTS run of its own, billed
+  // as its steps alone.
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml",
+                   test::StudyToml{.name = "runs",
+                                   .samples = 2,
+                                   .tables = "[pile]\nparticles = 300\nsettle_time = 2\nsettle_check_time = 1e-9\n",
+                                   .run = test::fake_liggghts_run_lines()}
+                       .text());
+  test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
+  const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run"}));
+  EXPECT_EQ(dry.exit_code, 2) << dry.out << dry.err;
+  EXPECT_NE(dry.err.find("[pile] settle_check_time gives"), std::string::npos) << dry.err;
+  EXPECT_NE(dry.err.find("LIGGGHTS runs of 1 step in one case, more than 100000"), std::string::npos) << dry.err;
+}
+
+TEST(CliCost, AProbeBudgetBelowASecondIsRefusedNotUnlimited) {
+  // issue 45: --probe 0.0005 rounded to a timeout of 0 ms, which is no timeout: the probe ran the whole case.
+  test::TempDir tmp;
+  write_probe_study(tmp, 2);
+  test::FakeLiggghtsEnvironment env("0:hang", tmp.path(), 0.0);
+  test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
+  for (const char* budget : {"0.0005"}) {
+    const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--probe", budget}));
+    EXPECT_EQ(dry.exit_code, 2) << dry.out << dry.err;
+    EXPECT_NE(dry.err.find(fmt::format("--probe {}: give at least 1 s", budget)), std::string::npos) << dry.err;
+    EXPECT_FALSE(fs::exists(tmp / "study" / "cost_probe.json"));
+  }
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +18,8 @@
 namespace demsa::test {
 namespace {
 
+namespace fs = std::filesystem;
+
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(CliReaders, DevZeroIsRefusedQuicklyByEveryReader) {
@@ -23,7 +27,8 @@ TEST(CliReaders, DevZeroIsRefusedQuicklyByEveryReader) {
   const auto start = std::chrono::steady_clock::now();
   CommandResult r = run_demsa({"postprocess", "oedometer", "/dev/zero"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_TRUE(has(r.err, "/dev/zero:1: line longer than 65536 bytes")) << r.err;
+  // Refused before it is opened: a device is not a plate file (issue 45: a FIFO would block the read for ever).
+  EXPECT_TRUE(has(r.err, "/dev/zero: a character device, not a regular file")) << r.err;
   r = run_demsa({"sensitivity", "--data", "/dev/zero", "--inputs", "a,b", "--response", "y"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(has(r.err, "/dev/zero:1: line longer than 1048576 bytes: not a CSV table")) << r.err;
@@ -31,6 +36,43 @@ TEST(CliReaders, DevZeroIsRefusedQuicklyByEveryReader) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(has(r.err, "/dev/zero:1: line longer")) << r.err;
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60));
+}
+
+TEST(CliReaders, AFifoWhereDemsaReadsIsRefusedNotWaitedOn) {
+  // issue 45: a FIFO as the study file, its store, a case.json, a dump or the rate cache blocked demsa in open(2)
+  // for ever. Each is refused before it is opened (exit 2, naming the file); `timeout` ends a read that blocks.
+  TempDir dir;
+  const auto fifo = [&](const fs::path& path) {
+    fs::create_directories(path.parent_path());
+    fs::remove(path);
+    ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0) << path;
+  };
+  const auto refused = [&](const std::vector<std::string>& args, const fs::path& file, const std::string& env = "") {
+    std::vector<std::string> all{"timeout", "30", "env"};
+    if (!env.empty()) all.push_back(env);
+    all.push_back(DEMSA_BINARY);
+    all.insert(all.end(), args.begin(), args.end());
+    const CommandResult r = run_command(all);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.err;
+    EXPECT_TRUE(has(r.err, file.string() + ": a FIFO, not a regular file")) << r.err;
+  };
+  fifo(dir / "study.toml");
+  refused({"run", (dir / "study.toml").string(), "--dir", (dir / "s").string()}, dir / "study.toml");
+  fifo(dir / "case" / "case.json");
+  refused({"measure", (dir / "case").string()}, dir / "case" / "case.json");
+  fifo(dir / "pile.dump");
+  refused({"postprocess", "pile", (dir / "pile.dump").string()}, dir / "pile.dump");
+  // A study whose store is a FIFO.
+  write_file(dir / "real.toml", StudyToml{.name = "fifo", .samples = 2}.text());
+  fs::create_directories(dir / "st");
+  fs::copy_file(dir / "real.toml", dir / "st" / "study.toml");
+  fifo(dir / "st" / "study.db");
+  refused({"status", (dir / "st").string()}, dir / "st" / "study.db");
+  // The rate cache of the dry run.
+  fifo(dir / "rates.json");
+  write_file(dir / "dry.toml", StudyToml{.name = "dry", .samples = 2, .run = fake_liggghts_run_lines()}.text());
+  refused({"run", (dir / "dry.toml").string(), "--dir", (dir / "dry").string(), "--dry-run"}, dir / "rates.json",
+          "DEMSA_RATE_CACHE=" + (dir / "rates.json").string());
 }
 
 TEST(CliReaders, PlateFileWithALongLineOrDecreasingLoads) {

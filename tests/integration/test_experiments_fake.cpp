@@ -57,6 +57,42 @@ TEST(ExperimentsFake, InclineOnsetsAreMeasuredFromTheProbes) {
   EXPECT_EQ(store.observables().size(), 6u);
 }
 
+TEST(ExperimentsFake, MeasureRefusesAnInclineItCannotHaveMeasured) {
+  // issue 45: `demsa measure` stored onsets above the case's maximum tilt and measured a dump with one probe's id on
+  // two rows (taking either).
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", study("incline", 2));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const fs::path folder = tmp / "study" / "cases" / "000000";
+  const test::CommandResult as_run = test::run_demsa({"measure", folder.string(), "--json"});
+  ASSERT_EQ(as_run.exit_code, 0) << as_run.err;
+  const double slide = nlohmann::json::parse(as_run.out).at("observables").at("slide_angle").get<double>();
+  // The schedule said the tilt stops below the locked probes' onsets: they have none, and the case has no slide_angle.
+  nlohmann::json doc = nlohmann::json::parse(test::read_file(folder / "case.json"));
+  doc["incline"]["max_angle_deg"] = slide - 1.0;
+  test::write_file(folder / "case.json", doc.dump(2));
+  const test::CommandResult capped = test::run_demsa({"measure", folder.string(), "--json"});
+  EXPECT_EQ(capped.exit_code, 2) << capped.out << capped.err;
+  EXPECT_NE(capped.err.find("slide_angle not measured: 12 of 12 free probes rolled and 0 of 12 locked probes slid"),
+            std::string::npos)
+      << capped.err;
+  // One probe's id on two rows of a frame: exit 2 naming the file and the id.
+  std::string dump = test::read_file(folder / "incline_probes.dump");
+  const std::size_t atoms = dump.find("ITEM: ATOMS");
+  const std::size_t first_row = dump.find('\n', atoms) + 1;
+  const std::size_t second_row = dump.find('\n', first_row) + 1;
+  const std::string first_id = dump.substr(first_row, dump.find(' ', first_row) - first_row);
+  const std::size_t second_id_end = dump.find(' ', second_row);
+  dump.replace(second_row, second_id_end - second_row, first_id);
+  test::write_file(folder / "incline_probes.dump", dump);
+  const test::CommandResult twice = test::run_demsa({"measure", folder.string()});
+  EXPECT_EQ(twice.exit_code, 2) << twice.out << twice.err;
+  EXPECT_NE(twice.err.find((folder / "incline_probes.dump").string() + ":"), std::string::npos) << twice.err;
+  EXPECT_NE(twice.err.find("atom id " + first_id + " appears twice"), std::string::npos) << twice.err;
+}
+
 TEST(ExperimentsFake, DrawdownSlopeAndDischargeAreMeasured) {
   test::TempDir tmp;
   test::write_file(tmp / "study.toml", study("drawdown", 4, "[drawdown]\nparticles = 300\n"));

@@ -2,6 +2,7 @@
 // leave two parameters on a ridge and pin both together, a parameter no observable depends on, and a linear-Gaussian
 // posterior whose width halves with the sd.
 #include "orchestrator/study/config.hpp"
+#include "orchestrator/study/folder.hpp"
 #include "orchestrator/study/store.hpp"
 #include "support/synthetic_study.hpp"
 #include "support/test_support.hpp"
@@ -27,12 +28,16 @@ const std::string k_ranges =
 
 /// A pile study of 30 samples whose angle is `angle(u)`, each case recorded with `cpu` CPU seconds.
 void write_study(const fs::path& dir, const std::string& name, unsigned seed,
-                 const std::function<double(const std::vector<double>&)>& angle, double cpu = 0.0) {
-  SyntheticStudy study = start_synthetic_study(
-      dir,
-      StudyToml{.name = name, .seed = 5, .samples = 30, .parameters = k_ranges, .analysis = "metamodels = [\"rsm1\"]\n"}
-          .text(),
-      seed);
+                 const std::function<double(const std::vector<double>&)>& angle, double cpu = 0.0,
+                 const std::string& metamodels = "[\"rsm1\"]") {
+  SyntheticStudy study = start_synthetic_study(dir,
+                                               StudyToml{.name = name,
+                                                         .seed = 5,
+                                                         .samples = 30,
+                                                         .parameters = k_ranges,
+                                                         .analysis = "metamodels = " + metamodels + "\n"}
+                                                   .text(),
+                                               seed);
   for (const SampleRow& row : study.samples) {
     RunOutcome done;
     done.exit_code = 0;
@@ -117,6 +122,87 @@ TEST(PlanCli, HalvingTheSdHalvesALinearGaussianPosterior) {
   EXPECT_NEAR(narrow / wide, 0.5, 0.05) << wide << " " << narrow;
 }
 
+/// The 90 % width of mu_pp over its prior width in `demsa calibrate` on both studies at a = b = 0.5, each measured
+/// with sd `sd`.
+double calibrated_width(const fs::path& dir, double sd) {
+  const CommandResult r =
+      run_demsa({"calibrate", (dir / "sum").string(), (dir / "difference").string(), "--target",
+                 fmt::format("sum:angle=25±{}", sd), "--target", fmt::format("difference:angle=30±{}", sd), "--json",
+                 "--no-plots", "--out", (dir / fmt::format("calibration-{}", sd)).string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out).at("parameters").at(0).at("width_ratio").get<double>();
+}
+
+TEST(PlanCli, AMorePreciseMeasurementNeverPlansWiderAndAgreesWithCalibrate) {
+  // issue 45: the fallback sampler's fixed chain, started uniformly in the box, could not reach a narrow posterior:
+  // below some sd its widths were its starting spread (0.03, 0.01, 0.36, 0.80, 0.84 over falling sds).
+  TempDir dir;
+  write_study(dir / "sum", "sum", 11, [](const std::vector<double>& u) { return 20.0 + 5.0 * (u[0] + u[1]); });
+  write_study(dir / "difference", "difference", 12,
+              [](const std::vector<double>& u) { return 30.0 + 5.0 * (u[0] - u[1]); });
+  double previous = 1.0;
+  for (const double sd : {0.3, 0.1, 0.03, 0.01, 0.003, 0.001}) {
+    const nlohmann::json j =
+        plan({(dir / "sum").string(), (dir / "difference").string(), "--sd", fmt::format("angle={}", sd), "--truths",
+              "10", "--no-plots", "--out", (dir / fmt::format("plan-{}", sd)).string()});
+    const nlohmann::json& both = subset(j, {"sum", "difference"});
+    const double w = width(both, 0);
+    // a = (y1 + y2 - 50) / 10: sd √2 sd / 10, a 90 % width of 0.465 sd (a little less where the range cuts it).
+    EXPECT_LE(w, 0.465 * sd * 1.15) << "sd " << sd << ": " << both.dump();
+    EXPECT_GE(w, 0.465 * sd * 0.7) << "sd " << sd << ": " << both.dump();
+    EXPECT_LT(w, previous) << "sd " << sd;
+    previous = w;
+    EXPECT_TRUE(j.at("checks").at("passed").get<bool>()) << j.at("checks").dump();
+    EXPECT_NEAR(w, calibrated_width(dir.path(), sd), 0.05) << "sd " << sd;
+  }
+}
+
+TEST(PlanCli, OnAnInclineLikePairOfGpsTheWidthsShrinkWithTheSdAsCalibrateSays) {
+  // issue 45's reproducer on the incline: each angle follows one friction coefficient (slide: atan μ_PW, roll: atan
+  // μ_R,PW), fitted by GPs. Started uniformly in the box, the fallback's fixed chain planned 0.0008, 0.073, 0.40 for
+  // μ_PW at sd 0.01°, 0.001°, 0.0002°: a more precise measurement planned wider, while calibrate pins it.
+  TempDir dir;
+  write_study(
+      dir / "slide", "slide", 11, [](const std::vector<double>& u) { return std::atan(0.4 + 1.5 * u[1]) * 57.3; }, 0,
+      "[\"gp\"]");
+  write_study(
+      dir / "roll", "roll", 12, [](const std::vector<double>& u) { return std::atan(0.1 + 0.4 * u[2]) * 57.3; }, 0,
+      "[\"gp\"]");
+  std::vector<double> previous{1.0, 1.0};
+  for (const double sd : {0.3, 0.1, 0.01, 0.001, 0.0002}) {
+    SCOPED_TRACE(fmt::format("sd {}", sd));
+    const nlohmann::json j =
+        plan({(dir / "slide").string(), (dir / "roll").string(), "--sd", fmt::format("angle={}", sd), "--truths", "10",
+              "--no-plots", "--out", (dir / fmt::format("plan-{}", sd)).string()});
+    EXPECT_TRUE(j.at("checks").at("passed").get<bool>()) << j.at("checks").dump();
+    const nlohmann::json& both = subset(j, {"slide", "roll"});
+    // The analytic width, 2 · 1.645 sd / (dy/du) at u = 0.5 (slide: 57.3 · 1.5 / (1 + 1.15²) = 37.0 °, roll: 57.3 · 0.4
+    // / 1.09 = 21.0 °), widened by the GPs' own variance.
+    const std::vector<double> slope{37.0, 21.0};
+    for (int p : {1, 2}) {
+      const double w = width(both, p);
+      EXPECT_LT(w, previous[static_cast<size_t>(p - 1)]) << "parameter " << p << ": " << both.dump();
+      previous[static_cast<size_t>(p - 1)] = w;
+      const double analytic = 3.29 * sd / slope[static_cast<size_t>(p - 1)];
+      EXPECT_GT(w, 0.5 * analytic) << "parameter " << p;
+      EXPECT_LT(w, 3.0 * analytic) << "parameter " << p;
+    }
+    // `calibrate` at b = c = 0.5 (angles 48.99° and 16.70°). At 0.0002° its own chain, started uniformly in the box,
+    // does not reach the posterior either (it reports 0.44 and 0.13); it is compared down to 0.001°.
+    if (sd < 0.001) continue;
+    const CommandResult r =
+        run_demsa({"calibrate", (dir / "slide").string(), (dir / "roll").string(), "--target",
+                   fmt::format("slide:angle=48.99±{}", sd), "--target", fmt::format("roll:angle=16.70±{}", sd),
+                   "--json", "--no-plots", "--out", (dir / fmt::format("calibration-{}", sd)).string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json calibrated = nlohmann::json::parse(r.out).at("parameters");
+    for (int p : {1, 2})
+      EXPECT_NEAR(width(both, p), calibrated.at(p).at("width_ratio").get<double>(), 0.05) << "parameter " << p;
+  }
+  // d(slide)/db = 57.3 · 1.5 / (1 + 1.15²) = 37.0 °: at sd 0.0002° a 90 % width of 9e-6, far below the 0.40 before.
+  EXPECT_LT(previous[0], 1e-3);
+}
+
 TEST(PlanCli, NearAGuessedValueTheWidthsAreThoseAroundIt) {
   TempDir dir;
   write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
@@ -195,6 +281,42 @@ TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
   refused({"--truths", "1"}, "--truths 1: must be in 2..1000");
   refused({"--truths", "5000"}, "--truths 5000: must be in 2..1000");
   refused({study}, "are the same study");
+  // issue 45: an sd whose square overflows made every posterior the prior, silently; one sd given twice kept the
+  // first without a word.
+  refused({"--sd", "angle=1e200"}, "--sd 'angle=1e200': 1e+200 squared overflows a double");
+  refused({"--sd", "angle=1", "--sd", "angle=2"},
+          "--sd 'angle=1' and --sd 'angle=2': the same observable's sd given twice");
+  refused({"--sd", "angle=1", "--sd", "line:angle=2"},
+          "--sd 'angle=1' and --sd 'line:angle=2' both give the sd of "
+          "line:angle");
+  // --out that cannot be a folder: refused before the work, not an internal error after it.
+  write_file(dir / "a-file", "x\n");
+  refused({"--out", (dir / "a-file").string()}, "--out " + (dir / "a-file").string() + ": exists and is not a folder");
+}
+
+TEST(PlanCli, TwoStudiesOfOneNameAreRefusedAndEveryStudyIsHeld) {
+  TempDir dir;
+  write_study(dir / "a", "same", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
+  write_study(dir / "b", "same", 14, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[1]; });
+  const CommandResult r = run_demsa({"plan", (dir / "a").string(), (dir / "b").string(), "--no-plots"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("share the name 'same'"), std::string::npos) << r.err;
+  // issue 45: plan held only its first study; a `demsa run` extending the second meanwhile went unnoticed.
+  write_study(dir / "c", "other", 15, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[1]; });
+  {
+    const StudyLock held(dir / "c");  // this process stands for the `demsa run` that holds it
+    const CommandResult held_run = run_demsa({"plan", (dir / "a").string(), (dir / "c").string(), "--no-plots"});
+    EXPECT_EQ(held_run.exit_code, 2) << held_run.err;
+    EXPECT_NE(held_run.err.find((dir / "c").string() + ": another demsa (pid "), std::string::npos) << held_run.err;
+  }
+  // A [study] name that STUDY:NAME cannot express is refused by the study file.
+  for (const char* name : {"pile:wall", "a=b"}) {
+    write_file(dir / "named.toml", StudyToml{.name = name, .samples = 4}.text());
+    const CommandResult named =
+        run_demsa({"run", (dir / "named.toml").string(), "--dir", (dir / "n").string(), "--dry-run"});
+    EXPECT_EQ(named.exit_code, 2) << named.err;
+    EXPECT_NE(named.err.find("[study] name: '" + std::string(name) + "' holds"), std::string::npos) << named.err;
+  }
 }
 
 }  // namespace

@@ -124,5 +124,57 @@ TEST(Incline, InvalidOptionsAndFilesAreRefused) {
   EXPECT_THROW(postprocess::measure_incline(tmp / "bad.dump", o), postprocess::ParseError);
 }
 
+postprocess::InclineOptions options_of_dump(double rate) {
+  postprocess::InclineOptions o;
+  o.tilt_rate = rate;
+  o.tilt_start_step = 1000;
+  o.dt = 1e-5;
+  o.onset_distance = 2e-3;
+  o.rolling_probes = 1;
+  return o;
+}
+
+TEST(Incline, AnOnsetBeyondTheScheduleMaximumIsNone) {
+  // issue 45: the dump records up to one record past max_tilt; a probe that started there moved after the tilt the
+  // case applied, and its onset was stored above the recorded maximum.
+  test::TempDir tmp;
+  test::write_file(tmp / "probes.dump", dump(5.0));
+  postprocess::InclineOptions o = options_of_dump(5.0);
+  o.max_tilt = 30.0;
+  const postprocess::InclineResult r = postprocess::measure_incline(tmp / "probes.dump", o);
+  ASSERT_TRUE(r.probes[0].onset);
+  EXPECT_NEAR(*r.probes[0].onset, 20.0, 0.05);
+  EXPECT_FALSE(r.probes[1].onset) << *r.probes[1].onset;  // it slides from 40°, after the schedule's 30°
+  EXPECT_FALSE(r.slide_angle);
+  o.max_tilt = 95;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
+TEST(Incline, AFrameBeyondNinetyDegreesOrAnIdTwiceIsRefused) {
+  test::TempDir tmp;
+  test::write_file(tmp / "probes.dump", dump(5.0));
+  // Read with twice the rate it was written at, the frames reach 120°: not this schedule's dump.
+  try {
+    postprocess::measure_incline(tmp / "probes.dump", options_of_dump(10.0));
+    ADD_FAILURE() << "a tilt of 120° was measured";
+  } catch (const postprocess::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("beyond 90°: the dump does not follow its case's schedule"), std::string::npos)
+        << e.what();
+  }
+  // Probe 3 written as a second probe 2: one id on two rows.
+  std::string text = dump(5.0);
+  for (std::size_t at = text.find("\n3 1 0 0.01"); at != std::string::npos; at = text.find("\n3 1 0 0.01", at))
+    text.replace(at, 3, "\n2 ");
+  test::write_file(tmp / "twice.dump", text);
+  try {
+    postprocess::measure_incline(tmp / "twice.dump", options_of_dump(5.0));
+    ADD_FAILURE() << "a dump with an id twice was measured";
+  } catch (const postprocess::ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("twice.dump:12: atom id 2 appears twice in the frame of time step 1000"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace demsa

@@ -198,12 +198,11 @@ TEST(OedometerErrors, LongLineAndHugeFileAreRefusedQuickly) {
   EXPECT_EQ(message, (dir / "s.txt").string() +
                          ":2: line longer than 65536 bytes (it starts '7777777777777777777777777777777777777777...'): "
                          "not a text file of this kind");
-  EXPECT_EQ(
-      test::message_of<ParseError>([] { read_plate_history("/dev/zero"); }),
-      "/dev/zero:1: line longer than 65536 bytes (it starts "
-      "'\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00"
-      "\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00\\x00...'): "
-      "not a text file of this kind");
+  // /dev/zero is not a regular file: refused before it is opened (issue 45: a FIFO would block the open).
+  EXPECT_EQ(test::message_of<ParseError>([] {
+              read_plate_history("/dev/zero");
+            }).rfind("/dev/zero: a character device, not a regular file", 0),
+            0u);
 }
 
 TEST(OedometerErrors, ByteOrderMarkAndCrLfAreText) {

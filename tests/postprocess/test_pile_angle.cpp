@@ -129,6 +129,38 @@ TEST_P(ExactCone, EveryDirectionMeasuresTheFlank) {
 INSTANTIATE_TEST_SUITE_P(BothPoints, ExactCone,
                          ::testing::Values(BoundaryPointKind::centre, BoundaryPointKind::surface));
 
+TEST(PileAngleErrors, ABowlIsNoPile) {
+  // issue 45: particles whose outermost edge rises outward (a bowl, a ring left by a pile that slid off) measured a
+  // negative angle of repose, stored as the case's angle.
+  PileAngleOptions o;
+  o.directions = 36;
+  o.levels = 5;
+  o.pedestal_radius = 0.06;
+  Particles p;
+  const double r = 0.001, h = 0.02, slope = std::tan(30.0 * std::numbers::pi / 180.0);
+  std::int64_t id = 1;
+  const auto add = [&](double rho, double phi, double z) {
+    p.id.push_back(id++);
+    p.type.push_back(1);
+    p.x.push_back(rho * std::cos(phi));
+    p.y.push_back(-rho * std::sin(phi));
+    p.z.push_back(o.pedestal_top + z);
+    p.radius.push_back(r);
+  };
+  add(0.005 + h / slope, 0.0, h - r);  // the rim's top defines h_P
+  for (int i = 0; i < o.directions; ++i)
+    for (int k = 0; k < o.levels; ++k) {
+      const double zk = h * (0.2 + 0.55 * k / (o.levels - 1));
+      add(0.005 + zk / slope, 2.0 * std::numbers::pi * i / o.directions, zk);
+    }
+  try {
+    const PileAngleResult res = measure_pile_angle(p, o);
+    ADD_FAILURE() << "a bowl measured an angle of repose of " << res.angle << "°";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no pile to measure"), std::string::npos) << e.what();
+  }
+}
+
 TEST(PileAngleErrors, NothingOnThePedestal) {
   Particles p;
   p.id = {1};

@@ -68,8 +68,12 @@ std::vector<Particle> build_floor_layer(const DrawdownSettings& s, std::uint64_t
   return layer;
 }
 
+std::vector<double> fill_radii(const DrawdownSettings& s, std::uint64_t seed) {
+  return truncated_normal_radii(s.radii, s.particles, stream_seed(seed, 0));
+}
+
 std::vector<Particle> build_fill(const DrawdownSettings& s, std::uint64_t seed, double floor_top) {
-  std::vector<double> radii = truncated_normal_radii(s.radii, s.particles, stream_seed(seed, 0));
+  std::vector<double> radii = fill_radii(s, seed);
   std::sort(radii.begin(), radii.end(), std::greater<>());  // larger first: random sequential addition fills denser
   std::unique_ptr<gsl_rng, decltype(&gsl_rng_free)> rng(gsl_rng_alloc(gsl_rng_mt19937), &gsl_rng_free);
   gsl_rng_set(rng.get(), static_cast<unsigned long>(stream_seed(seed, 1)));
@@ -114,11 +118,16 @@ std::vector<Particle> build_fill(const DrawdownSettings& s, std::uint64_t seed, 
       fill.push_back({x, y, z, r});
       placed = true;
     }
-    if (!placed)
+    if (!placed) {
+      double volume = 0;
+      for (const Particle& p : fill) volume += 4.0 / 3.0 * std::numbers::pi * p.radius * p.radius * p.radius;
       throw util::UserError(fmt::format(
-          "[drawdown] fill_height = {} m: only {} of {} particles fit loosely into the box ({} x {} m): raise "
-          "fill_height or lower particles",
-          s.fill_height, fill.size(), s.particles, width(s), s.depth));
+          "[drawdown] fill_height = {} m, particles = {}: after {} particles were placed (a solid fraction of {:.2f} "
+          "of the {} × {} × {} m box), particle {} (radius {:.3g} m, placed larger first) found no free place in {} "
+          "random tries: raise fill_height or lower particles",
+          s.fill_height, s.particles, fill.size(), volume / (width(s) * s.depth * s.fill_height), width(s), s.depth,
+          s.fill_height, fill.size() + 1, r, k_tries));
+    }
     (void)z_high;
   }
   return fill;
@@ -161,6 +170,8 @@ CaseWritten DrawdownDraft::write(const Material& m, const TimestepChoice& ts, Pa
   };
   const long check_steps = steps_for(s.check_time, ts.dt, "[drawdown] check_time");
   const long window_checks = std::max(1L, std::lround(s.window / s.check_time));
+  check_run_count(window_checks * std::max(1L, std::lround(std::ceil(s.time_cap / (window_checks * s.check_time)))),
+                  check_steps, "[drawdown] check_time");
   const double fill_mass = mass_of(m_fill);
   params.comment("draw-down");
   params.number("half_width", half, "side walls at x = -half_width and half_width [m]");

@@ -60,8 +60,8 @@ struct CaseGeometry {
 };
 
 CaseGeometry case_geometry(const nlohmann::json& doc, const fs::path& file) {
-  const auto number = [&](const std::string& key, double low, double high) {
-    const std::optional<double> v = case_number(doc, file, key, low, high);
+  const auto number = [&](const std::string& key, const auto&... range) {
+    const std::optional<double> v = case_number(doc, file, key, range...);
     if (!v) throw util::UserError(file.string(), 0, fmt::format("records no {} (the draw-down's geometry)", key));
     return *v;
   };
@@ -71,7 +71,7 @@ CaseGeometry case_geometry(const nlohmann::json& doc, const fs::path& file) {
   g.slope.depth = number("drawdown.depth_m", 1e-9, 100);
   g.slope.skip_ids = case_integer(doc, file, "drawdown.floor_particles", 0, 100000000).value_or(0);
   g.slope.slices = static_cast<int>(case_integer(doc, file, "drawdown.measurement.slices", 1, 1000).value_or(5));
-  g.slope.bin_width = number("drawdown.measurement.bin_width_m", 1e-9, 1);
+  g.slope.bin_width = number("drawdown.measurement.bin_width_m", bin_width_bounds());
   g.slope.edge_skip = number("drawdown.measurement.edge_skip_m", 0, 1);
   g.slope.wall_skip = number("drawdown.measurement.wall_skip_m", 0, 1);
   g.density = number("drawdown.density", 1e-9, 1e6);

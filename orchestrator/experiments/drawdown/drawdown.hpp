@@ -4,6 +4,7 @@
 // itself. Its settings ([drawdown]), case, measurement (postprocess/drawdown.hpp) and report.
 #include "orchestrator/experiments/assembly.hpp"
 #include "orchestrator/experiments/experiment.hpp"
+#include "orchestrator/study/setting_row.hpp"
 
 #include <cstdint>
 #include <string>
@@ -57,8 +58,17 @@ std::vector<Particle> build_floor_layer(const DrawdownSettings& settings, std::u
 /// (above a floor layer's top when there is one) up to fill_height, none overlapping another or a wall, larger first;
 /// positions and radii from `seed`. Throws util::UserError naming [drawdown] fill_height when they do not fit.
 std::vector<Particle> build_fill(const DrawdownSettings& settings, std::uint64_t seed, double floor_top);
+/// The fill's radii from `seed`, as build_fill draws them (before sorting).
+std::vector<double> fill_radii(const DrawdownSettings& settings, std::uint64_t seed);
 
 // ---------------------------------------------------------------- observables
+/// The one range of `[drawdown] bin_width` [m], checked by its row of the study file and by the measurement reading
+/// it back from case.json (issue 45): from a micrometre (k_min_radius) to a metre.
+/// The largest solid fraction of the loose fill over the box up to fill_height that the study file accepts: the
+/// saturation of random sequential addition of spheres (Zhang & Torquato 2013, Phys. Rev. E 88, 053312: 0.3841).
+inline constexpr double k_max_fill_fraction = 0.38;
+inline study::SettingBounds bin_width_bounds() { return study::between(study::k_min_radius, true, 1, true); }
+
 inline constexpr std::string_view k_slope_angle = "slope_angle";              ///< [deg]
 inline constexpr std::string_view k_discharged_mass = "discharged_mass";      ///< [kg]
 inline constexpr std::string_view k_discharge_rate = "discharge_rate";        ///< [kg/s]

@@ -5,6 +5,10 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+#include <numbers>
+#include <vector>
+
 // The [drawdown] section of the study file: its rows, the rules between them, and its prose in docs/study-file.md.
 namespace demsa::experiments::drawdown {
 
@@ -93,7 +97,7 @@ std::vector<Setting> drawdown_settings() {
           .measurement("drawdown.slices")
           .doc("planes across the slope in which the surface is fitted (the median over them is a side's angle)"));
   add(Row("drawdown", "bin_width")
-          .number(DRAWDOWN(bin_width), between(0, false, 1, true))
+          .number(DRAWDOWN(bin_width), bin_width_bounds())
           .unit("m")
           .measurement("drawdown.bin_width")
           .doc("the surface of a slice is the highest particle top in bins this wide"));
@@ -137,6 +141,26 @@ void check_drawdown(const StudyConfig& config, const SectionCheck& at) {
   if (!(s.fill_height > 4 * s.radii.r_max))
     at.fail("fill_height",
             fmt::format("{} m holds no layer of particles of radius r_max = {} m", s.fill_height, s.radii.r_max));
+  // The fill is placed by random sequential addition, which jams: monodisperse spheres saturate at a solid fraction
+  // of 0.3841 (Zhang & Torquato 2013, "Precise algorithm to generate random sequential addition of hard
+  // hyperspheres at saturation", Phys. Rev. E 88, 053312). The study's own radii (its seed's draw) over the box up to
+  // fill_height must stay below it, or the case writer tries 100000 places per particle and fails in every case.
+  {
+    const std::vector<double> radii = fill_radii(s, config.seed);
+    double volume = 0;
+    for (const double r : radii) volume += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const double box_width = s.slot_width + 2 * s.side_width;
+    const double box = box_width * s.depth * s.fill_height;
+    if (volume > k_max_fill_fraction * box)
+      at.fail(
+          "particles",
+          fmt::format("{} particles (their volume {:.3g} m³) fill {:.2f} of the box up to fill_height ({} × {} × "
+                      "{} m = {:.3g} m³); placed one by one at random they jam near {}: lower particles to at most "
+                      "{} or raise fill_height to at least {:.3g} m",
+                      s.particles, volume, volume / box, box_width, s.depth, s.fill_height, box, k_max_fill_fraction,
+                      static_cast<long>(std::floor(s.particles * k_max_fill_fraction * box / volume)),
+                      volume / (k_max_fill_fraction * box_width * s.depth)));
+  }
   if (!(s.check_time <= s.window))
     at.fail("check_time", fmt::format("{} s must not exceed window = {} s", s.check_time, s.window));
   if (!(s.min_time < s.time_cap))

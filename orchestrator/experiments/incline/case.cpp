@@ -40,6 +40,7 @@ CaseWritten InclineDraft::write(const Material& m, const TimestepChoice& ts, Par
   const long record_steps = steps_for(s.record_angle / s.tilt_rate, ts.dt, "[incline] record_angle / tilt_rate");
   const long records =
       static_cast<long>(std::ceil(s.max_angle / (s.tilt_rate * static_cast<double>(record_steps) * ts.dt) - 1e-9));
+  check_run_count(records, record_steps, "[incline] record_angle / tilt_rate");
   params.comment("incline: a tilting plate of the wall material");
   params.integer("rolling_probes", s.rolling_probes, "atoms 1..rolling_probes roll freely");
   params.integer("sliding_probes", s.sliding_probes, "the others have their rotation locked");

@@ -31,8 +31,8 @@ namespace {
 
 /// The measurement options a case.json records.
 pp::InclineOptions case_options(const nlohmann::json& doc, const fs::path& file) {
-  const auto number = [&](const std::string& key, double low, double high) {
-    const std::optional<double> v = case_number(doc, file, key, low, high);
+  const auto number = [&](const std::string& key, const auto&... range) {
+    const std::optional<double> v = case_number(doc, file, key, range...);
     if (!v) throw util::UserError(file.string(), 0, fmt::format("records no {} (the incline's schedule)", key));
     return *v;
   };
@@ -46,9 +46,10 @@ pp::InclineOptions case_options(const nlohmann::json& doc, const fs::path& file)
   o.tilt_rate = number("incline.tilt_rate_deg_s", 1e-9, 90);
   o.tilt_start_step = integer("incline.tilt_start_step", 0, static_cast<long>(k_max_steps));
   o.gravity = number("incline.gravity_m_s2", 1e-9, 1e4);
-  o.onset_distance = number("incline.onset_distance_m", 1e-12, 1);
-  o.speed_angle = number("incline.speed_angle_deg", 0, 89);
+  o.onset_distance = number("incline.onset_distance_m", onset_distance_bounds());
+  o.speed_angle = number("incline.speed_angle_deg", tilt_bounds());
   o.rolling_probes = integer("incline.rolling_probes", 1, 1000);
+  o.max_tilt = case_number(doc, file, "incline.max_angle_deg", tilt_bounds()).value_or(90.0);
   return o;
 }
 

@@ -4,6 +4,7 @@
 // of glued particles: μ_PW). No two probes ever touch, so the particle-particle parameters play no part. Its settings
 // ([incline]), case, measurement (postprocess/incline.hpp) and report.
 #include "orchestrator/experiments/experiment.hpp"
+#include "orchestrator/study/setting_row.hpp"
 
 #include <string>
 #include <string_view>
@@ -33,6 +34,18 @@ InclineSettings& settings(study::StudyConfig& config);
 const Experiment& experiment();
 
 // ---------------------------------------------------------------- observables
+/// The one range of each setting the measurement reads back from case.json, checked by its row of the study file and
+/// by the measurement alike (issue 45).
+/// `[incline] onset_distance` [m]: from a micrometre (k_min_radius: no smaller particle) to a metre.
+inline study::SettingBounds onset_distance_bounds() { return study::between(study::k_min_radius, true, 1, true); }
+/// `[incline] speed_angle` and `max_angle` [deg]: a tilt above level and short of vertical.
+inline study::SettingBounds tilt_bounds() { return study::between(0, false, 89, true); }
+/// `[incline] record_angle` [deg]: each record is one LIGGGHTS run and one dump frame of every probe, so at most
+/// max_angle / record_angle of them (8900 at 0.01°; the default 0.25° records 240 over 60°).
+inline study::SettingBounds record_angle_bounds() {
+  return study::between(0.01, true, 10, true, "each record is a LIGGGHTS run and a dump frame of every probe");
+}
+
 inline constexpr std::string_view k_roll_angle = "roll_angle";        ///< tilt at which the free probes roll [deg]
 inline constexpr std::string_view k_slide_angle = "slide_angle";      ///< tilt at which the locked probes slide [deg]
 inline constexpr std::string_view k_roll_speed = "roll_speed";        ///< free probes' speed at speed_angle [m/s]

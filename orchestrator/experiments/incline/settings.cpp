@@ -61,25 +61,25 @@ std::vector<Setting> incline_settings() {
               "Ω: gravity turns at this rate in the plate's frame (a slow tilt); the measured onsets are corrected for "
               "the lag of a start from rest at this rate (docs/experiments.md)"));
   add(Row("incline", "max_angle")
-          .number(INCLINE(max_angle), between(0, false, 89, true))
+          .number(INCLINE(max_angle), tilt_bounds())
           .unit("deg")
           .cases("incline.max_angle")
           .doc("the tilt stops here; a probe that has not moved by then gives no onset (more than half of a kind must "
                "move: a μ_PW of 1.9 slides at 62°)"));
   add(Row("incline", "record_angle")
-          .number(INCLINE(record_angle), between(0, false, 10, true))
+          .number(INCLINE(record_angle), record_angle_bounds())
           .unit("deg")
           .cases("incline.record_angle")
           .doc("every probe is recorded every this much tilt (incline_probes.dump); onsets are interpolated between "
                "records"));
   add(Row("incline", "onset_distance")
-          .number(INCLINE(onset_distance), between(0, false, 1, true))
+          .number(INCLINE(onset_distance), onset_distance_bounds())
           .unit("m")
           .measurement("incline.onset_distance")
           .doc("a probe has started once it moved this far down the slope (`cdt` spheres creep up to 0.2 mm below "
                "their threshold at 5 deg/s: keep it well above)"));
   add(Row("incline", "speed_angle")
-          .number(INCLINE(speed_angle), between(0, false, 89, true))
+          .number(INCLINE(speed_angle), tilt_bounds())
           .unit("deg")
           .measurement("incline.speed_angle")
           .doc("the free probes' down-slope speed is read at this tilt (`roll_speed`, the observable of the `viscous` "

@@ -180,6 +180,7 @@ CaseWritten PileDraft::write(const Material& m, const TimestepChoice& ts, Params
   const long check_steps =
       std::max(1L, std::min(settle_steps, steps_for(s.settle_check_time, ts.dt, "[pile] settle_check_time")));
   const long checks = (settle_steps + check_steps - 1) / check_steps;
+  check_run_count(checks, check_steps, "[pile] settle_check_time");
   const int appended = static_cast<int>(a.discs.size()) - a.column_discs;
   const double r_min = pile_smallest_radius();
   // The settling criterion: a speed scale of the smallest particle, sqrt(|g| r_min) (the speed it gains falling

@@ -286,9 +286,9 @@ std::map<std::string, double> measure(const fs::path& folder, const nlohmann::js
       if (std::isfinite(at->angle)) values[timed_observable(k_angle_at, t)] = at->angle;
     }
     const double window =
-        case_number(case_json, file, "pile.angle_measurement.drift_window_s", 1e-12, 1e4).value_or(0.2);
+        case_number(case_json, file, "pile.angle_measurement.drift_window_s", drift_window_bounds()).value_or(0.2);
     const double limit =
-        case_number(case_json, file, "pile.angle_measurement.drift_limit_deg_s", 1e-12, 1e6).value_or(1.0);
+        case_number(case_json, file, "pile.angle_measurement.drift_limit_deg_s", drift_limit_bounds()).value_or(1.0);
     const double drift = angle_drift(moments, window);
     if (std::isfinite(drift)) {
       values[std::string(k_angle_drift)] = drift;
@@ -406,7 +406,8 @@ CaseReport case_report(const fs::path& folder, const std::string& relative, int 
     plot.y_reference_label = "target φ̂";
     const nlohmann::json case_json = read_case_json(folder);
     const double window =
-        case_number(case_json, folder / k_case_json, "pile.angle_measurement.drift_window_s", 1e-12, 1e4).value_or(0.2);
+        case_number(case_json, folder / k_case_json, "pile.angle_measurement.drift_window_s", drift_window_bounds())
+            .value_or(0.2);
     report.paragraphs.push_back(fmt::format(
         "Measured at {} moments of its settling (`{}`): from {:.2f}° to {:.2f}° (the study's estimator); drift over "
         "the last {:g} s: {:+.3g}°/s.",

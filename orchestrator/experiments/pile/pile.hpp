@@ -3,6 +3,7 @@
 // angle of its flanks (§3.3). Its settings ([pile]), its assembly and case, its measurement and report.
 #include "orchestrator/experiments/assembly.hpp"
 #include "orchestrator/experiments/experiment.hpp"
+#include "orchestrator/study/setting_row.hpp"
 #include "postprocess/pile_angle.hpp"
 
 #include <nlohmann/json.hpp>
@@ -60,6 +61,14 @@ PileSettings& settings(study::StudyConfig& config);
 const Experiment& experiment();
 
 // ---------------------------------------------------------------- observables (paper §3.3)
+/// The one range of each measurement setting read back from case.json, checked by its row of the study file and by the
+/// measurement alike, so that what the study file accepts the measurement reads (issue 45: a drift_window of 1e-300 s
+/// passed the study file, then every case failed at its measurement).
+/// `[pile] drift_window` [s]: from a microsecond (below any snapshot interval) to the longest stage.
+inline study::SettingBounds drift_window_bounds() { return study::between(1e-6, true, study::k_max_duration, true); }
+/// `[pile] drift_limit` [deg/s]: from 1e-9 (no pile's angle is steadier) to 1e6.
+inline study::SettingBounds drift_limit_bounds() { return study::between(1e-9, true, 1e6, true); }
+
 inline constexpr std::string_view k_angle = "angle";              ///< angle of repose φ [deg]
 inline constexpr std::string_view k_angle_sd = "angle_sd";        ///< spread of φ over the directions [deg]
 inline constexpr std::string_view k_pile_height = "pile_height";  ///< h_P [m]

@@ -181,13 +181,13 @@ std::vector<Setting> pile_settings() {
                "`angle@0.6`), analysed like `angle` (each taken at the settling check nearest to T; settling runs "
                "at least to the last of them)"));
   add(Row("pile", "drift_window")
-          .number(PILE(drift_window), between(0, false, k_max_duration, true))
+          .number(PILE(drift_window), drift_window_bounds())
           .unit("s")
           .measurement("pile.drift_window")
           .doc("`angle_drift` is the Theil–Sen slope of the angle over the snapshots within this long of the end "
                "of settling"));
   add(Row("pile", "drift_limit")
-          .number(PILE(drift_limit), between(0, false, 1e6, true))
+          .number(PILE(drift_limit), drift_limit_bounds())
           .unit("deg/s")
           .measurement("pile.drift_limit")
           .doc("a pile is settled only when \\|`angle_drift`\\| is at most this (besides the speed criterion, when "

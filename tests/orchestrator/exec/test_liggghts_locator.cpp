@@ -46,10 +46,11 @@ TEST(LiggghtsLocator, QueriesAFakeLiggghtsWhosePathHoldsAQuote) {
   const fs::path dir = tmp / "it's a dir";
   fs::create_directories(dir);
   const fs::path fake = dir / "liggghts";
-  // like the real one: the banner on stdout, usage on stderr, exit status 1
+  // like the real one: the banner on stdout, usage on stderr, exit status 1; asked with `-log none` (issue 45: else
+  // LIGGGHTS leaves log.liggghts in the current folder)
   test::write_file(fake,
                    "#!/bin/bash\n"
-                   "[ \"$1\" = -h ] || exit 2\n"
+                   "[ \"$*\" = '-log none -h' ] || exit 2\n"
                    "echo 'LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, compiled 2026-01-01-00:00:00 by demsa)'\n"
                    "echo 'Usage example: liggghts -var t 300 -echo screen -in in.alloy' >&2\n"
                    "exit 1\n");

@@ -185,9 +185,11 @@ TEST(StudyInputs, AFolderOrAnEndlessFileIsNotReadAsAStudy) {
   EXPECT_NE(folder.find("is a folder, not a study file"), std::string::npos) << folder;
   EXPECT_EQ(folder.find("name is required"), std::string::npos) << folder;
 
-  // /dev/zero never ends: refused after k_max_study_file_bytes, not read into memory whole.
+  // /dev/zero never ends: refused before it is opened, as every file that is not a regular one (a FIFO would block).
   const std::string endless = test::message_of<util::UserError>([] { load_study("/dev/zero"); });
-  EXPECT_EQ(endless, "/dev/zero: larger than 1048576 bytes; a study file is a few kB of TOML");
+  EXPECT_EQ(endless,
+            "/dev/zero: a character device, not a regular file: demsa reads regular files only (a read from a FIFO or "
+            "a device can wait for ever)");
 }
 
 }  // namespace
