@@ -224,6 +224,8 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   for (const std::string& name : joint.names) {
     PosteriorParameter q;
     q.name = name;
+    for (const study::ParameterTie& t : joint.ties)
+      if (t.partner == name) q.tied.push_back(t.name);
     outcome.parameters.push_back(q);
   }
   const int d = static_cast<int>(prior.size());
@@ -454,9 +456,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
       for (const JointStudy& s : studies) {
         std::vector<double> unit;
         for (const ParameterRange& p : s.config.parameters) {
-          const auto it = std::find_if(outcome.parameters.begin(), outcome.parameters.end(),
-                                       [&](const PosteriorParameter& q) { return q.name == p.name; });
-          const size_t column = static_cast<size_t>(it - outcome.parameters.begin());
+          const size_t column = static_cast<size_t>(joint.column_of(p.name));  // a tied one: its partner's
           unit.push_back(std::clamp(sobol::to_unit(vp.physical[column], p.bounds), 0.0, 1.0));
         }
         // Resumable: a point measured by an earlier run (same coordinates) is read back, not run again.
@@ -507,7 +507,7 @@ std::string posterior_to_json(const PosteriorOutcome& o) {
   j["method"] = "bayes";
   j["studies"] = o.studies;
   json parameters = json::array();
-  for (const PosteriorParameter& p : o.parameters)
+  for (const PosteriorParameter& p : o.parameters) {
     parameters.push_back(json{{"name", p.name},
                               {"low", p.low},
                               {"high", p.high},
@@ -524,6 +524,8 @@ std::string posterior_to_json(const PosteriorOutcome& o) {
                               {"tau", p.tau},
                               {"rhat", p.rhat},
                               {"ess", p.ess}});
+    if (!p.tied.empty()) parameters.back()["tied"] = p.tied;
+  }
   j["parameters"] = parameters;
   j["correlation"] = o.correlation;
   json targets = json::array();
@@ -595,6 +597,7 @@ PosteriorOutcome read_posterior(const fs::path& file) {
       p.ess = e.at("ess");
       p.at_bound = e.value("at_bound", std::string());
       p.bound_share = e.value("bound_share", 0.0);
+      p.tied = e.value("tied", std::vector<std::string>());
       o.parameters.push_back(p);
     }
     o.correlation = j.at("correlation").get<std::vector<std::vector<double>>>();
@@ -674,6 +677,8 @@ std::string posterior_text(const PosteriorOutcome& o) {
     text += fmt::format(
         "  {:<10} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>7.3f} {:>10} {:>7.1f} {:>6.3f} {:>8.0f}\n",
         p.name, p.mean, p.map, p.q05, p.q50, p.q95, p.width_ratio, p.identified, p.tau, p.rhat, p.ess);
+  for (const PosteriorParameter& p : o.parameters)
+    for (const std::string& t : p.tied) text += fmt::format("  {} = {} (tied, same_as)\n", t, p.name);
   text += "  (width: 90 % posterior width over the prior's width on the design scale; ~0.9 = not determined)\n";
   if (o.parameters.size() > 1) {
     // The pairs that matter: |r| >= k_print_correlation; the full matrix is in posterior.json.
