@@ -11,8 +11,9 @@
 //  6. one orthogonal (total least squares) line per direction through the boundary points in the (radial distance,
 //     height) plane; its angle against the horizontal;
 //  7. the mean angle over the directions is φ; E_φ = (φ̂ − φ)² against the target φ̂.
-// AngleEstimator::robust replaces steps 5–6 by surface points at the exact level heights and a Theil–Sen line, and
-// step 7's mean by the median over the directions.
+// AngleEstimator::robust replaces steps 5–6 by the outermost points of the pile's horizontal sections in a sector
+// about each direction, at the exact level heights, and a Theil–Sen line, and step 7's mean by the median over the
+// directions.
 #include "postprocess/dump.hpp"
 
 #include <cstdint>
@@ -40,8 +41,12 @@ enum class AngleEstimator {
            ///< flanks: the roughness is mostly radial, which an orthogonal fit turns into a flatter line, and one
            ///< particle sticking out at an end level tilts the line (synthetic cones with 1–2 mm of surface
            ///< jitter: 0.2–1 deg low on average, docs/benchmarks.md "Angle estimators").
-  robust,  ///< the outermost surface point per direction at each level's exact height (`point` is ignored), so all
-           ///< roughness is in the radial distance; per direction a Theil–Sen line of radial distance on height
+  robust,  ///< the outermost point of the pile's horizontal section at each level's exact height, in a sector about
+           ///< each direction whose width at the surface is one particle radius either side (`point` is ignored),
+           ///< so all roughness is in the radial distance and as many particles compete for a level at the top of
+           ///< the flank as at its foot (the paper's half-plane section lets more compete at the top, where a steep
+           ///< rough flank then reads further out: +0.2 to +0.5 deg on cones with Gaussian normal jitter of
+           ///< 1.5 mm); per direction a Theil–Sen line of radial distance on height
            ///< (median of the pairwise slopes: Theil 1950, Sen 1968), which a few levels caught on a particle sticking
            ///< out (or a gap) do not tilt; the median over the directions, which the directions that cross a mound
            ///< or a hole in the flank do not move (synthetic cones of nine kinds of surface: mean bias within
@@ -62,6 +67,14 @@ std::vector<std::string> angle_estimator_names();
 /// 2 mm of jitter) at 0.20–0.75 to −0.30° / −0.23° / +0.47° at 0.25–0.80 (docs/benchmarks.md).
 constexpr double k_robust_level_low = 0.25;
 constexpr double k_robust_level_high = 0.80;
+/// Unless level_low is given, the robust estimator's lowest level is also at least this many of the largest particle
+/// radius above the pedestal top (1.5 r_max: 5.25 mm for particle set 1, above 0.25 h_P on piles lower than 21 mm,
+/// i.e. flanks below about 25°). Particles resting on the pedestal's edge reach up to 2 r_max and crowd the foot of a
+/// shallow flank; the outermost of them reads further out than the flank above, and the line flatter. On synthetic
+/// 22° cones of set 1 (bench/angle_estimators.cpp, 20 seeds) the sector sections read −0.50° / −0.42° / −0.41° on
+/// average (±1 mm, ±2 mm of jitter, sticking out) from 0.25 h_P, and −0.35° / −0.18° / −0.27° with this floor
+/// (docs/benchmarks.md).
+constexpr double k_robust_floor_radii = 1.5;
 /// The paper's band of levels (§3.3: 0.2 h_P to 0.75 h_P), which the paper's estimator uses unless told otherwise.
 constexpr double k_paper_level_low = 0.20;
 constexpr double k_paper_level_high = 0.75;

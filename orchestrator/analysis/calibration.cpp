@@ -160,6 +160,7 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
     outcome.low.push_back(p.bounds.low);
     outcome.high.push_back(p.bounds.high);
   }
+  outcome.ties = config.ties;
   const size_t d = config.parameters.size();
   const std::vector<std::string> candidates =
       options.model.empty() ? config.analysis.metamodels : std::vector<std::string>{options.model};
@@ -266,6 +267,11 @@ std::string calibration_to_json(const CalibrationOutcome& o) {
                               {"unit", o.unit[i]},
                               {"value", o.physical[i]}});
   j["parameters"] = parameters;
+  if (!o.ties.empty()) {
+    json ties = json::array();
+    for (const ParameterTie& t : o.ties) ties.push_back(json{{"name", t.name}, {"same_as", t.partner}});
+    j["ties"] = ties;
+  }
   json targets = json::array();
   for (const CalibratedTarget& t : o.targets) {
     const auto finite = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
@@ -308,6 +314,9 @@ CalibrationOutcome read_calibration(const fs::path& file) {
       o.unit.push_back(p.at("unit").get<double>());
       o.physical.push_back(p.at("value").get<double>());
     }
+    if (j.contains("ties"))
+      for (const json& t : j.at("ties"))
+        o.ties.push_back({t.at("name").get<std::string>(), t.at("same_as").get<std::string>(), 0});
     for (const json& e : j.at("targets")) {
       CalibratedTarget t;
       t.name = e.at("name").get<std::string>();
@@ -352,6 +361,7 @@ std::string calibration_text(const CalibrationOutcome& o) {
   for (size_t i = 0; i < o.parameters.size(); ++i)
     text += fmt::format("  {:<8} = {:<12.6g} (range [{:g}, {:g}], position {:.4f})\n", o.parameters[i], o.physical[i],
                         o.low[i], o.high[i], o.unit[i]);
+  for (const ParameterTie& t : o.ties) text += fmt::format("  {:<8} = {} (tied, same_as)\n", t.name, t.partner);
   text += fmt::format("  {:<14} {:<10} {:>8} {:>14} {:>14} {:>14}\n", "observable", "model", "Q2", "target",
                       "predicted", o.verified ? "measured" : "");
   for (const CalibratedTarget& t : o.targets)

@@ -79,6 +79,8 @@ struct CalibrationOutcome {
   std::vector<double> low, high;        ///< their ranges (physical)
   std::vector<double> unit;             ///< optimum on the unit cube
   std::vector<double> physical;         ///< optimum in physical units
+  /// Parameters tied to one of `parameters` (`same_as`): they take its value.
+  std::vector<study::ParameterTie> ties;
   std::vector<CalibratedTarget> targets;
   double misfit = 0.0;  ///< J at the optimum
   int samples = 0;      ///< done samples the metamodels were fitted to

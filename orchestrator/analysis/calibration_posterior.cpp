@@ -225,6 +225,8 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   for (const std::string& name : joint.names) {
     PosteriorParameter q;
     q.name = name;
+    for (const study::ParameterTie& t : joint.ties)
+      if (t.partner == name) q.tied.push_back(t.name);
     outcome.parameters.push_back(q);
   }
   const int d = static_cast<int>(prior.size());
@@ -455,9 +457,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
       for (const JointStudy& s : studies) {
         std::vector<double> unit;
         for (const ParameterRange& p : s.config.parameters) {
-          const auto it = std::find_if(outcome.parameters.begin(), outcome.parameters.end(),
-                                       [&](const PosteriorParameter& q) { return q.name == p.name; });
-          const size_t column = static_cast<size_t>(it - outcome.parameters.begin());
+          const size_t column = static_cast<size_t>(joint.column_of(p.name));  // a tied one: its partner's
           unit.push_back(std::clamp(sobol::to_unit(vp.physical[column], p.bounds), 0.0, 1.0));
         }
         // Resumable: a point measured by an earlier run (same coordinates) is read back, not run again.

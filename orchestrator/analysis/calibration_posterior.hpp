@@ -76,6 +76,8 @@ struct PosteriorParameter {
   std::string identified;
   std::string at_bound;      ///< "", "low" or "high": the end of the prior range the draws pile on
   double bound_share = 0.0;  ///< share of the draws in the outer k_bound_band of the range at that end
+  /// Parameters a study ties to this one (`same_as`): they take its value.
+  std::vector<std::string> tied;
 };
 
 struct PosteriorTarget {

@@ -261,7 +261,7 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
           total_indices(*fit.model, static_cast<int>(s.config.parameters.size()), outcome.seed);
       po.total_index.assign(static_cast<size_t>(d), k_nan);
       for (size_t j = 0; j < s.config.parameters.size(); ++j)
-        po.total_index[static_cast<size_t>(prior.column(s.config.parameters[j].name))] = st[j];
+        po.total_index[static_cast<size_t>(prior.column_of(s.config.parameters[j].name))] = st[j];
       const auto given =
           std::find_if(sds.begin(), sds.end(), [&](const SdOverride& o) { return o.target.matches(s, name); });
       if (given != sds.end())

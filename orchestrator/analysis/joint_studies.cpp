@@ -10,6 +10,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace demsa::analysis {
@@ -78,11 +79,46 @@ int JointPrior::column(const std::string& name) const {
   return it == names.end() ? -1 : static_cast<int>(it - names.begin());
 }
 
+namespace {
+
+/// The joint column a study's parameter `name` maps onto: its partner when any study ties it.
+const std::string& joint_name(const JointPrior& prior, const std::string& name) {
+  const study::ParameterTie* tie = study::find_tie(prior.ties, name);
+  return tie ? tie->partner : name;
+}
+
+}  // namespace
+
+int JointPrior::column_of(const std::string& name) const { return column(joint_name(*this, name)); }
+
 JointPrior joint_prior(const std::vector<JointStudy>& studies) {
   JointPrior prior;
+  // One tie per parameter over all studies, and no partner tied in another study (a chain across studies).
+  std::vector<std::string> tie_owner;
+  for (const JointStudy& s : studies)
+    for (const study::ParameterTie& t : s.config.ties) {
+      if (const study::ParameterTie* seen = study::find_tie(prior.ties, t.name)) {
+        if (seen->partner != t.partner)
+          throw UserError(fmt::format("parameter {}: {} ties it to {}, {} to {}; the joint prior needs one tie", t.name,
+                                      tie_owner[static_cast<size_t>(seen - prior.ties.data())], seen->partner,
+                                      s.dir.string(), t.partner));
+        continue;
+      }
+      prior.ties.push_back(t);
+      tie_owner.push_back(s.dir.string());
+    }
+  for (size_t i = 0; i < prior.ties.size(); ++i)
+    if (const study::ParameterTie* chain = study::find_tie(prior.ties, prior.ties[i].partner))
+      throw UserError(fmt::format(
+          "parameter {}: {} ties it to {}, which {} ties to {}; the studies must tie their parameters alike",
+          prior.ties[i].name, tie_owner[i], prior.ties[i].partner,
+          tie_owner[static_cast<size_t>(chain - prior.ties.data())], chain->partner));
   std::vector<std::string> owner;  // study that set the current bounds (for messages)
   for (const JointStudy& s : studies) {
-    for (const ParameterRange& p : s.config.parameters) {
+    for (const ParameterRange& varied : s.config.parameters) {
+      // A parameter another study ties to its partner is the partner here too.
+      ParameterRange p = varied;
+      p.name = joint_name(prior, varied.name);
       const int column = prior.column(p.name);
       if (column < 0) {
         prior.names.push_back(p.name);
@@ -110,7 +146,8 @@ JointPrior joint_prior(const std::vector<JointStudy>& studies) {
 std::vector<sobol::InputMap> input_maps(const JointStudy& study, const JointPrior& prior) {
   std::vector<sobol::InputMap> maps;
   for (const ParameterRange& p : study.config.parameters) {
-    const int column = prior.column(p.name);
+    const int column = prior.column_of(p.name);
+    assert(column >= 0 && "a study's parameter outside its joint prior");
     const sobol::Bounds& b = prior.bounds[static_cast<size_t>(column)];
     const double at_low = sobol::to_unit(b.low, p.bounds), at_high = sobol::to_unit(b.high, p.bounds);
     maps.push_back({column, at_low, at_high - at_low});

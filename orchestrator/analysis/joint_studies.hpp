@@ -49,10 +49,16 @@ QualifiedName qualified_name(const std::string& option, const std::string& text)
 std::vector<JointStudy> load_joint_studies(const std::vector<std::filesystem::path>& dirs, const std::string& command);
 
 struct JointPrior {
-  std::vector<std::string> names;     ///< every parameter of any study, first-seen order
+  std::vector<std::string> names;     ///< every parameter of any study, first-seen order; none tied in any study
   std::vector<sobol::Bounds> bounds;  ///< on each parameter's design scale, the intersection of the studies' ranges
+  /// The ties of every study: a parameter tied in one study is its partner in all (a study that varies it maps it
+  /// onto the partner's column, its range intersected into the partner's).
+  std::vector<study::ParameterTie> ties;
   int dimension() const { return static_cast<int>(names.size()); }
   int column(const std::string& name) const;  ///< index in names; -1 when absent
+  /// The column a study's varied parameter `name` feeds: its own, or its partner's when a study ties it; -1 when
+  /// absent.
+  int column_of(const std::string& name) const;
 };
 
 /// Throws util::UserError naming the parameter and both studies when ranges do not overlap or scales differ.

@@ -22,7 +22,7 @@ std::string posterior_to_json(const PosteriorOutcome& o) {
   j["method"] = "bayes";
   j["studies"] = o.studies;
   json parameters = json::array();
-  for (const PosteriorParameter& p : o.parameters)
+  for (const PosteriorParameter& p : o.parameters) {
     parameters.push_back(json{{"name", p.name},
                               {"low", p.low},
                               {"high", p.high},
@@ -39,6 +39,8 @@ std::string posterior_to_json(const PosteriorOutcome& o) {
                               {"tau", p.tau},
                               {"rhat", p.rhat},
                               {"ess", p.ess}});
+    if (!p.tied.empty()) parameters.back()["tied"] = p.tied;
+  }
   j["parameters"] = parameters;
   j["correlation"] = o.correlation;
   json targets = json::array();
@@ -110,6 +112,7 @@ PosteriorOutcome read_posterior(const fs::path& file) {
       p.ess = e.at("ess");
       p.at_bound = e.value("at_bound", std::string());
       p.bound_share = e.value("bound_share", 0.0);
+      p.tied = e.value("tied", std::vector<std::string>());
       o.parameters.push_back(p);
     }
     o.correlation = j.at("correlation").get<std::vector<std::vector<double>>>();

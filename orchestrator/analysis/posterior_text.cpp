@@ -25,6 +25,8 @@ std::string posterior_text(const PosteriorOutcome& o) {
     text += fmt::format(
         "  {:<10} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>7.3f} {:>10} {:>7.1f} {:>6.3f} {:>8.0f}\n",
         p.name, p.mean, p.map, p.q05, p.q50, p.q95, p.width_ratio, p.identified, p.tau, p.rhat, p.ess);
+  for (const PosteriorParameter& p : o.parameters)
+    for (const std::string& t : p.tied) text += fmt::format("  {} = {} (tied, same_as)\n", t, p.name);
   text += "  (width: 90 % posterior width over the prior's width on the design scale; ~0.9 = not determined)\n";
   if (o.parameters.size() > 1) {
     // The pairs that matter: |r| >= k_print_correlation; the full matrix is in posterior.json.

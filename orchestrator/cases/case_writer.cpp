@@ -288,6 +288,9 @@ CaseRequest request_from_values(const StudyConfig& config, const std::vector<std
                                     p.bounds.high, config.file.filename().string()));
       unit[i] = sobol::to_unit(value, p.bounds);
     }
+    if (const ParameterTie* tie = find_tie(config.ties, name); !varied && tie)
+      throw UserError(fmt::format("--set: {} is tied to {} in {} (same_as): set {}", name, tie->partner,
+                                  config.file.filename().string(), tie->partner));
     if (!varied)
       throw UserError(fmt::format("--set: {} is not varied in {}; set it in [material] instead", name,
                                   config.file.filename().string()));
@@ -369,6 +372,7 @@ CaseSummary write_case(const StudyConfig& config, const CaseRequest& request, co
   nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
   for (std::size_t i = 0; i < config.parameters.size(); ++i)
     parameters[config.parameters[i].name] = request.physical[i];
+  for (const ParameterTie& t : config.ties) parameters[t.name] = material.*material_member(t.name);  // = partner
   // A case of values set by hand has no design row: "sample": null.
   const nlohmann::ordered_json sample =
       request.sample >= 0 ? nlohmann::ordered_json(request.sample) : nlohmann::ordered_json(nullptr);

@@ -99,9 +99,10 @@ struct ParameterText {
   std::string unit;
 };
 
-ParameterText parameter_text(const std::string& name) {
+/// With `ties`, a parameter that others are tied to names them: "μ_PP = μ_PW".
+ParameterText parameter_text(const std::string& name, const std::vector<ParameterTie>& ties = {}) {
   if (const ContactParameter* p = find_contact_parameter(name))
-    return {std::string(p->symbol), std::string(p->gnuplot), std::string(p->unit)};
+    return {symbol_with_ties(name, ties), symbol_with_ties(name, ties, true), std::string(p->unit)};
   return {name, name, "-"};
 }
 
@@ -216,10 +217,12 @@ ReportSection summary_section(const StudyData& s) {
   parameters.caption = "Varied parameters (paper Table 3)";
   parameters.header = {"parameter", "symbol", "low", "high", "scale", "unit"};
   for (const ParameterRange& p : c.parameters) {
-    const ParameterText l = parameter_text(p.name);
+    const ParameterText l = parameter_text(p.name, c.ties);
     parameters.rows.push_back({p.name, l.symbol, fmt::format("{:g}", p.bounds.low), fmt::format("{:g}", p.bounds.high),
                                sobol::to_string(p.bounds.scale), l.unit});
   }
+  for (const ParameterTie& t : c.ties)  // no range of its own: its partner's value in every case
+    parameters.rows.push_back({t.name, symbol_with_ties(t.partner, c.ties), "same as " + t.partner, "", "", ""});
   section.tables.push_back(parameters);
 
   ReportTable failures;
@@ -265,7 +268,7 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
   }
   const std::vector<ModelAnalysis>& models = observable.models;
   std::vector<std::string> symbols;
-  for (const std::string& p : names) symbols.push_back(parameter_text(p).symbol);
+  for (const std::string& p : names) symbols.push_back(parameter_text(p, s.config.ties).symbol);
 
   ReportTable quality;
   quality.caption = "Metamodel quality: R² on the samples, adjusted R², leave-one-out Q² and RMSE";
@@ -330,7 +333,7 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
       const IntervalValue st = interval(m.indices.total.at(k));
       row1.push_back(interval_text(s1));
       rowt.push_back(interval_text(st));
-      chart.parameters.push_back(parameter_text(names[k]).gnuplot);
+      chart.parameters.push_back(parameter_text(names[k], s.config.ties).gnuplot);
       chart.first_order.push_back(s1);
       chart.total_effect.push_back(st);
     }
@@ -415,7 +418,7 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
   scatter.physical = data.physical;
   for (Eigen::Index i = 0; i < data.y.size(); ++i) scatter.response.push_back(data.y(i) * label.factor);
   for (const ParameterRange& p : s.config.parameters) {
-    const ParameterText l = parameter_text(p.name);
+    const ParameterText l = parameter_text(p.name, s.config.ties);
     scatter.parameter_labels.push_back(fmt::format("{} [{}]", l.gnuplot, l.unit));
     scatter.log_scale.push_back(p.bounds.scale == sobol::Scale::log_uniform);
   }
@@ -625,7 +628,7 @@ ReportSection calibration_section(const CalibrationOutcome& c, const Plotter& pl
   CalibrationPlot plot;
   plot.title = "calibration";
   for (size_t i = 0; i < c.parameters.size(); ++i) {
-    const ParameterText l = parameter_text(c.parameters[i]);
+    const ParameterText l = parameter_text(c.parameters[i], c.ties);
     optimum.rows.push_back({l.symbol, fmt::format("{:.6g}", c.physical[i]), fmt::format("{:g}", c.low[i]),
                             fmt::format("{:g}", c.high[i]), fmt::format("{:.3f}", c.unit[i])});
     plot.parameter_labels.push_back(fmt::format("{} [{}]", l.gnuplot, l.unit));
@@ -683,7 +686,8 @@ ReportSection posterior_section(const PosteriorOutcome& p, const fs::path& sampl
   parameters.caption = "Posterior per parameter";
   parameters.header = {"parameter", "mean", "MAP", "5 %", "50 %", "95 %", "width", "identified", "τ", "R̂", "ESS"};
   for (const PosteriorParameter& q : p.parameters)
-    parameters.rows.push_back({q.name, fmt::format("{:.5g}", q.mean), fmt::format("{:.5g}", q.map),
+    parameters.rows.push_back({fmt::format("{}{}", q.name, q.tied.empty() ? "" : " = " + util::join(q.tied, " = ")),
+                               fmt::format("{:.5g}", q.mean), fmt::format("{:.5g}", q.map),
                                fmt::format("{:.5g}", q.q05), fmt::format("{:.5g}", q.q50), fmt::format("{:.5g}", q.q95),
                                fmt::format("{:.3f}", q.width_ratio), q.identified, fmt::format("{:.1f}", q.tau),
                                fmt::format("{:.3f}", q.rhat), fmt::format("{:.0f}", q.ess)});

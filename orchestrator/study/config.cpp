@@ -20,6 +20,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -197,16 +198,22 @@ void read_value(const TableReader& r, const Setting& s, const toml::node& node, 
   }
 }
 
-/// One [parameters] entry `{ low, high, scale }`; its admissible values are those of its row (the [material] rules).
-ParameterRange read_parameter(const TableReader& r, const Setting& s, const toml::node& node) {
+/// One [parameters] entry `{ low, high, scale }`, into c.parameters; its admissible values are those of its row (the
+/// [material] rules). Or a tie `{ same_as = "KEY" }`, into c.ties (checked once every entry is read: check_ties).
+void read_parameter(const TableReader& r, const Setting& s, const toml::node& node, StudyConfig& c) {
   const toml::table& pt = r.table(s.key, node);
   const TableReader pr(r.settings(), pt, r.file(), "parameters." + s.key);
   ParameterRange p;
   p.name = s.key;
   p.line = r.line_of(node);
   bool low = false, high = false;
+  std::optional<std::string> same_as;
+  std::string range_key;  // the first key of a range, refused beside same_as
   pr.each([&](const std::string& pk, const toml::node& pn) {
-    if (pk == "low") {
+    if (pk != "same_as" && range_key.empty()) range_key = pk;
+    if (pk == "same_as") {
+      same_as = pr.string(pk, pn);
+    } else if (pk == "low") {
       p.bounds.low = pr.number(pk, pn);
       low = true;
     } else if (pk == "high") {
@@ -223,7 +230,15 @@ ParameterRange read_parameter(const TableReader& r, const Setting& s, const toml
     }
     return true;
   });
-  if (!low || !high) r.fail(node, s.key, "needs both 'low' and 'high'");
+  if (same_as) {
+    if (!range_key.empty())
+      r.fail(node, s.key,
+             fmt::format("same_as = \"{}\" ties it to {}, so it has no range of its own: remove '{}'", *same_as,
+                         *same_as, range_key));
+    c.ties.push_back({s.key, *same_as, p.line});
+    return;
+  }
+  if (!low || !high) r.fail(node, s.key, "needs both 'low' and 'high' (or `same_as = \"KEY\"` to tie it to KEY)");
   try {
     sobol::validate_bounds({p.bounds}, {s.key});
   } catch (const sobol::InputError& e) {
@@ -231,7 +246,7 @@ ParameterRange read_parameter(const TableReader& r, const Setting& s, const toml
   }
   if (!s.bounds.contains(p.bounds.low) || !s.bounds.contains(p.bounds.high))
     r.fail(node, s.key, fmt::format("range [{}, {}] {}", p.bounds.low, p.bounds.high, s.bounds.rule()));
-  return p;
+  c.parameters.push_back(std::move(p));
 }
 
 /// `[design] replicates = { points = P, repeats = R }` (P <= samples is checked with the section: check_section).
@@ -292,7 +307,7 @@ void read_section(const TableReader& r, const toml::table& table, StudyConfig& c
     if (s->type == SettingType::table && r.section() == "design")
       c.replicates = read_replicates(r, *s, node);
     else if (s->type == SettingType::table)
-      c.parameters.push_back(read_parameter(r, *s, node));
+      read_parameter(r, *s, node, c);
     else
       read_value(r, *s, node, c);
     return true;
@@ -514,6 +529,22 @@ StudyConfig SettingsTable::parse(const std::string& text, const std::filesystem:
                     section, c.experiment, at == seen.lines.end() ? "" : fmt::format(" (line {})", at->second)));
   }
   if (c.parameters.empty()) throw UserError(name, 0, "[parameters] must vary at least one parameter");
+  std::vector<std::string> varied;
+  for (const ParameterRange& p : c.parameters) varied.push_back(p.name);
+  for (const ParameterTie& t : c.ties)
+    if (const std::string problem = tie_problem(t, c.ties, varied); !problem.empty())
+      throw UserError(name, t.line, fmt::format("[parameters] {}: {}", t.name, problem));
+  // A tied parameter takes every value of its partner's range: each must be admissible for it too (no E = nu).
+  for (const ParameterTie& t : c.ties) {
+    const Setting* row = find("parameters", t.name);
+    assert(row && "a [parameters] key without a row");
+    for (const ParameterRange& p : c.parameters)
+      if (p.name == t.partner && (!row->bounds.contains(p.bounds.low) || !row->bounds.contains(p.bounds.high)))
+        throw UserError(
+            name, t.line,
+            fmt::format("[parameters] {}: same_as = \"{}\": the range [{}, {}] of {} (line {}) {} for {}", t.name,
+                        t.partner, p.bounds.low, p.bounds.high, t.partner, p.line, row->bounds.rule(), t.name));
+  }
   // The optimised Latin hypercubes keep an N x N matrix of the sample pairs: refused here, at its line, rather than
   // when `demsa run` draws the design and runs out of memory.
   const bool optimised = c.design == sobol::to_string(sobol::DesignKind::lhs_maximin) ||
@@ -530,6 +561,9 @@ StudyConfig SettingsTable::parse(const std::string& text, const std::filesystem:
   // Keep the paper's order (eq. 1) whatever order the file lists them in.
   const auto& order = contact_parameter_names();
   std::sort(c.parameters.begin(), c.parameters.end(), [&](const ParameterRange& a, const ParameterRange& b) {
+    return std::find(order.begin(), order.end(), a.name) < std::find(order.begin(), order.end(), b.name);
+  });
+  std::sort(c.ties.begin(), c.ties.end(), [&](const ParameterTie& a, const ParameterTie& b) {
     return std::find(order.begin(), order.end(), a.name) < std::find(order.begin(), order.end(), b.name);
   });
   const auto E_line = seen.lines.find("material.E");
@@ -584,6 +618,11 @@ Material material_for(const StudyConfig& config, const std::vector<double>& phys
     const auto member = material_member(config.parameters[i].name);
     assert(member && "unknown parameter name in config.parameters");
     m.*member = physical[i];
+  }
+  for (const ParameterTie& t : config.ties) {
+    const auto tied = material_member(t.name), partner = material_member(t.partner);
+    assert(tied && partner && "a tie not checked by the parser");
+    m.*tied = m.*partner;
   }
   return m;
 }

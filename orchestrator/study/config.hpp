@@ -198,6 +198,7 @@ struct StudyConfig {
   int samples = 16;
   ReplicateSettings replicates;            ///< [design] replicates (DEM noise)
   std::vector<ParameterRange> parameters;  ///< the varied parameters, in the paper's order
+  std::vector<ParameterTie> ties;          ///< parameters tied to a varied one (`same_as`), in the paper's order
   Material material;
   ContactSettings contact;
   ExperimentSettings experiment_settings;  ///< the experiments' own sections, by type
@@ -221,7 +222,7 @@ std::string design_hash(const StudyConfig& config);
 double Material::*material_member(std::string_view key);
 
 /// Material values for one sample: config.material with the varied parameters set from `physical`
-/// (ordered as config.parameters).
+/// (ordered as config.parameters) and each tied parameter set to its partner's value.
 Material material_for(const StudyConfig& config, const std::vector<double>& physical);
 
 }  // namespace demsa::study

@@ -145,12 +145,14 @@ std::vector<Setting> build_core_settings() {
     const std::string key(p.key);
     Row row("parameters", key);
     row.table(
-           {"low", "high", "scale"},
+           {"low", "high", "scale", "same_as"},
            [key](const StudyConfig& c) {
              for (const ParameterRange& r : c.parameters)
                if (r.name == key)
                  return fmt::format("{{ low = {}, high = {}, scale = \"{}\" }}", shortest(r.bounds.low),
                                     shortest(r.bounds.high), sobol::to_string(r.bounds.scale));
+             if (const ParameterTie* t = find_tie(c.ties, key))
+               return fmt::format("{{ same_as = \"{}\" }}", t->partner);
              return std::string("not varied");
            },
            [key](const StudyConfig& c) {
@@ -161,12 +163,16 @@ std::vector<Setting> build_core_settings() {
                lines.emplace_back("p." + key + ".high", canonical_number(r.bounds.high));
                lines.emplace_back("p." + key + ".scale", sobol::to_string(r.bounds.scale));
              }
+             // A tie changes every case of the tied parameter (its [material] value no longer counts).
+             if (const ParameterTie* t = find_tie(c.ties, key)) lines.emplace_back("p." + key + ".same_as", t->partner);
              return lines;
            })
         .effect(E::cases)
         .unit(p.unit == "-" ? "" : std::string(p.unit))
         .default_text("not varied")
-        .doc(fmt::format("range of {} ({}): `{{ low, high, scale }}`", p.label, p.symbol));
+        .doc(fmt::format("range of {} ({}): `{{ low, high, scale }}`; or `{{ same_as = \"KEY\" }}`, tied to the varied "
+                         "parameter KEY: no range and no design column of its own, every case gives it KEY's value",
+                         p.label, p.symbol));
     add(row);
   }
 
@@ -409,8 +415,10 @@ std::vector<Setting> build_core_settings() {
     if (s.section != "parameters") continue;
     const Setting& m = material_row(settings, s.key);
     s.bounds = m.bounds;
-    s.range_text = fmt::format("`low` < `high`, both {}{}; `scale` is `uniform` (default) or `log` (`low` > 0)",
-                               m.bounds.low && m.bounds.high ? "in " : "", m.range_text);
+    s.range_text = fmt::format(
+        "`low` < `high`, both {}{}; `scale` is `uniform` (default) or `log` (`low` > 0); `same_as`: another varied "
+        "key, itself not tied, whose range lies within these values",
+        m.bounds.low && m.bounds.high ? "in " : "", m.range_text);
   }
   return settings;
 }
@@ -462,7 +470,12 @@ std::vector<SettingSection> core_sections(const std::vector<SettingSection>& exp
        "Pa needs `[material] hard_particles = true`, and one below 5e6 Pa needs `soft_particles = true`: LIGGGHTS "
        "refuses such moduli in SI units otherwise, so the study file is refused when it is read. Parameters not "
        "listed take their `[material]` value. Whatever the order in the file, the parameters are kept in the "
-       "paper's order; at least one is required.",
+       "paper's order; at least one is required. A parameter can be tied to another instead of varied: `mu_pw = "
+       "{ same_as = \"mu_pp\" }` (or `mu_r_pw = { same_as = \"mu_r_pp\" }`) for a wall whose material is not known "
+       "apart from the particles'. The pair is one parameter of the design, the metamodels, the Sobol' indices, "
+       "`demsa calibrate` and `demsa plan` (named \"μ_PP = μ_PW\" in the report); each case gives the tied one its "
+       "partner's value. Calibrated together with a study that varies both, the tied parameter maps onto its "
+       "partner there too (README, \"Report and calibration\").",
        ""},
       {"material", "",
        "The rolling coefficients `mu_r_pp` and `mu_r_pw` are those of `[contact] rolling_model`: dimensionless "

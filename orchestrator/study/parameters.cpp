@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 
@@ -38,6 +39,44 @@ const std::vector<std::string>& contact_parameter_names() {
     return out;
   }();
   return names;
+}
+
+const ParameterTie* find_tie(const std::vector<ParameterTie>& ties, std::string_view name) {
+  for (const ParameterTie& t : ties)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+std::string tie_problem(const ParameterTie& tie, const std::vector<ParameterTie>& ties,
+                        const std::vector<std::string>& varied) {
+  if (!find_contact_parameter(tie.partner)) {
+    std::string valid;
+    for (const std::string& n : contact_parameter_names())
+      if (n != tie.name) valid += (valid.empty() ? "" : ", ") + n;
+    return fmt::format("same_as = \"{}\": not a contact parameter (valid: {})", tie.partner, valid);
+  }
+  if (tie.partner == tie.name)
+    return fmt::format("same_as = \"{}\": a parameter cannot be tied to itself", tie.partner);
+  if (const ParameterTie* next = find_tie(ties, tie.partner))
+    return fmt::format("same_as = \"{}\": {} is itself tied to {} (line {}); tie {} to {} directly", tie.partner,
+                       tie.partner, next->partner, next->line, tie.name, next->partner);
+  if (std::find(varied.begin(), varied.end(), tie.partner) == varied.end())
+    return fmt::format(
+        "same_as = \"{}\": {} is not varied; give it a range {{ low, high }} in [parameters], or set both in "
+        "[material]",
+        tie.partner, tie.partner);
+  return {};
+}
+
+std::string symbol_with_ties(std::string_view name, const std::vector<ParameterTie>& ties, bool gnuplot) {
+  const auto symbol = [gnuplot](std::string_view key) {
+    const ContactParameter* p = find_contact_parameter(key);
+    return p ? std::string(gnuplot ? p->gnuplot : p->symbol) : std::string(key);
+  };
+  std::string text = symbol(name);
+  for (const ParameterTie& t : ties)
+    if (t.partner == name) text += " = " + symbol(t.name);
+  return text;
 }
 
 }  // namespace demsa::study

@@ -58,8 +58,14 @@ TEST(CliPostprocessPileCase, MeasuresWithTheCasesOwnPedestal) {
   EXPECT_DOUBLE_EQ(j["options"]["pedestal_top_m"].get<double>(), 0.012);
   EXPECT_EQ(j["options"]["levels"].get<int>(), 8);
   EXPECT_EQ(j["options"]["estimator"], "robust");
-  // ... with its own band of levels (postprocess::k_robust_level_low/high), as `demsa run` measured it.
-  EXPECT_DOUBLE_EQ(j["options"]["level_low"].get<double>(), 0.25);
+  // ... with its own band of levels (postprocess::k_robust_level_low/high), as `demsa run` measured it: on this
+  // 16 mm cone its lowest level is 1.5 r_max above the pedestal (postprocess::k_robust_floor_radii), above 0.25 h_P.
+  double r_max = 0.0;
+  for (std::size_t k = 0; k < cone.size(); ++k)
+    if (std::hypot(cone.x[k], cone.y[k]) <= 0.03 && cone.z[k] >= 0.012) r_max = std::max(r_max, cone.radius[k]);
+  const double h = height_above(cone, 0.012);
+  ASSERT_GT(1.5 * r_max / h, 0.25);
+  EXPECT_NEAR(j["options"]["level_low"].get<double>(), 1.5 * r_max / h, 1e-9);
   EXPECT_DOUBLE_EQ(j["options"]["level_high"].get<double>(), 0.8);
   EXPECT_NE(j["case_json"].get<std::string>().find("case.json"), std::string::npos);
   EXPECT_NEAR(j["pile_height_m"].get<double>(), height_above(cone, 0.012), 1e-9);

@@ -5,10 +5,10 @@
 // The cone is filled by random sequential addition (Feder 1980, J. Theor. Biol. 87, 237; Widom 1966): spheres
 // at random positions are kept when they overlap no earlier sphere and lie inside the outline, until `attempts`
 // positions have been tried. Surface roughness, each kind on its own or together: every shell sphere moved along the
-// outline's normal by its own offset, uniform in [-jitter, +jitter]; one-sided, sticking out by uniform [0, outward];
-// holes, a share `missing` of the shell's spheres left out; mounds, `bumps` raised patches of the flank a few particle
-// sizes across. jitter = outward = missing = bumps = 0 gives a smooth cone. A few particles lie on the ground beside
-// the pedestal.
+// outline's normal by its own offset, uniform in [-jitter, +jitter] (or Gaussian of sd jitter_sd); one-sided,
+// sticking out by uniform [0, outward]; holes, a share `missing` of the shell's spheres left out; mounds, `bumps`
+// raised patches of the flank a few particle sizes across. jitter = outward = missing = bumps = 0 gives a smooth cone.
+// A few particles lie on the ground beside the pedestal.
 #include "postprocess/dump.hpp"
 
 #include <fmt/core.h>
@@ -32,6 +32,9 @@ struct SyntheticConeOptions {
   double pedestal_radius = 0.05;  ///< particles on the ground lie beyond it [m]
   double cap_radius = 0.006;      ///< radius of the rounded apex [m]
   double jitter = 0.0;            ///< shell spheres move along the outline's normal by uniform [-jitter, +jitter] [m]
+  /// Held-out roughness (not used when the robust estimator was designed; test_angle_estimators.cpp): shell spheres
+  /// move along the outline's normal by a Gaussian offset of this standard deviation, unbounded either way [m].
+  double jitter_sd = 0.0;
   /// Other kinds of roughness (bench/angle_estimators.cpp compares the estimators on each):
   double outward = 0.0;  ///< shell spheres stick out of the outline by uniform [0, outward] (one-sided) [m]
   double missing = 0.0;  ///< share of the shell's spheres left out (holes in the surface layer), in [0, 1)
@@ -61,6 +64,7 @@ inline postprocess::Particles make_synthetic_cone(const SyntheticConeOptions& o)
   std::mt19937_64 rng(o.seed);
   std::normal_distribution<double> radius_dist(o.r_mean, o.r_sd);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
   auto radius = [&] {
     for (;;) {
       const double r = radius_dist(rng);
@@ -179,6 +183,7 @@ inline postprocess::Particles make_synthetic_cone(const SyntheticConeOptions& o)
     tangents.push_back({tx, ty, z});
     const double r = radius();
     double raise = o.jitter * (2.0 * unit(rng) - 1.0) + o.outward * unit(rng);
+    if (o.jitter_sd > 0.0) raise += o.jitter_sd * gauss(rng);  // drawn only then: the other kinds keep their cones
     for (const auto& c : bump_centres) {
       const double d = std::hypot(c[0] - tx, c[1] - ty, c[2] - z);
       if (d < o.bump_radius)

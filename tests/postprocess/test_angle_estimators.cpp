@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -74,6 +75,89 @@ TEST(RoughConePaper, ReadsLowOnTwoMillimetresOfJitter) {
     EXPECT_LT(paper, -0.5) << angle << " deg";
     EXPECT_LT(std::fabs(robust), std::fabs(paper)) << angle << " deg";
   }
+}
+
+// Held out: Gaussian normal jitter (sd 1.5 mm), a kind of roughness the robust estimator was not designed on, from
+// 22° to 45°. Its cones vary more than the bench's (one reads up to 2° off), hence 40 seeds. Before the sector
+// sections (the paper's half-plane cross-section) the mean read +0.52° at 27° and +0.45° at 37°, and the steep flanks'
+// upper levels read 0.3–0.4 mm further out than their lower ones.
+double held_out_error(double angle, int seeds) {
+  PileAngleOptions options;
+  options.estimator = AngleEstimator::robust;
+  double sum = 0.0;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    test::SyntheticConeOptions cone;
+    cone.angle_deg = angle;
+    cone.jitter_sd = 1.5e-3;
+    cone.seed = static_cast<unsigned>(seed);
+    sum += measure_pile_angle(test::make_synthetic_cone(cone), options).angle - angle;
+  }
+  return sum / seeds;
+}
+
+class HeldOutGaussianJitter : public ::testing::TestWithParam<double> {};
+
+TEST_P(HeldOutGaussianJitter, RobustWithinHalfADegree) {
+  const double angle = GetParam();
+  EXPECT_NEAR(held_out_error(angle, 40), 0.0, 0.5) << angle << " deg";
+}
+
+INSTANTIATE_TEST_SUITE_P(From22To45, HeldOutGaussianJitter, ::testing::Values(22.0, 27.0, 33.5, 37.0, 41.0, 45.0));
+
+TEST(HeldOutGaussianJitter, SteepFlankReadsAsFarOutAtTheTopAsAtTheFoot) {
+  // The surface points' mean distance beyond the cone's flank (base radius − height / tan θ) at the three highest
+  // levels against the three lowest, over the directions and 20 seeds: the same within 0.15 mm on 41° and 45° cones
+  // (the half-plane sections: +0.32 mm and +0.35 mm, which tilt the line by about +0.3°).
+  PileAngleOptions options;
+  options.estimator = AngleEstimator::robust;
+  for (double angle : {41.0, 45.0}) {
+    const double tan_theta = std::tan(angle * std::numbers::pi / 180.0);
+    double low = 0.0, high = 0.0;
+    int n_low = 0, n_high = 0;
+    for (int seed = 1; seed <= 20; ++seed) {
+      test::SyntheticConeOptions cone;
+      cone.angle_deg = angle;
+      cone.jitter_sd = 1.5e-3;
+      cone.seed = static_cast<unsigned>(seed);
+      const PileAngleResult r = measure_pile_angle(test::make_synthetic_cone(cone), options);
+      ASSERT_EQ(r.level_heights.size(), 10U);
+      for (const BoundaryParticle& b : r.boundary) {
+        const double beyond = b.radial - (cone.base_radius - b.height / tan_theta);
+        if (b.level <= 2) {
+          low += beyond;
+          ++n_low;
+        } else if (b.level >= 7) {
+          high += beyond;
+          ++n_high;
+        }
+      }
+    }
+    ASSERT_GT(n_low, 0);
+    ASSERT_GT(n_high, 0);
+    EXPECT_NEAR(high / n_high - low / n_low, 0.0, 0.15e-3) << angle << " deg";
+  }
+}
+
+TEST(RobustEstimator, LowestLevelClearsTheParticlesOnThePedestalEdge) {
+  // A 22° cone of particle set 1 is about 18 mm high: 0.25 h_P lies below 1.5 r_max = 5.25 mm, so the band starts
+  // there; a band given explicitly is kept.
+  test::SyntheticConeOptions cone;
+  cone.angle_deg = 22.0;
+  const Particles particles = test::make_synthetic_cone(cone);
+  PileAngleOptions options;
+  options.estimator = AngleEstimator::robust;
+  const PileAngleResult r = measure_pile_angle(particles, options);
+  double r_max = 0.0;
+  for (std::size_t j : pedestal_particles(particles, options)) r_max = std::max(r_max, particles.radius[j]);
+  EXPECT_NEAR(r.level_heights.front(), k_robust_floor_radii * r_max, 1e-12);
+  EXPECT_NEAR(*r.options.level_low, k_robust_floor_radii * r_max / r.pile_height, 1e-12);
+  EXPECT_GT(*r.options.level_low, k_robust_level_low);
+  options.level_low = 0.25;
+  EXPECT_NEAR(measure_pile_angle(particles, options).level_heights.front(), 0.25 * r.pile_height, 1e-12);
+  // A steep cone's 0.25 h_P is above the floor: the band is the estimator's own.
+  cone.angle_deg = 41.0;
+  options.level_low.reset();
+  EXPECT_EQ(*measure_pile_angle(test::make_synthetic_cone(cone), options).options.level_low, k_robust_level_low);
 }
 
 TEST(TheilSen, OneOutlierDoesNotTiltTheLine) {

@@ -256,7 +256,8 @@ TEST(StudySettings, UnknownKeySuggestsTheNearestKey) {
             std::string::npos)
       << e;
   EXPECT_NE(e.find("mpirun, slurm)"), std::string::npos) << e;
-  EXPECT_EQ(settings_table().unknown_key_hint("parameters.E", "hi"), " (did you mean 'high'? valid: low, high, scale)");
+  EXPECT_EQ(settings_table().unknown_key_hint("parameters.E", "hi"),
+            " (did you mean 'high'? valid: low, high, scale, same_as)");
   EXPECT_EQ(settings_table().unknown_key_hint("run.slurm", "zzz"),
             " (valid: mode, partition, account, time_limit, throttle, sbatch_options, prologue, poll_interval)");
 }
