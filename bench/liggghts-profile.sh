@@ -61,3 +61,29 @@ for k, v in sorted(fixes.items(), key=lambda kv: -kv[1]):
 PY
 "$perf" report -i perf.data --no-children --sort symbol --stdio -q -g none --percent-limit 0.5 2>/dev/null |
   sed -E 's/^ +//; s/\(anonymous namespace\):://g' | cut -c1-150 | grep -v '^$' | head -40
+# The samples in groups, by symbol (memset is counted with the contact history, its main caller in a pile: the
+# mesh contact history's page clearing, then Verlet::force_clear).
+"$perf" report -i perf.data --no-children --sort symbol --stdio -q -g none 2>/dev/null | python3 -c '
+import re, sys
+groups = [
+    ("contacts: pair and wall kernels, contact models", r"PairStyles::Granular|Walls::Granular|surfacesIntersect|surfacesClose|ContactModel"),
+    ("mesh wall: post_force_mesh, triangle/edge/corner resolution, mesh neighbour lists", r"FixWallGran::post_force_mesh|TriMesh::|FixNeighlistMesh|MultiNodeMesh|SurfaceMesh"),
+    ("primitive walls", r"post_force_primitive|PrimitiveWall"),
+    ("contact history bookkeeping", r"FixContactHistory|memset"),
+    ("time integration, gravity, freeze", r"FixNVE|FixGravity|FixFreeze"),
+    ("neighbour lists, binning", r"Neighbor::|NPair|NBin"),
+    ("input, variables, output between runs", r"Variable::|Input::|strtod|strcmp|strlen|strncpy|strchr|printf|vfprintf|mpn_|str_to_mpn|hack_digit|round_and_return|isspace|malloc|_int_free|cfree|free|memmove|memcpy|Thermo|Output|Dump"),
+    ("timers (modify_timing, CPU readings)", r"clock_gettime|Wtime|Timer::"),
+]
+tot = {g: 0.0 for g, _ in groups}; other = 0.0
+for line in sys.stdin:
+    m = re.match(r"\s*([\d.]+)%\s+\[[.k]\]\s+(.*)", line)
+    if not m: continue
+    v, sym = float(m.group(1)), m.group(2)
+    for g, rx in groups:
+        if re.search(rx, sym): tot[g] += v; break
+    else: other += v
+for g, _ in groups:
+    if tot[g] >= 0.05: print(f"  {tot[g]:5.1f} %  {g}")
+print(f"  {other:5.1f} %  other")
+'
