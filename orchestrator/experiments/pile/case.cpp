@@ -270,8 +270,9 @@ CaseWritten PileDraft::write(const Material& m, const TimestepChoice& ts, Params
         k, snapshot_file(k));
   write_text(dir / "pile_history.liggghts", snapshots);
   // Pedestal element: 5 mm (compact triangles; reference measurements: rings of 2.5 to 5 mm cost the same).
-  write_text(dir / k_pedestal_stl,
-             to_ascii_stl(pedestal_mesh(s.pedestal_radius, s.pedestal_height, 0.005, m_base.empty()), "pedestal"));
+  write_text(
+      dir / k_pedestal_stl,
+      to_ascii_stl(pedestal_mesh(s.pedestal_radius, s.pedestal_height, 0.005, 0.005, m_base.empty()), "pedestal"));
   // Particles off the pedestal (region `fallen` of pile.liggghts) are deleted after every disc and settling check,
   // counted in removed_total; `compress no` keeps the ids of the others.
   write_text(dir / "pile_remove.liggghts",
