@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The pedestal mesh against the angle (docs/benchmarks.md, "The pedestal mesh"): the 18 cases of
-# bench/pedestal-angles.toml (the quickstart's piles at 6 design points × 3 packings), each run with the old pedestal
-# (5 mm triangles everywhere, bench/pedestal_stl.py) by OLD_LIGGGHTS and with the case's own (the pedestal demsa
-# writes) by NEW_LIGGGHTS, paired by bench/liggghts-builds.sh. Prints its rate table, then per design point the
+# bench/pedestal-angles.toml (the quickstart's piles at 6 design points × 3 packings), each run with the pedestal demsa
+# writes (5 mm triangles everywhere) by OLD_LIGGGHTS and with the lean one (the top's rings 12.5 mm apart inside the
+# same 5 mm rim and side band) by NEW_LIGGGHTS, both meshes from bench/pedestal_stl.py, paired by
+# bench/liggghts-builds.sh. Prints its rate table, then per design point the
 # angles of the three packings with each pedestal, the packing noise (the pooled within-point standard deviation,
 # 12 degrees of freedom per pedestal) and the paired differences new − old.
 #
@@ -20,10 +21,12 @@ work=${4:-$(mktemp -d)}
 mkdir -p "$work"
 study=$here/pedestal-angles.toml
 ids=0,1000001,1000002,1,1001001,1001002,2,1002001,1002002,3,1003001,1003002,4,1004001,1004002,5,1005001,1005002
-# The old pedestal: the quickstart's (50 mm radius, 5 mm high) with 5 mm triangles on the top as on the rim.
+# The quickstart's pedestal (50 mm radius, 5 mm high): 5 mm triangles on the top as on the rim (old), or the top's
+# rings 12.5 mm apart (new).
 python3 "$here/pedestal_stl.py" 0.05 0.005 0.005 0.005 "$work/pedestal-old.stl"
+python3 "$here/pedestal_stl.py" 0.05 0.005 0.005 0.0125 "$work/pedestal-new.stl"
 WORK=$work "$here/liggghts-builds.sh" "$demsa" "$study" "$ids" \
-  "old=$old@s|file pedestal.stl|file $work/pedestal-old.stl|" "new=$new"
+  "old=$old@s|file pedestal.stl|file $work/pedestal-old.stl|" "new=$new@s|file pedestal.stl|file $work/pedestal-new.stl|"
 python3 - "$work" "$ids" <<'PY'
 import math, statistics, sys
 work, ids = sys.argv[1], sys.argv[2].split(",")
