@@ -6,6 +6,7 @@
 # estimator, `demsa measure`) against the first build; then the load average.
 #
 # Usage: bench/liggghts-builds.sh DEMSA STUDY.toml CASES NAME=LIGGGHTS[@SED] [NAME=LIGGGHTS[@SED] ...]
+#   CASES: N (samples 1..N) or a comma-separated list of case ids (e.g. replicate cases: 0,1000001,1000002).
 #   e.g. bench/liggghts-builds.sh build/orchestrator/demsa examples/quickstart.toml 4 \
 #          debian=/usr/bin/liggghts project=$(scripts/build-liggghts.sh --print-prefix)/bin/liggghts
 #   A setting: @SED is a sed script run on the copy's *.liggghts files before the run, e.g.
@@ -13,10 +14,10 @@
 # Environment: JOBS (default 2) runs at a time, one rank each; WORK (default a temporary folder, removed) keeps the
 # case folders when set.
 set -euo pipefail
-(($# >= 4)) || { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+(($# >= 4)) || { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 demsa=$(realpath "$1")
 study=$(realpath "$2")
-cases=$3
+if [[ $3 == *,* ]]; then IFS=, read -ra ids <<<"$3"; else mapfile -t ids < <(seq 1 "$3"); fi
 shift 3
 builds=("$@")
 jobs=${JOBS:-2}
@@ -32,7 +33,7 @@ for b in "${builds[@]}"; do
   [[ $b == *=* && -x ${spec%%@*} ]] || { echo "liggghts-builds: '$b': expected NAME=EXECUTABLE[@SED]" >&2; exit 2; }
 done
 echo "load before: $(cat /proc/loadavg)"
-for k in $(seq 1 "$cases"); do
+for k in "${ids[@]}"; do
   [[ -d $work/case-$k ]] || "$demsa" case "$study" --sample "$k" -o "$work/case-$k" >/dev/null
 done
 # One run: copy the case (its LIGGGHTS scripts edited by the setting's sed script, if any), run the build in it on
@@ -55,18 +56,18 @@ run_one() { # name executable[@sed] work k demsa
     >"$d/angle.txt" 2>/dev/null || echo nan >"$d/angle.txt"
 }
 export -f run_one
-for k in $(seq 1 "$cases"); do
+for k in "${ids[@]}"; do
   for b in "${builds[@]}"; do printf '%s\0%s\0%s\0%s\0%s\0' "${b%%=*}" "${b#*=}" "$work" "$k" "$demsa"; done
 done | xargs -0 -P "$jobs" -n 5 bash -c 'run_one "$@"' _
 echo "load after: $(cat /proc/loadavg)"
-python3 - "$work" "$cases" "${builds[@]%%=*}" <<'PY'
+python3 - "$work" "$(IFS=,; echo "${ids[*]}")" "${builds[@]%%=*}" <<'PY'
 import statistics, sys
-work, cases, names = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
+work, ids, names = sys.argv[1], sys.argv[2].split(","), sys.argv[3:]
 def read(name, k):
     d = f"{work}/{name}-{k}"
     u, s = map(float, open(f"{d}/cpu.txt").read().split()[-2:])
     return int(open(f"{d}/atom_steps.txt").read()), u + s, float(open(f"{d}/angle.txt").read())
-rows = {n: [read(n, k) for k in range(1, cases + 1)] for n in names}
+rows = {n: [read(n, k) for k in ids] for n in names}
 base = rows[names[0]]
 print(f"| build | atom-steps per CPU-s (median) | ratio to {names[0]} (median of per-case ratios) | per case | "
       f"angle − {names[0]}'s [deg] per case |")

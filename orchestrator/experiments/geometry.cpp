@@ -11,15 +11,18 @@
 
 namespace demsa::experiments {
 
-std::vector<Triangle> pedestal_mesh(double radius, double height, double element, bool with_top) {
-  assert(radius > 0 && height > 0 && element > 0);
+std::vector<Triangle> pedestal_mesh(double radius, double height, double rim_element, double top_element,
+                                    bool with_top) {
+  assert(radius > 0 && height > 0 && rim_element > 0 && top_element >= rim_element);
   using Point = std::array<double, 2>;
   const double two_pi = 2.0 * std::numbers::pi;
-  const int ring_count = std::max(1, static_cast<int>(std::lround(radius / element)));
+  const int ring_count = std::max(1, static_cast<int>(std::lround(radius / top_element)));
   std::vector<std::vector<Point>> rings{{Point{0.0, 0.0}}};
   for (int k = 1; k <= ring_count; ++k) {
     util::throw_if_stop_raised();
     const double r = radius * k / ring_count;
+    // The rim is the circle's polygon: its points rim_element apart whatever the top's triangles.
+    const double element = k == ring_count ? rim_element : top_element;
     const int n = std::max(6, static_cast<int>(std::lround(two_pi * r / element)));
     std::vector<Point> ring;
     for (int i = 0; i < n; ++i) ring.push_back({r * std::cos(two_pi * i / n), r * std::sin(two_pi * i / n)});
@@ -50,7 +53,7 @@ std::vector<Triangle> pedestal_mesh(double radius, double height, double element
   }
   const std::vector<Point>& outer = rings.back();
   const std::size_t n = outer.size();
-  const int bands = std::max(1, static_cast<int>(std::lround(height / element)));
+  const int bands = std::max(1, static_cast<int>(std::lround(height / rim_element)));
   for (std::size_t i = 0; i < n; ++i) {
     const Point& p = outer[i];
     const Point& q = outer[(i + 1) % n];
