@@ -439,8 +439,9 @@ DrumSurfaceResult measure_drum_surface(const DrumImage& image, const DrumSurface
 
   // The bed: the pixels of the whole drum (centre within R) that hold material at the threshold. The outermost ring,
   // beyond k_rim_radius·R, takes the material at k_rim_radius·R on its own radius: in a photograph it holds the
-  // rim's dark line and its shadow (dark as powder where the drum is empty: +0.7% of the drum's area on the
-  // GranuDrum's images), in a simulation the gaps between the wall and the spheres against it.
+  // rim's dark line and its shadow (dark as powder where the drum is empty: they would add 0.1–0.2% of the
+  // drum's area to the fill of the GranuDrum's images), in a simulation the gaps between the wall and the spheres
+  // against it.
   long bed = 0;
   for (int row = 0; row < image.material.height; ++row)
     for (int col = 0; col < image.material.width; ++col) {
