@@ -157,10 +157,12 @@ DrumSurfaceResult measure_drum_photograph(const std::filesystem::path& file, dou
 
 /// The area [m²] within judged_radius·R where two pictures of the same drum disagree about material (thresholded at
 /// `threshold`): the mismatch between a photograph and a simulation. The two are compared in the drum frame, so
-/// their pixel grids may differ.
+/// their pixel grids may differ; on a's grid, b read bilinearly and mirrored in x when the two drums turn opposite
+/// ways (so both show the powder carried up on the same side). Drums of different radii throw InputError.
 double drum_mismatch_area(const DrumImage& a, const DrumImage& b, double judged_radius = 0.77, double threshold = 0.5);
 
 /// A picture for the report: `a` in grey, the thresholded material of `b` over it in colour, the judged circle drawn.
+/// b is read as drum_mismatch_area reads it.
 RgbImage drum_overlay(const DrumImage& a, const DrumImage& b, double judged_radius = 0.77, double threshold = 0.5);
 
 /// A picture of a measurement: the picture's material in grey (material dark), the judged circle (cyan), the band's
