@@ -158,6 +158,12 @@ void draw_circle(RgbImage& out, const DrumGeometry& g, double radius_px, Rgb col
   }
 }
 
+void check_same_drum(const DrumImage& a, const DrumImage& b) {
+  if (std::abs(a.geometry.radius_m - b.geometry.radius_m) > 1e-6 * a.geometry.radius_m)
+    throw InputError(fmt::format("the two pictures show drums of radius {} m and {} m, not the same drum",
+                                 a.geometry.radius_m, b.geometry.radius_m));
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------------------------------------ names, geometry
@@ -505,9 +511,7 @@ double drum_mismatch_area(const DrumImage& a, const DrumImage& b, double judged_
     throw std::invalid_argument(fmt::format("judged_radius = {}: must be in (0, 1]", judged_radius));
   if (!(threshold > 0.0 && threshold < 1.0))
     throw std::invalid_argument(fmt::format("threshold = {}: must be in (0, 1)", threshold));
-  if (std::abs(a.geometry.radius_m - b.geometry.radius_m) > 1e-6 * a.geometry.radius_m)
-    throw InputError(fmt::format("the two pictures show drums of radius {} m and {} m, not the same drum",
-                                 a.geometry.radius_m, b.geometry.radius_m));
+  check_same_drum(a, b);
   // On a's pixel grid: each of a's pixels within the judged circle against b at the same point of the drum frame
   // (bilinear), b mirrored in x when the two drums turn opposite ways, so that both show the powder carried up on
   // the same side.
@@ -531,6 +535,7 @@ RgbImage drum_overlay(const DrumImage& a, const DrumImage& b, double judged_radi
   check_geometry(b.geometry);
   check_image(a.material, "the first picture");
   check_image(b.material, "the second picture");
+  check_same_drum(a, b);
   RgbImage out = grey_background(a);
   const bool mirror = a.geometry.rotation != b.geometry.rotation;
   const double pixel = a.geometry.pixel_m();

@@ -292,6 +292,12 @@ TEST(DrumCompare, MismatchOfTwoLinesIsTheirWedges) {
   const DrumImage coarse = from_photograph(draw_photograph(line(35, 0.0, DrumRotation::clockwise), 0.75, 0.02, 24, 203),
                                            DrumRotation::clockwise);
   EXPECT_NEAR(postprocess::drum_mismatch_area(a, coarse), 5 * k_deg * rho * rho, 0.05 * 5 * k_deg * rho * rho);
+  DrumImage other_drum = coarse;
+  other_drum.geometry.radius_m = 0.05;
+  EXPECT_NE(
+      test::message_of<InputError>([&] { postprocess::drum_mismatch_area(a, other_drum); }).find("not the same drum"),
+      std::string::npos);
+  EXPECT_THROW(postprocess::drum_overlay(a, other_drum), InputError);
 }
 
 TEST(DrumCompare, OverlaysDrawTheirParts) {
