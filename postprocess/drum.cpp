@@ -68,33 +68,69 @@ double sample(const DrumImage& image, double x_m, double y_m) {
 
 // ------------------------------------------------------------------------------------------------ column scan
 
-/// One pixel column's free surface: the heights [px, drum frame] where the material fraction, scanning down from the
-/// top of the judged circle, first reaches k_band_low, the threshold and k_band_high.
+/// One pixel column's free surface: the heights [px, drum frame] of the surface and of its band's edges.
 struct ColumnCrossing {
   int col = 0;
   double x_px = 0.0;
-  double upper = 0.0;    ///< first crossing of k_band_low (the band's top)
-  double surface = 0.0;  ///< first crossing of the threshold
-  double lower = 0.0;    ///< first crossing of k_band_high (the band's bottom)
+  double upper = 0.0;    ///< the crossing of k_band_low next above the surface (the band's top)
+  double surface = 0.0;  ///< the first lasting crossing of the threshold, from the top
+  double lower = 0.0;    ///< the crossing of k_band_high next below the surface (the band's bottom)
 };
 
-/// The first crossing of `level` scanning rows top..bottom (inclusive), linearly interpolated between the pixel
-/// centres on either side; none when the first pixel already reaches it (the crossing lies above the judged circle,
-/// or the column is full) or no pixel does (the column is empty).
-std::optional<double> first_crossing(const DrumImage& image, int col, int top, int bottom, double level) {
-  const GreyImage& m = image.material;
-  if (m.at(col, top) >= level) return std::nullopt;
-  for (int row = top + 1; row <= bottom; ++row) {
-    const double f1 = m.at(col, row);
-    if (f1 < level) continue;
-    const double f0 = m.at(col, row - 1);
-    const double t = (level - f0) / (f1 - f0);  // f0 < level <= f1, so t in (0, 1]
-    return y_px_of(image.geometry, row - 1) - t;
-  }
-  return std::nullopt;
+/// A surface crossing counts when this many pixels from it down (fewer at the bottom of the judged circle) all reach
+/// the threshold: a dark speck above the surface shorter than that (dust on the end plate, a clump in flight; 1 mm on
+/// the GranuDrum's images) is passed over, since the surface is the first crossing into material that stays.
+constexpr int k_persist_px = 5;
+
+/// Where `level` lies between rows row − 1 and row (f(row − 1) < level ≤ f(row)), linearly between their centres.
+double crossing_height(const DrumImage& image, int col, int row, double level) {
+  const double f0 = image.material.at(col, row - 1), f1 = image.material.at(col, row);
+  return y_px_of(image.geometry, row - 1) - (level - f0) / (f1 - f0);
 }
 
-/// Every column of the judged circle whose three crossings lie inside it. The rim, its shadow and reflections lie
+/// One column's surface and band between rows top..bottom (inclusive), or none. The surface is the first lasting
+/// crossing of the threshold scanning down from the top; none when the column starts in lasting material (the surface
+/// lies above the judged circle, or the column is full) or never reaches it for good (the column is empty). The band's
+/// edges are the crossings of k_band_low and k_band_high nearest to the surface, above and below it (on a monotone
+/// profile, their first crossings from the top); none when one lies outside the judged circle. Searched from the
+/// surface rather than from the top, so that a speck the surface passed over does not widen the band, and without
+/// the surface's persistence, which on a slowly rising profile would push the band's lower edge down by one grey
+/// level's wiggle.
+std::optional<ColumnCrossing> scan_column(const DrumImage& image, int col, int top, int bottom, double threshold) {
+  const GreyImage& m = image.material;
+  const auto lasts = [&](int row) {
+    for (int r = row; r <= std::min(bottom, row + k_persist_px - 1); ++r)
+      if (m.at(col, r) < threshold) return false;
+    return true;
+  };
+  int row = top;
+  while (row <= bottom && (m.at(col, row) < threshold || !lasts(row))) ++row;
+  if (row > bottom || row == top) return std::nullopt;
+  // Here f(row − 1) < threshold: had the row above reached it, its run would have lasted too and been taken.
+  ColumnCrossing c;
+  c.col = col;
+  c.x_px = x_px_of(image.geometry, col);
+  c.surface = crossing_height(image, col, row, threshold);
+  // The nearest crossing of a level: upwards from the surface row for a level at or below the threshold, downwards
+  // for one above it.
+  const auto nearest = [&](double level) -> std::optional<double> {
+    if (level <= threshold) {
+      for (int r = row; r > top; --r)
+        if (m.at(col, r - 1) < level && m.at(col, r) >= level) return crossing_height(image, col, r, level);
+    } else {
+      for (int r = row; r <= bottom; ++r)
+        if (m.at(col, r - 1) < level && m.at(col, r) >= level) return crossing_height(image, col, r, level);
+    }
+    return std::nullopt;
+  };
+  const std::optional<double> upper = nearest(k_band_low), lower = nearest(k_band_high);
+  if (!upper || !lower) return std::nullopt;
+  c.upper = *upper;
+  c.lower = *lower;
+  return c;
+}
+
+/// Every column of the judged circle with a surface and a band inside it. The rim, its shadow and reflections lie
 /// outside the judged circle, so no scan ever starts on them.
 std::vector<ColumnCrossing> scan_columns(const DrumImage& image, double judged_radius, double threshold) {
   const DrumGeometry& g = image.geometry;
@@ -108,10 +144,7 @@ std::vector<ColumnCrossing> scan_columns(const DrumImage& image, double judged_r
     const int top = std::max(0, static_cast<int>(std::ceil(g.centre_row - 0.5 - half)));
     const int bottom = std::min(m.height - 1, static_cast<int>(std::floor(g.centre_row - 0.5 + half)));
     if (bottom <= top) continue;
-    const std::optional<double> upper = first_crossing(image, col, top, bottom, k_band_low);
-    const std::optional<double> surface = first_crossing(image, col, top, bottom, threshold);
-    const std::optional<double> lower = first_crossing(image, col, top, bottom, k_band_high);
-    if (upper && surface && lower) columns.push_back({col, x, *upper, *surface, *lower});
+    if (const std::optional<ColumnCrossing> c = scan_column(image, col, top, bottom, threshold)) columns.push_back(*c);
   }
   return columns;
 }

@@ -108,7 +108,9 @@ struct DrumSurfaceOptions {
 constexpr double k_rim_radius = 0.98;
 
 /// The material fractions whose crossings bound the surface's band in a column: `band` is the height between the
-/// first crossing of k_band_low and the first crossing of k_band_high, scanning the column from the top.
+/// crossings of k_band_low and of k_band_high nearest to the surface, above and below it (on a profile that rises
+/// monotonically, their first crossings scanning the column from the top). The surface itself is the first crossing
+/// of `threshold` from the top that the next 5 pixels keep (a dark speck above it is passed over).
 constexpr double k_band_low = 0.25;
 constexpr double k_band_high = 0.75;
 

@@ -178,6 +178,28 @@ TEST(DrumPhotograph, SShapeOfKnownCubicTerm) {
     }
 }
 
+TEST(DrumPhotograph, DarkSpeckAboveTheSurfaceIsPassedOver) {
+  // Dust on the end plate: a dark speck 4 px high in the empty drum, in the column of the station at +0.3 R, and one
+  // of 2 px at −0.15 R. The surface there is still the powder's.
+  const double offset = -0.05, slope = -std::tan(30 * k_deg);
+  GreyImage photograph = draw_photograph(line(30, offset, DrumRotation::clockwise), 1.5, 0.02, 5);
+  const auto speck = [&](double x, double y, int rows) {
+    const int col = static_cast<int>(std::floor(x * k_size / 2.0 + k_size / 2.0));
+    const int row = static_cast<int>(std::floor(k_size / 2.0 - y * k_size / 2.0));
+    for (int r = row; r < row + rows; ++r)
+      for (int c = col - 2; c <= col + 2; ++c) photograph.at(c, r) = k_dark;
+  };
+  speck(0.3, 0.3, 4);
+  speck(-0.15, 0.45, 2);
+  const DrumSurfaceResult r = postprocess::measure_drum_surface(from_photograph(photograph, DrumRotation::clockwise));
+  EXPECT_NEAR(r.stations[6].height, (offset + slope * 0.3) * k_radius, 0.05e-3);
+  EXPECT_NEAR(r.stations[3].height, (offset - slope * 0.15) * k_radius, 0.05e-3);
+  EXPECT_NEAR(r.stations[6].band, r.stations[5].band, 0.1e-3);  // nor does the speck widen the band
+  EXPECT_NEAR(r.stations[3].band, r.stations[4].band, 0.1e-3);
+  EXPECT_NEAR(r.dynamic_angle, 30.0, 0.3);
+  EXPECT_NEAR(r.s_shape, 0.0, k_s_tolerance);
+}
+
 TEST(DrumPhotograph, LevelsAreTheClassMedians) {
   const GreyImage photograph = draw_photograph(line(30, 0.0, DrumRotation::clockwise), 1.5, 0.02, 3);
   const postprocess::PhotographLevels levels = postprocess::photograph_levels(
