@@ -495,8 +495,8 @@ DrumSurfaceResult measure_drum_surface(const DrumImage& image, const DrumSurface
   result.fill_fraction = result.bed_area / (std::numbers::pi * radius * radius);
 
   // The S shape: the cubic term of the least-squares cubic y = a + b u + c u² + d u³ through every surface point of
-  // the judged region, with u = x / (judged_radius·R) so that d = d_x·(judged_radius·R)³ is in metres (how far the
-  // cubic bends the surface away from a parabola over the judged half-width). Solved by column-pivoted Householder
+  // the judged region, with u = x / (judged_radius·R) so that d = d_x·(judged_radius·R)³ is in metres (the cubic
+  // part's height at the edge of the judged region). Solved by column-pivoted Householder
   // QR on the Vandermonde matrix (not the normal equations). A clockwise drum's fast S (steep in the middle, flat at
   // both ends, falling to the right) has d > 0; mirrored for counterclockwise, so the S of either direction is
   // positive.
