@@ -236,6 +236,10 @@ std::string render_markdown(const ReportDocument& document, const fs::path& fold
     }
     for (const ReportFigure& f : s.figures) {
       const std::string png = fs::relative(f.files.png, folder).generic_string();
+      if (f.files.script.empty()) {  // a picture, not a plot
+        md += fmt::format("\n![{}]({})\n\n*{}*\n", f.caption, png, f.caption);
+        continue;
+      }
       const std::string svg = fs::relative(f.files.svg, folder).generic_string();
       const std::string gp = fs::relative(f.files.script, folder).generic_string();
       md += fmt::format("\n![{}]({})\n\n*{}* ([SVG]({}), [gnuplot script]({}))\n", f.caption, png, f.caption, svg, gp);
@@ -695,6 +699,8 @@ ReportSection case_section(const StudyData& s, int sample, const Plotter& plotte
             return plot_settlement_curve(plotter, data, stem);
           else if constexpr (std::is_same_v<T, PlateHistoryPlot>)
             return plot_plate_history(plotter, data, stem);
+          else if constexpr (std::is_same_v<T, ImageFigure>)
+            return plot_image(data, stem);
           else {
             static_assert(std::is_same_v<T, LinePlot>, "a figure kind of experiments/case_report.hpp without a plot");
             return plot_lines(plotter, data, stem);
