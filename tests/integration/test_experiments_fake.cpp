@@ -98,7 +98,9 @@ TEST(ExperimentsFake, DrumAngleIsMeasuredFromTheSnapshotsSideView) {
                 1e-3);
     EXPECT_GT(values.at("fill_fraction"), 0.3);
     EXPECT_LT(values.at("fill_fraction"), 0.7);
-    EXPECT_TRUE(fs::is_regular_file(tmp / "study" / "cases" / fmt::format("{:06d}", sample) / "occupancy.png"));
+    const fs::path folder = tmp / "study" / "cases" / fmt::format("{:06d}", sample);
+    EXPECT_TRUE(fs::is_regular_file(folder / "occupancy.png"));
+    EXPECT_TRUE(fs::is_regular_file(folder / "occupancy_surface.png"));
   }
   EXPECT_EQ(store.observables().size(), 3u);
 }

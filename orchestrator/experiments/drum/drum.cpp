@@ -114,6 +114,7 @@ CaseMeasurement measure_case(const fs::path& folder, const CaseRecord& r) {
   m.snapshots = occupancy.snapshots();
   m.surface = pp::measure_drum_surface(m.image, r.surface);
   pp::write_grey_png(folder / k_occupancy_png, m.image.material);
+  pp::write_rgb_png(folder / k_surface_png, pp::drum_surface_overlay(m.image, m.surface, r.surface));
   return m;
 }
 
@@ -193,10 +194,12 @@ CaseReport case_report(const fs::path& folder, const std::string& relative, int 
       "view averages the snapshots of `{}` as the camera sees them through the end plate ({}).",
       relative, r.dynamic_angle, r.angle_uncertainty, r.s_shape * 1e3, 100 * r.fill_fraction, k_snapshots_dump,
       pp::to_string(record.rotation)));
-  report.figures.push_back({fmt::format("Sample {}: the time-averaged side view (white: always material), {} × {} "
-                                        "pixels spanning the inner diameter",
-                                        sample, record.image_size, record.image_size),
-                            "drum_occupancy", ImageFigure{(folder / k_occupancy_png).string()}});
+  report.figures.push_back(
+      {fmt::format("Sample {}: the time-averaged side view as the camera sees it ({} × {} pixels spanning the inner "
+                   "diameter; material dark), its free surface (red) between the band's edges (yellow), the dynamic "
+                   "angle's line (green), the stations (magenta) and the judged circle (cyan)",
+                   sample, record.image_size, record.image_size),
+       "drum_side_view", ImageFigure{(folder / k_surface_png).string()}});
   LinePlot plot;
   plot.title = fmt::format("sample {}: the free surface", sample);
   plot.x_label = "x [mm]";
@@ -465,7 +468,7 @@ const Experiment& experiment() {
       .final_dump = k_final_dump,
       .run_outputs =
           [] {
-            return std::vector<std::string>{k_final_dump, k_snapshots_dump, k_occupancy_png};
+            return std::vector<std::string>{k_final_dump, k_snapshots_dump, k_occupancy_png, k_surface_png};
           },
       .measure = measure,
       .observables = observables,

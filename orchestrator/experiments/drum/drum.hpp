@@ -136,6 +136,9 @@ inline constexpr const char* k_final_dump = "drum_final.dump";
 inline constexpr const char* k_snapshots_dump = "drum_snapshots.dump";  ///< every snapshot_interval over the window
 inline constexpr const char* k_mesh_file = "drum_wall.stl";
 inline constexpr const char* k_occupancy_png = "occupancy.png";  ///< the measured side view
+/// The side view with its measurement drawn (postprocess::drum_surface_overlay): the surface, its band, the angle's
+/// line and the stations.
+inline constexpr const char* k_surface_png = "occupancy_surface.png";
 
 /// The atom-steps of a written case by its schedule (case.cpp): Experiment::case_cost.
 CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
