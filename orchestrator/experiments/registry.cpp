@@ -21,11 +21,8 @@ namespace demsa::experiments {
 const std::vector<const Experiment*>& all() {
   // The one list: an experiment is one entry here and one folder beside this file (ARCHITECTURE.md).
   static const std::vector<const Experiment*> experiments{
-      &pile::experiment(),
-      &oedometer::experiment(),
-      &incline::experiment(),
-      &drawdown::experiment(),
-      &drum::experiment(),
+      &pile::experiment(),     &oedometer::experiment(), &incline::experiment(),
+      &drawdown::experiment(), &drum::experiment(),
   };
   return experiments;
 }
