@@ -211,6 +211,17 @@ TEST(DrumCase, TheFilesTurnTheDrumAsTheCameraSeesItWithTheSameParticlesEverySamp
   EXPECT_EQ(cost.steps, steps);
   EXPECT_DOUBLE_EQ(cost.atom_steps, static_cast<double>(steps) * static_cast<double>(a.particles));
   EXPECT_DOUBLE_EQ(b.dt, a.dt);
+  // ParaView's wall: the mesh turned as far as the drum turned by the end, clockwise (+z towards +x) here.
+  const std::vector<CaseSurface> surfaces = drum::experiment().vtk_surfaces(tmp / "a", doc, postprocess::DumpFrame{});
+  ASSERT_EQ(surfaces.size(), 1u);
+  ASSERT_TRUE(surfaces[0].surface);
+  EXPECT_EQ(surfaces[0].surface->polygons.size(), 216u);
+  const double turned =
+      2 * std::numbers::pi * static_cast<double>(doc["drum"]["spin_up_steps"].get<long>() + window) * a.dt / 2.0;
+  const std::vector<Triangle> mesh = drum::drum_mesh(0.042, 0.02, 36);
+  const std::array<double, 3>& p = surfaces[0].surface->points[1];
+  const Vertex& q = mesh[0][1];
+  EXPECT_NEAR(std::atan2(p[0], p[2]), std::remainder(std::atan2(q[0], q[2]) + turned, 2 * std::numbers::pi), 1e-9);
 }
 
 TEST(DrumObservables, EveryStationIsAnObservableWithItsPosition) {
