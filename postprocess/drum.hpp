@@ -8,6 +8,7 @@
 // right, y up (against gravity), origin at the drum's centre, in metres. A pixel's centre is at
 // x = (c + 0.5 - centre_col) * pixel_m, y = (centre_row - r - 0.5) * pixel_m.
 #include "postprocess/error.hpp"
+#include "postprocess/image.hpp"  // GreyImage, RgbImage, read_grey_image, write_grey_png, write_rgb_png
 
 #include <filesystem>
 #include <optional>
@@ -16,31 +17,6 @@
 #include <vector>
 
 namespace demsa::postprocess {
-
-/// A grey image: `width` × `height` values in [0, 1], row 0 at the top, stored row by row.
-struct GreyImage {
-  int width = 0;
-  int height = 0;
-  std::vector<float> pixels;  ///< pixels[row * width + col]
-  float at(int col, int row) const { return pixels[static_cast<std::size_t>(row) * width + col]; }
-  float& at(int col, int row) { return pixels[static_cast<std::size_t>(row) * width + col]; }
-};
-
-/// Reads a BMP or PNG (grey, palette or colour; 8 or 16 bits) through stb_image into its luminance (ITU-R BT.601
-/// weights for colour) in [0, 1]. A file that is not a readable image, not a regular file, or larger than
-/// `max_pixels` throws ParseError naming the file and the reason.
-GreyImage read_grey_image(const std::filesystem::path& file, long max_pixels = 64L * 1024 * 1024);
-
-/// Writes an 8-bit grey PNG through stb_image_write, atomically enough for a case folder (a temporary file renamed).
-void write_grey_png(const std::filesystem::path& file, const GreyImage& image);
-
-/// An 8-bit RGB image, for overlays in the report.
-struct RgbImage {
-  int width = 0;
-  int height = 0;
-  std::vector<unsigned char> pixels;  ///< 3 bytes per pixel, row 0 at the top
-};
-void write_rgb_png(const std::filesystem::path& file, const RgbImage& image);
 
 /// Which way the drum turns as the picture shows it. Clockwise: the wall on the left carries the powder up, so the
 /// free surface is high on the left (the GranuDrum images).
@@ -72,6 +48,24 @@ struct DrumImage {
 /// the filled part of the drum (documented with the implementation: how the two levels are found and why).
 DrumImage drum_image_from_photograph(const GreyImage& photograph, const DrumGeometry& geometry,
                                      bool dark_material = true);
+
+/// The two grey levels of a photograph that drum_image_from_photograph maps to material fractions 0 and 1, found
+/// among the pixels whose centres lie within `judged_radius`·R of the drum's centre: Otsu's threshold (Otsu 1979)
+/// splits them into two classes, and each class's median is its level (docs/drum-images.md).
+struct PhotographLevels {
+  double empty = 0.0;         ///< grey level of the empty drum, in [0, 1] (material fraction 0)
+  double material = 0.0;      ///< grey level of the bed, in [0, 1] (material fraction 1)
+  double threshold = 0.0;     ///< Otsu's threshold between the two classes, in [0, 1]
+  double separability = 0.0;  ///< Otsu's η = between-class over total variance, in [0, 1]
+  long pixels = 0;            ///< pixels the levels were found among
+};
+/// The levels of a photograph (above). Throws InputError when the judged circle does not show two levels: Otsu's η
+/// below k_min_separability (an empty or a full drum, or a picture without contrast).
+PhotographLevels photograph_levels(const GreyImage& photograph, const DrumGeometry& geometry, bool dark_material = true,
+                                   double judged_radius = 0.77);
+/// The separability η below which a photograph is taken to show one level only. A grey level with Gaussian noise and
+/// nothing else gives η = 2/π ≈ 0.64 (Otsu's split at its mean); a drum with a bed gives η > 0.9.
+constexpr double k_min_separability = 0.8;
 
 /// The time-averaged side view of a simulated drum: every snapshot adds each particle's projected disc (the camera
 /// looks along the drum's axis, so a sphere covers the disc of its radius around its centre's (x, y)), clipped to
@@ -109,6 +103,17 @@ struct DrumSurfaceOptions {
   void validate() const;
 };
 
+/// A photograph's rim (its dark line and shadow) lies beyond this fraction of the radius; bed_area reads the
+/// material there from this radius inwards.
+constexpr double k_rim_radius = 0.98;
+
+/// The material fractions whose crossings bound the surface's band in a column: `band` is the height between the
+/// crossings of k_band_low and of k_band_high nearest to the surface, above and below it (on a profile that rises
+/// monotonically, their first crossings scanning the column from the top). The surface itself is the first crossing
+/// of `threshold` from the top that the next 5 pixels keep (a dark speck above it is passed over).
+constexpr double k_band_low = 0.25;
+constexpr double k_band_high = 0.75;
+
 /// The free surface at one position across the drum.
 struct SurfacePoint {
   double x = 0.0;       ///< [m], drum frame
@@ -126,24 +131,47 @@ struct DrumSurfaceResult {
   double angle_uncertainty = 0.0;  ///< [deg] from the surface's band (documented with the implementation)
   /// Surface heights at DrumSurfaceOptions::stations (same order) [m]; mirrored in x for counterclockwise drums, so
   /// station i is always on the side the powder is carried up to for negative fractions.
+  /// Each point's x is where the station lies in the picture's drum frame; its height and band are linear between
+  /// the two neighbouring columns, and NaN where the surface at the station lies outside the judged region (a steep
+  /// surface can leave the judged circle before a station far from the centre).
   std::vector<SurfacePoint> stations;
-  double bed_area = 0.0;     ///< area of the bed (material fraction ≥ threshold) within the whole drum [m²]
+  /// Area of the bed (material fraction ≥ threshold) within the whole drum [m²]; beyond k_rim_radius·R (a
+  /// photograph's rim and its shadow) each pixel takes the material at k_rim_radius·R on its radius.
+  double bed_area = 0.0;
   double fill_fraction = 0.0;  ///< bed_area over the drum's cross-section π R²
   /// The S shape [m]: how far the surface departs from its fitted line, as the cubic term of a fit over the judged
   /// region (documented with the implementation; 0 for a straight surface, positive for the S of a fast drum).
   double s_shape = 0.0;
+  /// The dynamic angle's fitted line in the picture's drum frame: y = angle_line_height + angle_line_slope·x (not
+  /// mirrored), for figures.
+  double angle_line_height = 0.0;  ///< [m]
+  double angle_line_slope = 0.0;   ///< dy/dx [-]
 };
 
 /// The free surface and the observables of a DrumImage. Throws InputError when the picture holds no free surface in
 /// the judged region (an empty or a full drum).
 DrumSurfaceResult measure_drum_surface(const DrumImage& image, const DrumSurfaceOptions& options = {});
 
+/// A photograph file measured: read_grey_image, DrumGeometry::spanning (a square picture spanning the drum's inner
+/// diameter of radius `radius_m`), drum_image_from_photograph and measure_drum_surface. An InputError names the file.
+DrumSurfaceResult measure_drum_photograph(const std::filesystem::path& file, double radius_m, DrumRotation rotation,
+                                          const DrumSurfaceOptions& options = {}, bool dark_material = true);
+
 /// The area [m²] within judged_radius·R where two pictures of the same drum disagree about material (thresholded at
 /// `threshold`): the mismatch between a photograph and a simulation. The two are compared in the drum frame, so
-/// their pixel grids may differ.
+/// their pixel grids may differ; on a's grid, b read bilinearly and mirrored in x when the two drums turn opposite
+/// ways (so both show the powder carried up on the same side). Drums of different radii throw InputError.
 double drum_mismatch_area(const DrumImage& a, const DrumImage& b, double judged_radius = 0.77, double threshold = 0.5);
 
 /// A picture for the report: `a` in grey, the thresholded material of `b` over it in colour, the judged circle drawn.
+/// b is read as drum_mismatch_area reads it.
 RgbImage drum_overlay(const DrumImage& a, const DrumImage& b, double judged_radius = 0.77, double threshold = 0.5);
+
+/// A picture of a measurement: the picture's material in grey (material dark), the judged circle (cyan), the band's
+/// edges (yellow: the crossings of k_band_low and k_band_high), the free surface (red), the dynamic angle's line over
+/// |x| ≤ angle_half_width·R (green) and the stations (magenta crosses). `result` is measure_drum_surface(image,
+/// options).
+RgbImage drum_surface_overlay(const DrumImage& image, const DrumSurfaceResult& result,
+                              const DrumSurfaceOptions& options = {});
 
 }  // namespace demsa::postprocess

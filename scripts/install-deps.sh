@@ -11,7 +11,7 @@ packages=(
   build-essential cmake pkg-config git
   liggghts libliggghts-dev libopenmpi-dev openmpi-bin
   libeigen3-dev libgsl-dev libnlopt-cxx-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
-  libsqlite3-dev libsqlitecpp-dev sqlite3 libfmt-dev
+  libsqlite3-dev libsqlitecpp-dev sqlite3 libfmt-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox python3-numpy python3-scipy clang-format
   python3-vtk9

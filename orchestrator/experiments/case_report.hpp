@@ -76,7 +76,13 @@ struct LinePlot {
   std::string y_reference_label;
 };
 
+/// A picture the experiment wrote itself (a drum's time-averaged side view): the report copies the PNG beside its
+/// plots.
+struct ImageFigure {
+  std::string png;  ///< path of the PNG file
+};
+
 /// The data of one figure of a case.
-using CaseFigureData = std::variant<PileSideView, SettlementCurve, PlateHistoryPlot, LinePlot>;
+using CaseFigureData = std::variant<PileSideView, SettlementCurve, PlateHistoryPlot, LinePlot, ImageFigure>;
 
 }  // namespace demsa::experiments

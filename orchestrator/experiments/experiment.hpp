@@ -109,6 +109,20 @@ struct Driver {
   int (*run)(const std::filesystem::path& case_dir);
 };
 
+/// One value of a laboratory file, under the name of a case's observable (stored units).
+struct LabValue {
+  std::string name;
+  double value = 0.0;
+  std::optional<double> uncertainty;  ///< ± in the same unit, when the file gives one (a surface's band)
+};
+
+/// What `demsa measure FILE` reads from a laboratory file of an experiment (a drum's photograph), measured by the code
+/// that measures its cases.
+struct LabMeasurement {
+  std::vector<LabValue> values;
+  std::vector<std::string> notes;  ///< how it was measured: the settings file used, the geometry
+};
+
 /// The descriptor of one experiment. Every hook is a plain function of the experiment's folder; none may be null
 /// unless its comment says so.
 struct Experiment {
@@ -186,6 +200,14 @@ struct Experiment {
   /// estimate for the experiment). Throws util::UserError naming `file` when case.json lacks what it needs.
   CaseCost (*case_cost)(const study::StudyConfig& config, const nlohmann::json& case_json,
                         const std::filesystem::path& file) = nullptr;
+
+  // ---------------------------------------------------------------- laboratory files
+  /// The extensions (lower case, with the dot: ".bmp") of the laboratory files it measures; none: it measures none.
+  std::vector<std::string_view> lab_file_extensions = {};
+  /// Measures a laboratory file (one of lab_file_extensions) under its cases' observable names, finding what else it
+  /// needs beside the file; may be null when it measures none. Throws util::UserError naming the file (and the line of
+  /// a settings file) on input it cannot measure.
+  LabMeasurement (*measure_lab_file)(const std::filesystem::path& file) = nullptr;
 };
 
 }  // namespace demsa::experiments

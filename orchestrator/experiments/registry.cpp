@@ -2,6 +2,7 @@
 
 #include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/experiments/drawdown/drawdown.hpp"
+#include "orchestrator/experiments/drum/drum.hpp"
 #include "orchestrator/experiments/incline/incline.hpp"
 #include "orchestrator/experiments/oedometer/oedometer.hpp"
 #include "orchestrator/experiments/pile/pile.hpp"
@@ -11,17 +12,17 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cassert>
+#include <cctype>
 
 namespace demsa::experiments {
 
 const std::vector<const Experiment*>& all() {
   // The one list: an experiment is one entry here and one folder beside this file (ARCHITECTURE.md).
   static const std::vector<const Experiment*> experiments{
-      &pile::experiment(),
-      &oedometer::experiment(),
-      &incline::experiment(),
-      &drawdown::experiment(),
+      &pile::experiment(),     &oedometer::experiment(), &incline::experiment(),
+      &drawdown::experiment(), &drum::experiment(),
   };
   return experiments;
 }
@@ -46,6 +47,16 @@ const Experiment& of_case(const nlohmann::json& case_json, const std::filesystem
   throw util::UserError(
       file.string(), 0,
       fmt::format("experiment = \"{}\": not an experiment this demsa knows (known: {})", name, util::join(names)));
+}
+
+const Experiment* for_lab_file(const std::filesystem::path& file) {
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const Experiment* e : all())
+    for (const std::string_view x : e->lab_file_extensions)
+      if (e->measure_lab_file && x == extension) return e;
+  return nullptr;
 }
 
 const study::SettingsTable& settings_table() {

@@ -27,6 +27,9 @@ const Experiment& of(const study::StudyConfig& config);
 /// The experiment a case.json names; throws util::UserError naming the file when it names none demsa knows.
 const Experiment& of_case(const nlohmann::json& case_json, const std::filesystem::path& file);
 
+/// The experiment that measures laboratory files with the extension of `file` (case-insensitive), or nullptr.
+const Experiment* for_lab_file(const std::filesystem::path& file);
+
 /// The settings table of the study file: the core sections and every experiment's own.
 const study::SettingsTable& settings_table();
 

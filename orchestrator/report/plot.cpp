@@ -527,6 +527,15 @@ PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& h, 
   return plotter.render(stem, h.title, data, body);
 }
 
+PlotFiles plot_image(const ImageFigure& image, const fs::path& stem) {
+  PlotFiles files;
+  files.png = fs::path(stem.string() + ".png");
+  std::error_code ec;
+  fs::copy_file(image.png, files.png, fs::copy_options::overwrite_existing, ec);
+  if (ec) throw UserError(fmt::format("{}: cannot copy the picture into the report: {}", image.png, ec.message()));
+  return files;
+}
+
 PlotFiles plot_lines(const Plotter& plotter, const LinePlot& p, const fs::path& stem) {
   // Twenty colours (matplotlib's tab20), repeated beyond.
   static const char* const colours[] = {"#1f77b4", "#aec7e8", "#ff7f0e", "#ffbb78", "#2ca02c", "#98df8a", "#d62728",

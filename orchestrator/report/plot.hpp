@@ -17,6 +17,7 @@
 namespace demsa::report {
 
 // The figure data of a case, as the experiments hand it to the report.
+using experiments::ImageFigure;
 using experiments::LinePlot;
 using experiments::PileLine;
 using experiments::PileParticle;
@@ -131,6 +132,9 @@ PlotFiles plot_settlement_curve(const Plotter& plotter, const SettlementCurve& c
                                 const std::filesystem::path& stem);
 
 PlotFiles plot_lines(const Plotter& plotter, const LinePlot& plot, const std::filesystem::path& stem);
+/// An experiment's own picture copied to `<stem>.png` (no script, no SVG: those paths stay empty). Throws
+/// util::UserError naming the PNG when it cannot be copied.
+PlotFiles plot_image(const experiments::ImageFigure& image, const std::filesystem::path& stem);
 PlotFiles plot_plate_history(const Plotter& plotter, const PlateHistoryPlot& history,
                              const std::filesystem::path& stem);
 

@@ -206,6 +206,10 @@ std::string render_markdown(const ReportDocument& document, const fs::path& fold
     }
     for (const ReportFigure& f : s.figures) {
       const std::string png = fs::relative(f.files.png, folder).generic_string();
+      if (f.files.script.empty()) {  // a picture, not a plot
+        md += fmt::format("\n![{}]({})\n\n*{}*\n", f.caption, png, f.caption);
+        continue;
+      }
       const std::string svg = fs::relative(f.files.svg, folder).generic_string();
       const std::string gp = fs::relative(f.files.script, folder).generic_string();
       md += fmt::format("\n![{}]({})\n\n*{}* ([SVG]({}), [gnuplot script]({}))\n", f.caption, png, f.caption, svg, gp);

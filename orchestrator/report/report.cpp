@@ -484,6 +484,8 @@ ReportSection case_section(const StudyData& s, int sample, const Plotter& plotte
             return plot_settlement_curve(plotter, data, stem);
           else if constexpr (std::is_same_v<T, PlateHistoryPlot>)
             return plot_plate_history(plotter, data, stem);
+          else if constexpr (std::is_same_v<T, ImageFigure>)
+            return plot_image(data, stem);
           else {
             static_assert(std::is_same_v<T, LinePlot>, "a figure kind of experiments/case_report.hpp without a plot");
             return plot_lines(plotter, data, stem);

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <set>
 #include <string>
 
@@ -110,6 +111,34 @@ TEST(ExperimentsFake, DrawdownSlopeAndDischargeAreMeasured) {
     EXPECT_EQ(values.at("settled"), 1.0);
   }
   EXPECT_EQ(store.observables().size(), 4u);
+}
+
+TEST(ExperimentsFake, DrumAngleIsMeasuredFromTheSnapshotsSideView) {
+  // A coarse drum study (about 1,150 particles in the case files); the fake's snapshots hold a bed under a straight
+  // surface at 25 + 20 u0 degrees, high on the left (clockwise).
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", study("drum", 3, "[drum]\npreset = \"granudrum\"\ncoarse_grain = 3\n"));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  const test::CommandResult run = test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const study::Store store = study::Store::open_read_only((tmp / "study" / "study.db").string());
+  std::map<int, std::vector<double>> units;
+  for (const study::SampleRow& s : store.samples()) units[s.sample] = s.unit;
+  for (const auto& [sample, values] : store.observables()) {
+    SCOPED_TRACE(fmt::format("sample {}", sample));
+    const double angle = 25 + 20 * units.at(sample)[0];
+    EXPECT_NEAR(values.at("dynamic_angle"), angle, 0.5);
+    EXPECT_EQ(values.at("snapshots"), 3);
+    // The surface falls from left to right by tan(angle) per unit of x (stations at -0.45 R and 0.45 R, R = 42 mm).
+    EXPECT_NEAR(values.at("surface_1") - values.at("surface_7"), 0.9 * 0.042 * std::tan(angle * std::numbers::pi / 180),
+                1e-3);
+    EXPECT_GT(values.at("fill_fraction"), 0.3);
+    EXPECT_LT(values.at("fill_fraction"), 0.7);
+    const fs::path folder = tmp / "study" / "cases" / fmt::format("{:06d}", sample);
+    EXPECT_TRUE(fs::is_regular_file(folder / "occupancy.png"));
+    EXPECT_TRUE(fs::is_regular_file(folder / "occupancy_surface.png"));
+  }
+  EXPECT_EQ(store.observables().size(), 3u);
 }
 
 TEST(ExperimentsFake, OedometerErrorAgainstMeasuredSettlements) {

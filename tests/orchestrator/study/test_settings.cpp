@@ -81,7 +81,9 @@ std::string other_value(const Setting& s, const StudyConfig& c) {
     case SettingType::string_list:
       return current == "[]" ? "[\"--x\"]" : "[\"rsm1\"]";
     case SettingType::number_list:
-      // measured_settlements: one per load after the first; loads: one more, larger load.
+      // measured_settlements: one per load after the first; loads: one more, larger load; [drum] stations: fractions
+      // of the radius within judged_radius.
+      if (s.key == "stations") return "[-0.2, 0.2]";
       return current == "[]" ? "[1e-3, 2e-3, 3e-3]" : "[100, 400, 1100, 2700, 5000]";
     case SettingType::table:
       if (s.key == "replicates") return "{ points = 2, repeats = 3 }";
@@ -107,6 +109,12 @@ TEST(StudySettings, EveryRowIsReadIntoItsOwnField) {
     // mode = "fixed" needs a value: that row may change along.
     const bool fixed_mode = s.section == "timestep" && s.key == "mode";
     if (fixed_mode) study["timestep"]["value"] = "1e-6";
+    // [drum] diameters and fractions are given together, as many of each.
+    const bool size_classes = s.section == "drum" && (s.key == "diameters" || s.key == "fractions");
+    if (size_classes) {
+      study["drum"]["diameters"] = "[1e-3, 1.2e-3, 1.4e-3]";
+      study["drum"]["fractions"] = "[0.2, 0.3, 0.5]";
+    }
     const std::string text = study_text(study);
     StudyConfig c;
     try {
@@ -117,6 +125,8 @@ TEST(StudySettings, EveryRowIsReadIntoItsOwnField) {
     const std::map<std::string, std::string> after = shown(c);
     for (const auto& [name, shown_value] : after) {
       if (fixed_mode && name == "timestep.value") continue;
+      if (size_classes && name != s.section + "." + s.key && (name == "drum.diameters" || name == "drum.fractions"))
+        continue;
       if (name == s.section + "." + s.key)
         EXPECT_NE(shown_value, before.at(name)) << name << " = " << value << " was not read";
       else
@@ -180,6 +190,10 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
       {"drawdown",
        "preset, particles, r_min, r_max, r_mean, r_sd, slot_width, side_width, depth, fill_height, floor, fill_time, "
        "check_time, window, stop_share, min_time, time_cap, removal_depth, slices, bin_width, edge_skip, wall_skip"},
+      {"drum",
+       "preset, radius, depth, rpm, rotation, bulk_volume, particles, packing_fraction, diameters, fractions, r_min, "
+       "r_max, r_mean, r_sd, coarse_grain, wall_sides, settle_time, spin_up, window, snapshot_interval, image_size, "
+       "judged_radius, angle_half_width, stations, threshold"},
       {"timestep", "mode, fraction, value, skin"},
       {"contact", "rolling_model, rolling_damping, rolling_stiffness, viscous_unit"},
       {"run", "executor, ranks, parallel, oversubscribe, timeout, retries, lost_fraction, liggghts, mpirun, slurm"},
