@@ -22,7 +22,27 @@ namespace {
 struct MeasureArgs {
   std::string folder;
   bool json = false;
+  std::string photograph;  ///< --photograph: a laboratory file to compare the case with
+  std::string overlay;     ///< --overlay: where the two superimposed go
 };
+
+void run_compare_lab(const MeasureArgs& a) {
+  const experiments::LabComparison c = exec::compare_case_with_lab_file(a.folder, a.photograph, a.overlay);
+  if (a.json) {
+    nlohmann::ordered_json j;
+    j["case"] = a.folder;
+    j["photograph"] = a.photograph;
+    j["mismatch_m2"] = c.mismatch_m2;
+    j["region"] = c.region;
+    j["overlay"] = c.picture.string();
+    fmt::print("{}\n", j.dump(2));
+    return;
+  }
+  fmt::print("case {} against {}\n", a.folder, a.photograph);
+  fmt::print("  mismatch area  {:.1f} mm² {} (where the case and the photograph disagree about material)\n",
+             c.mismatch_m2 * 1e6, c.region);
+  fmt::print("  superimposed   {}\n", c.picture.string());
+}
 
 void run_measure_lab(const MeasureArgs& a, const experiments::Experiment& e) {
   const experiments::LabMeasurement m = e.measure_lab_file(a.folder);
@@ -57,6 +77,7 @@ void run_measure_lab(const MeasureArgs& a, const experiments::Experiment& e) {
 }
 
 void run_measure(const MeasureArgs& a) {
+  if (!a.photograph.empty()) return run_compare_lab(a);
   if (std::filesystem::is_regular_file(a.folder)) {
     const experiments::Experiment* e = experiments::for_lab_file(a.folder);
     if (!e)
@@ -101,6 +122,13 @@ void register_measure_command(CLI::App& app, CliState& state) {
       ->required()
       ->check(CLI::ExistingPath);
   sub->add_flag("--json", args->json, "Print them as JSON (observables and their units, by name)");
+  sub->add_option("--photograph", args->photograph,
+                  "A laboratory file of the same setup (a drum's photograph): print the area where it and the case "
+                  "disagree about material and write the two superimposed")
+      ->check(CLI::ExistingFile);
+  sub->add_option("--overlay", args->overlay,
+                  "With --photograph: the PNG of the two superimposed (default CASE/lab_overlay.png)")
+      ->needs("--photograph");
   sub->callback([args, &state] {
     run_measure(*args);
     state.exit_code = 0;

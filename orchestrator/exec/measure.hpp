@@ -2,6 +2,7 @@
 // The observables of a finished case folder, measured as its experiment measures them (Experiment::measure) from the
 // case's files and the case.json it was written with: `demsa run`, `calibrate --verify` and `demsa measure` all
 // measure a case through this one function, so a case run by hand is measured exactly as a study would measure it.
+#include "orchestrator/experiments/experiment.hpp"
 #include "orchestrator/study/parameters.hpp"
 
 #include <filesystem>
@@ -30,5 +31,12 @@ struct CaseMeasurement {
 
 /// measure_case(folder), with each value described.
 CaseMeasurement measure_case_described(const std::filesystem::path& folder);
+
+/// `demsa measure CASE --photograph FILE`: the finished case folder against a laboratory file of its experiment (a
+/// drum's photograph), the two superimposed in `picture` (default: CASE/lab_overlay.png). Throws util::UserError when
+/// the case's experiment has no laboratory file or the file is not of its kind.
+experiments::LabComparison compare_case_with_lab_file(const std::filesystem::path& folder,
+                                                      const std::filesystem::path& file,
+                                                      std::filesystem::path picture = {});
 
 }  // namespace demsa::exec

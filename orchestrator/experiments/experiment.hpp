@@ -123,6 +123,13 @@ struct LabMeasurement {
   std::vector<std::string> notes;  ///< how it was measured: the settings file used, the geometry
 };
 
+/// A finished case set beside a laboratory file of its experiment (`demsa measure CASE --photograph FILE`).
+struct LabComparison {
+  double mismatch_m2 = 0.0;       ///< the area where the two disagree about material [m²]
+  std::string region;             ///< where it is counted ("within 0.77 R")
+  std::filesystem::path picture;  ///< the two superimposed (written)
+};
+
 /// The descriptor of one experiment. Every hook is a plain function of the experiment's folder; none may be null
 /// unless its comment says so.
 struct Experiment {
@@ -208,6 +215,11 @@ struct Experiment {
   /// needs beside the file; may be null when it measures none. Throws util::UserError naming the file (and the line of
   /// a settings file) on input it cannot measure.
   LabMeasurement (*measure_lab_file)(const std::filesystem::path& file) = nullptr;
+  /// Compares a finished case with a laboratory file of the same setup and writes the two superimposed to `picture`
+  /// (null when the experiment has no laboratory file).
+  LabComparison (*compare_with_lab_file)(const std::filesystem::path& case_dir, const nlohmann::json& case_json,
+                                         const std::filesystem::path& file,
+                                         const std::filesystem::path& picture) = nullptr;
 };
 
 }  // namespace demsa::experiments

@@ -141,6 +141,46 @@ TEST(ExperimentsFake, DrumAngleIsMeasuredFromTheSnapshotsSideView) {
   EXPECT_EQ(store.observables().size(), 3u);
 }
 
+TEST(ExperimentsFake, ADrumCaseAgainstItsOwnSideViewMismatchesNowhereAndAgainstAPhotographWhereTheyDiffer) {
+  // `demsa measure CASE --photograph IMAGE`: the case's occupancy.png given back as a photograph (material light)
+  // coincides with the case; the GranuDrum's 15 rpm photograph (a surface near 40°) differs from the fake's bed.
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", study("drum", 2, "[drum]\npreset = \"granudrum\"\ncoarse_grain = 3\n"));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"})).exit_code, 0);
+  const fs::path folder = tmp / "study" / "cases" / "000000";
+  fs::copy_file(folder / "occupancy.png", tmp / "self.png");
+  test::write_file(tmp / "self.png.drum.toml",
+                   "preset = \"granudrum\"\nrotation = \"clockwise\"\ndark_material = false\n");
+  const test::CommandResult self =
+      test::run_demsa({"measure", folder.string(), "--photograph", (tmp / "self.png").string(), "--overlay",
+                       (tmp / "self_overlay.png").string(), "--json"});
+  ASSERT_EQ(self.exit_code, 0) << self.out << self.err;
+  const nlohmann::json same = nlohmann::json::parse(self.out);
+  EXPECT_LT(same["mismatch_m2"].get<double>(), 2e-6) << self.out;  // a few pixels of 0.2 mm at most
+  EXPECT_TRUE(fs::is_regular_file(tmp / "self_overlay.png"));
+  const fs::path photo = fs::path(DEMSA_SOURCE_DIR) / "examples" / "drum-mcc" / "granudrum_mcc_15rpm.bmp";
+  const test::CommandResult lab = test::run_demsa({"measure", folder.string(), "--photograph", photo.string()});
+  ASSERT_EQ(lab.exit_code, 0) << lab.out << lab.err;
+  EXPECT_NE(lab.out.find("mismatch area"), std::string::npos) << lab.out;
+  EXPECT_NE(lab.out.find("within 0.77 R"), std::string::npos) << lab.out;
+  EXPECT_TRUE(fs::is_regular_file(folder / "lab_overlay.png"));
+  const test::CommandResult lab_json =
+      test::run_demsa({"measure", folder.string(), "--photograph", photo.string(), "--json"});
+  ASSERT_EQ(lab_json.exit_code, 0) << lab_json.err;
+  EXPECT_GT(nlohmann::json::parse(lab_json.out)["mismatch_m2"].get<double>(), 20e-6) << lab_json.out;
+  // Not a drum case: refused, naming the file.
+  test::write_file(tmp / "pile.toml", study("pile", 2, "[pile]\nparticles = 300\n"));
+  ASSERT_EQ(
+      test::run_demsa({"run", (tmp / "pile.toml").string(), "--dir", (tmp / "p").string(), "--quiet", "--no-analyze"})
+          .exit_code,
+      0);
+  const test::CommandResult pile =
+      test::run_demsa({"measure", (tmp / "p" / "cases" / "000000").string(), "--photograph", photo.string()});
+  EXPECT_EQ(pile.exit_code, 2) << pile.out;
+  EXPECT_NE(pile.err.find("not a laboratory file of a pile case"), std::string::npos) << pile.err;
+}
+
 TEST(ExperimentsFake, OedometerErrorAgainstMeasuredSettlements) {
   // The measured settlements reach the measurement through case.json's list (oedometer.measured_settlements_m.K).
   test::TempDir tmp;

@@ -265,9 +265,17 @@ TEST(RollingModelsReal, TinyViscousTrialStepOedometerDrivesThePatchedLibrary) {
   // The trial-step plate runs inside demsa, which loads libliggghts.so.3 at run time: run.sh puts the patched build's
   // lib/ on LD_LIBRARY_PATH, and Debian's library would stop at `rolling_friction viscous`.
   write_and_run("tiny_oedometer_trial_viscous.toml", tmp / "trial");
-  EXPECT_NE(
-      test::read_file(tmp / "trial" / "run.sh").find((fs::path(exe).parent_path().parent_path() / "lib").string()),
-      std::string::npos);
+  // The folder exported is a build of scripts/build-liggghts.sh (its marker file beside lib/): the one the locator
+  // chose, which need not be `exe` when the cache holds builds of several recipes.
+  const std::string run_sh = test::read_file(tmp / "trial" / "run.sh");
+  const std::string key = "export LD_LIBRARY_PATH='";
+  const std::size_t at = run_sh.find(key);
+  ASSERT_NE(at, std::string::npos) << run_sh;
+  const std::size_t end = run_sh.find('\'', at + key.size());
+  ASSERT_NE(end, std::string::npos) << run_sh;
+  const fs::path lib = run_sh.substr(at + key.size(), end - at - key.size());
+  EXPECT_TRUE(fs::exists(lib / "libliggghts.so.3")) << lib;
+  EXPECT_TRUE(fs::exists(lib.parent_path() / "demsa-liggghts.txt")) << lib;
   EXPECT_NE(test::read_file(tmp / "trial" / "log.liggghts").find("rolling_friction viscous"), std::string::npos);
   const std::string states = test::read_file(tmp / "trial" / "plate_states.txt");
   EXPECT_NE(states.find("\n100 "), std::string::npos) << states;

@@ -390,7 +390,10 @@ PhotographSettings read_photograph_settings(const fs::path& file) {
   return s;
 }
 
-PhotographMeasurement measure_photograph(const fs::path& image, const PhotographSettings& s) {
+namespace {
+
+/// The photograph in the drum frame (its geometry from `s`).
+pp::DrumImage photograph_image(const fs::path& image, const PhotographSettings& s, pp::DrumGeometry& geometry) {
   const pp::GreyImage photo = pp::read_grey_image(image);
   PhotographMeasurement m;
   if (s.spans_diameter) {
@@ -407,7 +410,15 @@ PhotographMeasurement measure_photograph(const fs::path& image, const Photograph
     m.geometry.radius_m = s.radius_m;
     m.geometry.rotation = s.rotation;
   }
-  const pp::DrumImage drum = pp::drum_image_from_photograph(photo, m.geometry, s.dark_material);
+  geometry = m.geometry;
+  return pp::drum_image_from_photograph(photo, m.geometry, s.dark_material);
+}
+
+}  // namespace
+
+PhotographMeasurement measure_photograph(const fs::path& image, const PhotographSettings& s) {
+  PhotographMeasurement m;
+  const pp::DrumImage drum = photograph_image(image, s, m.geometry);
   m.surface = pp::measure_drum_surface(drum, s.surface);
   m.values = observable_values(m.surface);
   return m;
@@ -415,7 +426,7 @@ PhotographMeasurement measure_photograph(const fs::path& image, const Photograph
 
 namespace {
 
-LabMeasurement measure_lab_file(const fs::path& image) {
+PhotographSettings photograph_settings(const fs::path& image) {
   const std::optional<fs::path> file = photograph_geometry_file(image);
   if (!file)
     throw util::UserError(fmt::format(
@@ -423,7 +434,12 @@ LabMeasurement measure_lab_file(const fs::path& image) {
         "`preset = \"granudrum\"` (a square picture spanning a 42 mm radius) and `rotation = \"clockwise\"` "
         "(docs/experiments.md)",
         image.string(), image.string() + ".drum.toml"));
-  const PhotographSettings s = read_photograph_settings(*file);
+  return read_photograph_settings(*file);
+}
+
+LabMeasurement measure_lab_file(const fs::path& image) {
+  const fs::path file = *photograph_geometry_file(image);
+  const PhotographSettings s = photograph_settings(image);
   const PhotographMeasurement m = measure_photograph(image, s);
   LabMeasurement lab;
   const auto add = [&](std::string name, std::optional<double> uncertainty) {
@@ -436,7 +452,7 @@ LabMeasurement measure_lab_file(const fs::path& image) {
       add(fmt::format("{}{}", k_surface_prefix, i + 1), m.surface.stations[i].band / 2);
   add(std::string(k_s_shape), std::nullopt);
   add(std::string(k_fill_fraction), std::nullopt);
-  lab.notes.push_back(fmt::format("geometry from {}", file->string()));
+  lab.notes.push_back(fmt::format("geometry from {}", file.string()));
   lab.notes.push_back(fmt::format(
       "drum centre at column {:.1f}, row {:.1f}; radius {:.1f} px = {:g} m ({:.4f} mm per pixel); {}; judged within "
       "{:g} R",
@@ -447,6 +463,27 @@ LabMeasurement measure_lab_file(const fs::path& image) {
     stations += fmt::format("{}surface_{} at x = {:+.2f} mm", i ? ", " : "", i + 1, m.surface.stations[i].x * 1e3);
   lab.notes.push_back(stations);
   return lab;
+}
+
+/// The case's side view against a photograph of the drum (Windows-Yule & Neveu 2022 compare drum images by the area
+/// where they differ): the mismatch area within the case's judged radius, in the drum frame (the photograph's geometry
+/// from its drum.toml), and the two superimposed.
+LabComparison compare_with_lab_file(const fs::path& folder, const nlohmann::json& case_json, const fs::path& image,
+                                    const fs::path& picture) {
+  const CaseRecord r = case_record(case_json, folder / k_case_json);
+  const pp::DrumImage simulated = side_view(folder, r).image();
+  const PhotographSettings s = photograph_settings(image);
+  if (std::abs(s.radius_m - r.radius) > 1e-6 * r.radius)
+    throw util::UserError(fmt::format("{}: a drum of radius {:g} m, the case {} one of {:g} m: not the same drum",
+                                      image.string(), s.radius_m, folder.string(), r.radius));
+  pp::DrumGeometry geometry;
+  const pp::DrumImage photo = photograph_image(image, s, geometry);
+  LabComparison c;
+  c.mismatch_m2 = pp::drum_mismatch_area(photo, simulated, r.surface.judged_radius, r.surface.threshold);
+  c.region = fmt::format("within {:g} R", r.surface.judged_radius);
+  pp::write_rgb_png(picture, pp::drum_overlay(photo, simulated, r.surface.judged_radius, r.surface.threshold));
+  c.picture = picture;
+  return c;
 }
 
 }  // namespace
@@ -483,6 +520,7 @@ const Experiment& experiment() {
       .case_cost = case_cost,
       .lab_file_extensions = {".bmp", ".png"},
       .measure_lab_file = measure_lab_file,
+      .compare_with_lab_file = compare_with_lab_file,
   };
   return descriptor;
 }

@@ -4,6 +4,7 @@
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
+#include "orchestrator/study/design_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "support/test_support.hpp"
 
@@ -30,7 +31,7 @@ TEST(TiedParameters, TheDesignHasOneColumnPerPairAndTheCaseBothValues) {
   const std::vector<SampleRow> design = exec::draw_design(c);
   ASSERT_EQ(design.size(), 6U);
   for (const SampleRow& row : design) EXPECT_EQ(row.unit.size(), 2U);
-  const std::string csv = exec::design_csv(c, design);
+  const std::string csv = study::design_csv(c, design);
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "sample,u_mu_pp,u_mu_r_pp,mu_pp,mu_r_pp");
 
   test::TempDir tmp;
