@@ -319,6 +319,14 @@ CsvTable read_csv(const std::filesystem::path& file, const CsvReadOptions& optio
   const std::string name = file.string();
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) throw UserError(name, 0, "is a folder, not a CSV file");
+  // A FIFO or a socket would block the open or the read for ever (stat(2) only: nothing is opened); a device such as
+  // /dev/zero ends at the reader's limits.
+  const std::filesystem::file_type type = std::filesystem::status(file, ec).type();
+  if (!ec && (type == std::filesystem::file_type::fifo || type == std::filesystem::file_type::socket))
+    throw UserError(name, 0,
+                    std::string(type == std::filesystem::file_type::fifo ? "a FIFO" : "a socket") +
+                        ", not a regular file: demsa reads regular files only (a read from a FIFO or a device can "
+                        "wait for ever)");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw UserError(name, 0, fmt::format("cannot open the file: {}", std::strerror(errno)));
   return read_csv(in, name, options);

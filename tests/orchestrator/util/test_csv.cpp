@@ -10,6 +10,7 @@
 #include <fmt/core.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <array>
 #include <bit>
@@ -165,6 +166,14 @@ TEST(Csv, DevZeroEndsQuicklyWithTheFileAndLine) {
   // Before: the whole of /dev/zero was read into memory until std::bad_alloc.
   EXPECT_EQ(test::message_of<UserError>([] { read_csv("/dev/zero"); }),
             "/dev/zero:1: line longer than 1048576 bytes: not a CSV table (binary data?)");
+  // A FIFO would block the open for ever: refused before it is opened, naming it.
+  test::TempDir tmp;
+  const std::filesystem::path fifo = tmp / "responses.csv";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(test::message_of<UserError>([&] { read_csv(fifo); }),
+            fifo.string() +
+                ": a FIFO, not a regular file: demsa reads regular files only (a read from a FIFO or a "
+                "device can wait for ever)");
 }
 
 TEST(Csv, TextAndStreamAgree) {
