@@ -22,6 +22,7 @@ struct ReportArgs {
   std::string out;
   int sample = -1;
   bool no_html = false;
+  std::string photograph;
   int width = 960;
   int height = 640;
   int font_size = 13;
@@ -34,6 +35,7 @@ int do_report(const ReportArgs& args) {
   options.out = args.out;
   options.sample = args.sample;
   options.html = !args.no_html;
+  options.lab_file = args.photograph;
   options.plot.width = args.width;
   options.plot.height = args.height;
   options.plot.font_size = args.font_size;
@@ -70,6 +72,10 @@ void register_report_command(CLI::App& app, CliState& state) {
   sub->add_option("--sample", args->sample,
                   "Sample shown in the pile / oedometer figures (default: the one closest to the target)");
   sub->add_flag("--no-html", args->no_html, "Write report.md only");
+  sub->add_option("--photograph", args->photograph,
+                  "A laboratory file of the study's setup (a drum's photograph): the case shown superimposed on it, "
+                  "with their mismatch area")
+      ->check(CLI::ExistingFile);
   sub->add_option("--width", args->width, "Image width [px]");
   sub->add_option("--height", args->height, "Image height [px]");
   sub->add_option("--font-size", args->font_size, "Font size [pt]");

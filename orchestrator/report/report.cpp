@@ -1,5 +1,7 @@
 #include "orchestrator/report/report.hpp"
 
+#include "orchestrator/experiments/case_record.hpp"
+
 #include "orchestrator/report/posterior_plots.hpp"
 
 #include "orchestrator/analysis/analysis_json.hpp"
@@ -9,6 +11,7 @@
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/analysis/training_data.hpp"
+#include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/folder.hpp"
@@ -465,7 +468,7 @@ int choose_sample(const StudyData& s, int requested) {
 
 /// The experiment's section on one case, its figures drawn (experiments::CaseReport).
 ReportSection case_section(const StudyData& s, int sample, const Plotter& plotter, const fs::path& out,
-                           const fs::path& dir, ReportSummary& summary) {
+                           const fs::path& dir, const fs::path& lab_file, ReportSummary& summary) {
   const fs::path folder = case_dir(dir, sample);
   const experiments::CaseReport r =
       experiments::of(s.config).case_report(folder, fs::relative(folder, dir).generic_string(), sample, s.config);
@@ -496,6 +499,23 @@ ReportSection case_section(const StudyData& s, int sample, const Plotter& plotte
     summary.images.push_back(files.png);
   }
   for (const std::string& note : r.notes) summary.notes.push_back(note);
+  if (!lab_file.empty()) {
+    // The case against the laboratory's own picture of the setup: where the two disagree, and by how much.
+    const experiments::Experiment& experiment = experiments::of(s.config);
+    const fs::path overlay = out / "lab_overlay.png";
+    const experiments::LabComparison c =
+        experiment.compare_with_lab_file(folder, experiments::read_case_json(folder), lab_file, overlay);
+    section.paragraphs.push_back(fmt::format(
+        "Against the photograph `{}`: the case and the photograph disagree about material over {:.1f} mm² {} (below: "
+        "the photograph in grey, the case's bed in blue over it, light where the photograph has no material).",
+        lab_file.filename().string(), c.mismatch_m2 * 1e6, c.region));
+    PlotFiles files;
+    files.png = overlay;
+    section.figures.push_back({fmt::format("Sample {} superimposed on the photograph {}: mismatch area {:.1f} mm² {}",
+                                           sample, lab_file.filename().string(), c.mismatch_m2 * 1e6, c.region),
+                               files});
+    summary.images.push_back(overlay);
+  }
   return section;
 }
 
@@ -834,6 +854,12 @@ ReportSummary write_study_report(const ReportOptions& options) {
     throw UserError(fmt::format("{}; run `demsa analyze {}` again", e.what(), dir.string()));
   }
 
+  if (!options.lab_file.empty()) {
+    const experiments::Experiment& experiment = experiments::of(s.config);
+    if (!experiment.compare_with_lab_file || experiments::for_lab_file(options.lab_file) != &experiment)
+      throw UserError(fmt::format("--photograph {}: not a laboratory file of a {} study", options.lab_file.string(),
+                                  experiment.name));
+  }
   ReportSummary summary;
   summary.sample_shown = choose_sample(s, options.sample);
   summary.out_dir = options.out.empty() ? dir / "report" : options.out;
@@ -859,7 +885,8 @@ ReportSummary write_study_report(const ReportOptions& options) {
 
   if (summary.sample_shown >= 0) {
     try {
-      doc.sections.push_back(case_section(s, summary.sample_shown, plotter, summary.out_dir, dir, summary));
+      doc.sections.push_back(
+          case_section(s, summary.sample_shown, plotter, summary.out_dir, dir, options.lab_file, summary));
     } catch (const std::exception& e) {
       summary.notes.push_back(fmt::format("sample {}: no case figures: {}", summary.sample_shown, e.what()));
     }

@@ -77,6 +77,9 @@ struct ReportOptions {
   /// (pile: the target angle; oedometer: smallest E_0, else the median settlement). >= -1.
   int sample = -1;
   bool html = true;  ///< also write report.html
+  /// A laboratory file of the study's setup (a drum's photograph; empty: none): the case section shows the case
+  /// superimposed on it and their mismatch area (Experiment::compare_with_lab_file).
+  std::filesystem::path lab_file;
   /// Throws util::UserError naming the field, value and rule.
   void validate() const;
 };

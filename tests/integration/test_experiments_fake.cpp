@@ -145,9 +145,9 @@ TEST(ExperimentsFake, ADrumCaseAgainstItsOwnSideViewMismatchesNowhereAndAgainstA
   // `demsa measure CASE --photograph IMAGE`: the case's occupancy.png given back as a photograph (material light)
   // coincides with the case; the GranuDrum's 15 rpm photograph (a surface near 40°) differs from the fake's bed.
   test::TempDir tmp;
-  test::write_file(tmp / "study.toml", study("drum", 2, "[drum]\npreset = \"granudrum\"\ncoarse_grain = 3\n"));
+  test::write_file(tmp / "study.toml", study("drum", 4, "[drum]\npreset = \"granudrum\"\ncoarse_grain = 3\n"));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"})).exit_code, 0);
+  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--quiet"})).exit_code, 0);
   const fs::path folder = tmp / "study" / "cases" / "000000";
   fs::copy_file(folder / "occupancy.png", tmp / "self.png");
   test::write_file(tmp / "self.png.drum.toml",
@@ -169,16 +169,26 @@ TEST(ExperimentsFake, ADrumCaseAgainstItsOwnSideViewMismatchesNowhereAndAgainstA
       test::run_demsa({"measure", folder.string(), "--photograph", photo.string(), "--json"});
   ASSERT_EQ(lab_json.exit_code, 0) << lab_json.err;
   EXPECT_GT(nlohmann::json::parse(lab_json.out)["mismatch_m2"].get<double>(), 20e-6) << lab_json.out;
+  // The report shows the case it shows superimposed on the photograph, with their mismatch area.
+  const test::CommandResult report = test::run_demsa(
+      {"report", (tmp / "study").string(), "--photograph", photo.string(), "--no-html", "-o", (tmp / "r").string()});
+  ASSERT_EQ(report.exit_code, 0) << report.out << report.err;
+  const std::string md = test::read_file(tmp / "r" / "report.md");
+  EXPECT_NE(md.find("Against the photograph `granudrum_mcc_15rpm.bmp`"), std::string::npos) << md;
+  EXPECT_NE(md.find("](lab_overlay.png)"), std::string::npos) << md;
+  EXPECT_TRUE(fs::is_regular_file(tmp / "r" / "lab_overlay.png"));
   // Not a drum case: refused, naming the file.
-  test::write_file(tmp / "pile.toml", study("pile", 2, "[pile]\nparticles = 300\n"));
-  ASSERT_EQ(
-      test::run_demsa({"run", (tmp / "pile.toml").string(), "--dir", (tmp / "p").string(), "--quiet", "--no-analyze"})
-          .exit_code,
-      0);
+  test::write_file(tmp / "pile.toml", study("pile", 4, "[pile]\nparticles = 300\n"));
+  ASSERT_EQ(test::run_demsa({"run", (tmp / "pile.toml").string(), "--dir", (tmp / "p").string(), "--quiet"}).exit_code,
+            0);
   const test::CommandResult pile =
       test::run_demsa({"measure", (tmp / "p" / "cases" / "000000").string(), "--photograph", photo.string()});
   EXPECT_EQ(pile.exit_code, 2) << pile.out;
   EXPECT_NE(pile.err.find("not a laboratory file of a pile case"), std::string::npos) << pile.err;
+  const test::CommandResult pile_report =
+      test::run_demsa({"report", (tmp / "p").string(), "--photograph", photo.string(), "--no-html"});
+  EXPECT_EQ(pile_report.exit_code, 2) << pile_report.out;
+  EXPECT_NE(pile_report.err.find("not a laboratory file of a pile study"), std::string::npos) << pile_report.err;
 }
 
 TEST(ExperimentsFake, OedometerErrorAgainstMeasuredSettlements) {
