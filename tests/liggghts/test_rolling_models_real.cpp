@@ -20,20 +20,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// bin/liggghts of this checkout's build by scripts/build-liggghts.sh; "" (with the reason in `why`) when absent.
+/// $DEMSA_LIGGGHTS when it has the viscous rolling model, else this checkout's build by scripts/build-liggghts.sh; ""
+/// (with the reason in `why`) when neither is there.
 std::string patched_liggghts(std::string& why) {
   if (const char* env = std::getenv("DEMSA_LIGGGHTS"); env != nullptr && *env != '\0') {
     const test::CommandResult h = test::run_command({env, "-h"});
     if (h.out.find("viscous") != std::string::npos) return env;
   }
-  const fs::path script = fs::path(DEMSA_SOURCE_DIR) / "scripts" / "build-liggghts.sh";
-  const test::CommandResult p = test::run_command({"bash", script.string(), "--print-prefix"});
-  std::string prefix = p.out;
-  while (!prefix.empty() && (prefix.back() == '\n' || prefix.back() == ' ')) prefix.pop_back();
-  const fs::path exe = fs::path(prefix) / "bin" / "liggghts";
-  if (p.exit_code == 0 && fs::exists(fs::path(prefix) / "demsa-liggghts.txt") && fs::exists(exe)) return exe.string();
-  why = "no LIGGGHTS with the viscous rolling model: run scripts/build-liggghts.sh (" + p.err + ")";
-  return "";
+  return test::project_liggghts(why);
 }
 
 #define REQUIRE_PATCHED(exe)                     \

@@ -16,18 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// bin/liggghts of this checkout's build by scripts/build-liggghts.sh; "" (with the reason in `why`) when absent.
-std::string project_liggghts(std::string& why) {
-  const fs::path script = fs::path(DEMSA_SOURCE_DIR) / "scripts" / "build-liggghts.sh";
-  const test::CommandResult p = test::run_command({"bash", script.string(), "--print-prefix"});
-  std::string prefix = p.out;
-  while (!prefix.empty() && (prefix.back() == '\n' || prefix.back() == ' ')) prefix.pop_back();
-  const fs::path exe = fs::path(prefix) / "bin" / "liggghts";
-  if (p.exit_code == 0 && fs::exists(fs::path(prefix) / "demsa-liggghts.txt") && fs::exists(exe)) return exe.string();
-  why = "no LIGGGHTS of scripts/build-liggghts.sh for this checkout: run the script (" + p.err + ")";
-  return "";
-}
-
 /// Debian's LIGGGHTS: `liggghts` on PATH (scripts/install-deps.sh); "" when there is none.
 std::string stock_liggghts() {
   const test::CommandResult w = test::run_command({"bash", "-c", "command -v liggghts"});
@@ -84,7 +72,7 @@ class SameTrajectory : public ::testing::TestWithParam<TinyCase> {};
 
 TEST_P(SameTrajectory, ProjectBuildEndsInDebiansStateToTheLastDigit) {
   std::string why;
-  const std::string project = project_liggghts(why);
+  const std::string project = test::project_liggghts(why);
   ASSERT_FALSE(project.empty()) << why;
   const std::string stock = stock_liggghts();
   ASSERT_FALSE(stock.empty()) << "no liggghts on PATH (Debian's LIGGGHTS: scripts/install-deps.sh)";

@@ -88,6 +88,17 @@ CommandResult run_command(const std::vector<std::string>& argv, const fs::path& 
   return result;
 }
 
+std::string project_liggghts(std::string& why) {
+  const fs::path script = fs::path(DEMSA_SOURCE_DIR) / "scripts" / "build-liggghts.sh";
+  const CommandResult p = run_command({"bash", script.string(), "--print-prefix"});
+  std::string prefix = p.out;
+  while (!prefix.empty() && (prefix.back() == '\n' || prefix.back() == ' ')) prefix.pop_back();
+  const fs::path exe = fs::path(prefix) / "bin" / "liggghts";
+  if (p.exit_code == 0 && fs::exists(fs::path(prefix) / "demsa-liggghts.txt") && fs::exists(exe)) return exe.string();
+  why = "no LIGGGHTS of scripts/build-liggghts.sh for this checkout: run the script (" + p.err + ")";
+  return "";
+}
+
 CommandResult run_demsa(const std::vector<std::string>& args, const fs::path& cwd) {
   std::vector<std::string> argv{DEMSA_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());

@@ -34,6 +34,10 @@ CommandResult run_demsa(const std::vector<std::string>& args, const std::filesys
 /// Runs any program (argv[0] looked up on PATH) and captures its output.
 CommandResult run_command(const std::vector<std::string>& argv, const std::filesystem::path& cwd = {});
 
+/// bin/liggghts of this checkout's build by scripts/build-liggghts.sh (its --print-prefix, with the marker file
+/// demsa-liggghts.txt); "" with the reason in `why` when it is absent.
+std::string project_liggghts(std::string& why);
+
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& text);
 
