@@ -1,6 +1,7 @@
 #include "orchestrator/experiments/drum/drum.hpp"
 
 #include "orchestrator/experiments/case_record.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 
@@ -306,9 +307,7 @@ CaseWritten DrumDraft::write(const Material& m, const TimestepChoice& ts, Params
                     {"angle_half_width", s.angle_half_width},
                     {"stations", s.stations},
                     {"threshold", s.threshold}}}};
-  std::vector<std::string> analysed;
-  for (const Observable& o : experiment().observables(m_config)) analysed.push_back(o.name);
-  w.experiment["analysed"] = analysed;
+  w.experiment["analysed"] = observable_names(m_config);
   return w;
 }
 

@@ -18,7 +18,7 @@ namespace pp = demsa::postprocess;
 namespace {
 
 void apply_preset(DrumSettings& s, const std::string& preset) {
-  // GranuTools' GranuDrum: inner radius 42 mm, 20 mm between its end plates (/work/shared/data/granudrum-mcc).
+  // GranuTools' GranuDrum: inner radius 42 mm, 20 mm between its end plates (examples/drum-mcc/README.md).
   s.radius = 0.042;
   s.depth = 0.020;
   s.preset = preset;

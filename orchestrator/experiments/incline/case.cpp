@@ -1,6 +1,7 @@
 #include "orchestrator/experiments/incline/incline.hpp"
 
 #include "orchestrator/experiments/case_record.hpp"
+#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 
@@ -77,9 +78,7 @@ CaseWritten InclineDraft::write(const Material& m, const TimestepChoice& ts, Par
                   {"record_steps", record_steps},       {"onset_distance_m", s.onset_distance},
                   {"speed_angle_deg", s.speed_angle},   {"stop_distance_m", s.stop_distance},
                   {"gravity_m_s2", m.gravity}};
-  std::vector<std::string> analysed;
-  for (const Observable& o : experiment().observables(m_config)) analysed.push_back(o.name);
-  w.experiment["analysed"] = analysed;
+  w.experiment["analysed"] = observable_names(m_config);
   return w;
 }
 
