@@ -1,8 +1,8 @@
 // Accuracy of the two angle-of-repose estimators (postprocess/pile_angle.hpp, AngleEstimator) on synthetic cones of
 // known flank angle (tests/postprocess/synthetic_cone.hpp), smooth and with several kinds of surface roughness, with
-// the radii of particle set 1 and set 2 (paper Table 2) (docs/benchmarks.md, "Angle estimators on synthetic cones").
-// For each roughness model and angle: the mean error (bias), the standard deviation over the seeds (spread) and the
-// largest |error| of each estimator, default options otherwise (180 directions, 10 levels between 0.2 h_P and
+// the radii of particle set 1 and set 2 (paper Table 2) (docs/explanation/benchmarks.md, "Angle estimators on synthetic
+// cones"). For each roughness model and angle: the mean error (bias), the standard deviation over the seeds (spread)
+// and the largest |error| of each estimator, default options otherwise (180 directions, 10 levels between 0.2 h_P and
 // 0.75 h_P for paper (centre points), 0.25 and 0.8 h_P for robust); then per model the mean bias over its angles and
 // the largest |bias| of one angle, also for the robust estimator's lines averaged over the directions (as the paper's
 // are) instead of their median; last, a held-out kind of roughness (Gaussian normal jitter) at angles from 22 to 45

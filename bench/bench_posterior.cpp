@@ -1,4 +1,4 @@
-// Bayesian calibration on metamodels (docs/benchmarks.md, section "Posterior sampling on metamodels"):
+// Bayesian calibration on metamodels (docs/explanation/benchmarks.md, section "Posterior sampling on metamodels"):
 //   build-*/bench/bench_posterior --benchmark_counters_tabular=true
 // 7 parameters, 4 targets each on its own metamodel kind (GP, cubic RBF, quadratic and cubic RSM) fitted to a
 // 160-point LHS, 20,000 posterior draws (32 walkers × 625 steps) with the diagnostics.

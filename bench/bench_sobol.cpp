@@ -1,4 +1,5 @@
-// Designs, metamodels and Sobol' analysis (docs/benchmarks.md, section "Designs, metamodels and Sobol' analysis").
+// Designs, metamodels and Sobol' analysis (docs/explanation/benchmarks.md, section "Designs, metamodels and Sobol'
+// analysis").
 //   build-*/bench/bench_sobol --benchmark_counters_tabular=true
 // Counters: min_distance / centred_l2 of the optimised designs, Q2 of the fits.
 #include "sobol/design.hpp"

@@ -1,5 +1,5 @@
 #!/bin/sh
-# `demsa design saltelli` at N = 2^17, d = 7 (CSV included), two binaries side by side (docs/benchmarks.md, section
+# `demsa design saltelli` at N = 2^17, d = 7 (CSV included), two binaries side by side (docs/explanation/benchmarks.md, section
 # "Reproducible designs"). Usage: bench/design-saltelli.sh NEW_DEMSA [OLD_DEMSA] [RUNS] [BASE]
 # Prints, per binary, the median wall and CPU (user + sys) seconds over RUNS alternating runs and the load average.
 set -eu

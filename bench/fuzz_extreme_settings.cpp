@@ -3,7 +3,7 @@
 // ±1e300, denormals, the largest doubles and integers, the row's own bounds and just beyond them) one at a time, then
 // random combinations of two or three until the time budget is spent; each study through `demsa run --dry-run` and
 // `demsa case`. Every run must end with exit 0 or 2 within the time bound: not an abort (134), an out-of-memory
-// (3) or a hang. Not part of CI: docs/benchmarks.md has the command and the counts.
+// (3) or a hang. Not part of CI: docs/explanation/benchmarks.md has the command and the counts.
 //
 // Usage: fuzz_extreme_settings DEMSA_BINARY WORK_DIR [SECONDS (default 600)] [SEED (default 1)] [BOUND_S (30)]
 #include "orchestrator/experiments/experiment.hpp"
@@ -68,7 +68,7 @@ std::vector<std::string> extremes(const study::Setting& s) {
             bound && bound->value < 9e18 && bound->value > -9e18)
           for (long d : {-1L, 0L, 1L}) {
             // A particle count at its bound (1e7) is a valid case that takes half a minute and 3.3 GB to write:
-            // measured once (docs/benchmarks.md), not on every input of the sweep.
+            // measured once (docs/explanation/benchmarks.md), not on every input of the sweep.
             if (s.key == "particles" && high && d <= 0) continue;
             values.push_back(std::to_string(static_cast<long>(bound->value) + d));
           }

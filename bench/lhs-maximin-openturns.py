@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""OpenTURNS side of the 160 x 7 maximin LHS benchmark (docs/benchmarks.md, section "Reproducible designs").
+"""OpenTURNS side of the 160 x 7 maximin LHS benchmark (docs/explanation/benchmarks.md, section "Reproducible designs").
 
 Usage: /usr/bin/python3 bench/lhs-maximin-openturns.py [ITERATIONS] [COOLING] [FIRST_SEED] [LAST_SEED]
 

@@ -1,6 +1,6 @@
 // 160 x 7 maximin LHS over seeds: minimum distance on the unit cube and CPU time per seed, with the default
-// iteration budget (docs/benchmarks.md, section "Reproducible designs"). A plain executable: the numbers are the
-// designs' quality, the times a side note (CPU time of this process, so a loaded machine inflates them little).
+// iteration budget (docs/explanation/benchmarks.md, section "Reproducible designs"). A plain executable: the numbers
+// are the designs' quality, the times a side note (CPU time of this process, so a loaded machine inflates them little).
 //   build-*/bench/lhs_maximin_seeds [FIRST_SEED] [LAST_SEED] [ITERATIONS]
 // The OpenTURNS side: bench/lhs-maximin-openturns.py.
 #include "sobol/design.hpp"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# LIGGGHTS builds and settings side by side on the same cases (docs/benchmarks.md, "LIGGGHTS builds"): each case is
+# LIGGGHTS builds and settings side by side on the same cases (docs/explanation/benchmarks.md, "LIGGGHTS builds"): each case is
 # written once by `demsa case` (one packing, one parameter point per sample) and run by every build from a copy of its
 # folder, so the runs are paired. Prints, per build, the atom-steps per CPU-second (median over the cases), its ratio
 # to the first build (median of the per-case ratios), and the paired differences of the measured angle (the study's

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Where a case's time goes (docs/benchmarks.md, "Where the time goes"): writes one case of a study with `demsa case`,
+# Where a case's time goes (docs/explanation/benchmarks.md, "Where the time goes"): writes one case of a study with `demsa case`,
 # runs it on one rank under `perf record -F 499 -g` with `modify_timing verbose` (LIGGGHTS's undocumented per-fix
 # timer: input.cpp, reported in finish.cpp after every run), and prints
 #   - the loop's sections (Pair, Neigh, Comm, Output, Modify, Other) and each fix, summed over every `run` of the

@@ -1,7 +1,7 @@
 // The noise half of issue #18's bench: a noisy 7-D synthetic simulator with known noise variance, its noise variance
 // recovered from replicates (sobol/noise.hpp) at P points x R repeats, over seeds; and what the measured nugget
 // does to the GP (sobol/gp.hpp, GpOptions::noise_share) against an estimated one, judged against the noise-free
-// function. Not a timing: prints a Markdown table for docs/benchmarks.md.
+// function. Not a timing: prints a Markdown table for docs/explanation/benchmarks.md.
 //
 // Simulator: y = G(x) + ε, G Sobol's g-function (Saltelli & Sobol' 1995; Saltelli et al., "Global Sensitivity
 // Analysis. The Primer", 2008, §3.6) on [0,1]^7 with a = (0, 1, 4.5, 9, 99, 99, 99), Var G = Π(1 + V_i) − 1,

@@ -1,7 +1,7 @@
 #!/bin/bash
 # One small oedometer sample in both plate modes (servo and the paper's trial-step loop): integration steps of the
 # loading phase, wall time of the whole case, and the settlements s_i = z_0 - z_i of each mode and their difference.
-# Prints a Markdown table (docs/benchmarks.md, "Oedometer plate modes").
+# Prints a Markdown table (docs/explanation/benchmarks.md, "Oedometer plate modes").
 #
 # usage: bench/oedometer-modes.sh [DEMSA] [PARTICLES] [LOADS] [FILL_TIME]
 #   DEMSA      demsa executable (default: demsa on PATH)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The pedestal mesh against the angle (docs/benchmarks.md, "The pedestal mesh"): the 18 cases of
+# The pedestal mesh against the angle (docs/explanation/benchmarks.md, "The pedestal mesh"): the 18 cases of
 # bench/pedestal-angles.toml (the quickstart's piles at 6 design points × 3 packings), each run with the old pedestal
 # (5 mm triangles everywhere, demsa's until 2026-12-04) by OLD_LIGGGHTS and with the lean one (the top's rings 12.5 mm
 # apart inside the same 5 mm rim and side band, demsa's since) by NEW_LIGGGHTS, both meshes from bench/pedestal_stl.py,

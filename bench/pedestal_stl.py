@@ -3,7 +3,7 @@
 that run one case with another pedestal: a closed-top cylinder on z = 0, the top triangulated ring by ring (rings
 TOP_ELEMENT apart, points TOP_ELEMENT apart along them), the rim and the side band with edges of RIM_ELEMENT.
 With RIM_ELEMENT = 0.005, TOP_ELEMENT = 0.0125 it is byte-identical to the pedestal.stl demsa writes; with 0.005 /
-0.005 to the one it wrote until 2026-12-04 (compact 5 mm triangles everywhere; docs/benchmarks.md, "The pedestal mesh").
+0.005 to the one it wrote until 2026-12-04 (compact 5 mm triangles everywhere; docs/explanation/benchmarks.md, "The pedestal mesh").
 
 Usage: bench/pedestal_stl.py RADIUS HEIGHT RIM_ELEMENT TOP_ELEMENT OUT.stl   (metres)
 """

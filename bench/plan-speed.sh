@@ -1,5 +1,5 @@
 #!/bin/sh
-# `demsa plan` over four studies of seven parameters, 50 truths, pinned to one core (docs/benchmarks.md, "Which
+# `demsa plan` over four studies of seven parameters, 50 truths, pinned to one core (docs/explanation/benchmarks.md, "Which
 # experiments to run"; goal: <= 60 s). The studies are those of examples/calibration/ after `demsa run` of each.
 # Usage: bench/plan-speed.sh DEMSA [RUNS] [STUDY ...]   (default studies: examples/calibration/{pile,pile-rough,
 # incline,drawdown}). Prints the median wall and CPU (user + sys) seconds over RUNS runs and the load average.

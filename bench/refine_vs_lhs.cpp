@@ -1,6 +1,6 @@
 // `demsa refine` against a one-shot maximin LHS on a noisy 7-D simulator with known Sobol' indices
-// (docs/benchmarks.md, section "Refinement against a one-shot maximin LHS"). A plain executable that drives the
-// library directly, as `demsa refine` does through a study (a study would need LIGGGHTS): the refine loop of
+// (docs/explanation/benchmarks.md, section "Refinement against a one-shot maximin LHS"). A plain executable that drives
+// the library directly, as `demsa refine` does through a study (a study would need LIGGGHTS): the refine loop of
 // analysis/refinement.hpp and cli/refine.cpp — fit a GP with a nugget, Sobol' indices with the intervals of
 // sobol/metamodel_sobol.hpp (GP-posterior draws, or the design bootstrap), stop once every S1 and ST half-width is at
 // most W, otherwise add B points by sobol::select_by_variance — against the smallest one-shot maximin LHS (the

@@ -1,6 +1,6 @@
 #!/bin/bash
 # The Saltelli pipeline of Ishigami (design, evaluation, `demsa sensitivity --saltelli`) against OpenTURNS's
-# in-memory pipeline, side by side (bench/saltelli_pipeline.py; docs/benchmarks.md, "Saltelli pipeline against
+# in-memory pipeline, side by side (bench/saltelli_pipeline.py; docs/explanation/benchmarks.md, "Saltelli pipeline against
 # OpenTURNS"). Needs python3-openturns (Debian) under /usr/bin/python3.
 #
 #   bench/saltelli-pipeline-vs-openturns.sh [N=16384] [RUNS=5] [BOOTSTRAP=200] [build dir=build] [--design-once]

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The comparison row of docs/benchmarks.md ("Accuracy of the QMC estimators"): Ishigami on second-order Saltelli
+"""The comparison row of docs/explanation/benchmarks.md ("Accuracy of the QMC estimators"): Ishigami on second-order Saltelli
 designs built from SciPy's scrambled Sobol' sequence (A and B = the two halves of one 6-D sequence), with Saltelli
 2010's S1 and Jansen's ST averaged over A and B exchanged and the variance of A and B. Seeds 1..100.
 

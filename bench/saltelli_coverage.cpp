@@ -1,9 +1,9 @@
-// Honesty of the confidence intervals of `demsa sensitivity --saltelli` over scrambling seeds (docs/benchmarks.md,
-// "Confidence intervals on QMC Saltelli designs"): for Ishigami (d = 3), Sobol' G (d = 8) and a 7-D polynomial, at a
-// total base N, the percentile bootstrap of one scrambled design against Student-t intervals from R independently
-// scrambled replicates of N/R rows. Prints, per function and method, the coverage of the 95% intervals of S1 and ST
-// (over every input and seed), the mean interval width, the mean |error| of the estimate and their ratio. Also the
-// RMS error of one design at a base that is not a power of two against the power of two below it.
+// Honesty of the confidence intervals of `demsa sensitivity --saltelli` over scrambling seeds
+// (docs/explanation/benchmarks.md, "Confidence intervals on QMC Saltelli designs"): for Ishigami (d = 3), Sobol' G (d =
+// 8) and a 7-D polynomial, at a total base N, the percentile bootstrap of one scrambled design against Student-t
+// intervals from R independently scrambled replicates of N/R rows. Prints, per function and method, the coverage of the
+// 95% intervals of S1 and ST (over every input and seed), the mean interval width, the mean |error| of the estimate and
+// their ratio. Also the RMS error of one design at a base that is not a power of two against the power of two below it.
 //
 // usage: build/bench/saltelli_coverage [BASE] [SEEDS]   (defaults 1024 50)
 #include "sobol/saltelli.hpp"

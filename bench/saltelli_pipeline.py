@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The Saltelli pipeline of Ishigami at base N, demsa against OpenTURNS, side by side (docs/benchmarks.md,
+"""The Saltelli pipeline of Ishigami at base N, demsa against OpenTURNS, side by side (docs/explanation/benchmarks.md,
 "Saltelli pipeline against OpenTURNS").
 
 demsa: `demsa design saltelli` writes the design CSV, awk evaluates Ishigami on every row (the simulator, outside

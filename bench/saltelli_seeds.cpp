@@ -1,6 +1,6 @@
-// Accuracy of the Saltelli estimators over scrambling seeds (docs/benchmarks.md, "Accuracy of the QMC estimators"):
-// Ishigami (a = 7, b = 0.1) on second-order designs, seeds 1..S and the default 12345. Prints the RMS error of S1
-// and ST, the worst seed, how many seeds reach max |error| <= 0.005, and how many have S13 within 0.01.
+// Accuracy of the Saltelli estimators over scrambling seeds (docs/explanation/benchmarks.md, "Accuracy of the QMC
+// estimators"): Ishigami (a = 7, b = 0.1) on second-order designs, seeds 1..S and the default 12345. Prints the RMS
+// error of S1 and ST, the worst seed, how many seeds reach max |error| <= 0.005, and how many have S13 within 0.01.
 //
 // usage: build/bench/saltelli_seeds [BASE] [SEEDS]   (defaults 2048 100)
 #include "tests/sobol/ishigami_seeds.hpp"

@@ -1,4 +1,4 @@
-// demsa_study_file_docs DOCS: rewrites the key-by-key reference of docs/study-file.md (between its
+// demsa_study_file_docs DOCS: rewrites the key-by-key reference of docs/reference/study-file.md (between its
 // `<!-- settings-table:begin -->` and `<!-- settings-table:end -->` markers) from the one settings table
 // (experiments::settings_table(): the core rows and every experiment's), so that the docs follow the table. Run by
 // every build (target study_file_docs); writes the file only when the table changed it.
@@ -16,7 +16,7 @@
 
 int main(int argc, char** argv) {
   if (argc != 2) {
-    fmt::print(stderr, "usage: demsa_study_file_docs docs/study-file.md\n");
+    fmt::print(stderr, "usage: demsa_study_file_docs docs/reference/study-file.md\n");
     return 2;
   }
   try {

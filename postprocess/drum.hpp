@@ -51,7 +51,7 @@ DrumImage drum_image_from_photograph(const GreyImage& photograph, const DrumGeom
 
 /// The two grey levels of a photograph that drum_image_from_photograph maps to material fractions 0 and 1, found
 /// among the pixels whose centres lie within `judged_radius`·R of the drum's centre: Otsu's threshold (Otsu 1979)
-/// splits them into two classes, and each class's median is its level (docs/drum-images.md).
+/// splits them into two classes, and each class's median is its level (docs/explanation/drum-images.md).
 struct PhotographLevels {
   double empty = 0.0;         ///< grey level of the empty drum, in [0, 1] (material fraction 0)
   double material = 0.0;      ///< grey level of the bed, in [0, 1] (material fraction 1)

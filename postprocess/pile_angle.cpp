@@ -237,8 +237,9 @@ PileAngleResult measure_pile_angle(const Particles& particles, const PileAngleOp
     // towards the top of a cone, where ρ_c is smallest and falls fastest with r sin θ; the outermost of more
     // candidates reaches further out, most on a steep rough flank, whose upper levels then read further out than its
     // lower ones (synthetic cones with Gaussian normal jitter of 1.5 mm: the mean surface point rose by 0.4–0.5 mm from
-    // the lowest to the highest level at 37–45°, +0.2° to +0.55° on the angle; docs/benchmarks.md). The sector's
-    // width at the surface is constant over the height, and so is the number of particles competing for a cell.
+    // the lowest to the highest level at 37–45°, +0.2° to +0.55° on the angle; docs/explanation/benchmarks.md). The
+    // sector's width at the surface is constant over the height, and so is the number of particles competing for a
+    // cell.
     for (std::size_t j : kept) {
       const double px = particles.x[j] - options.axis_x;
       const double py = particles.y[j] - options.axis_y;

@@ -40,7 +40,7 @@ enum class AngleEstimator {
            ///< `point`), one orthogonal (TLS) line per direction, the mean over the directions. Reads low on rough
            ///< flanks: the roughness is mostly radial, which an orthogonal fit turns into a flatter line, and one
            ///< particle sticking out at an end level tilts the line (synthetic cones with 1–2 mm of surface
-           ///< jitter: 0.2–1 deg low on average, docs/benchmarks.md "Angle estimators").
+           ///< jitter: 0.2–1 deg low on average, docs/explanation/benchmarks.md "Angle estimators").
   robust,  ///< the outermost point of the pile's horizontal section at each level's exact height, in a sector about
            ///< each direction whose width at the surface is one particle radius either side (`point` is ignored),
            ///< so all roughness is in the radial distance and as many particles compete for a level at the top of
@@ -51,7 +51,7 @@ enum class AngleEstimator {
            ///< out (or a gap) do not tilt; the median over the directions, which the directions that cross a mound
            ///< or a hole in the flank do not move (synthetic cones of nine kinds of surface: mean bias within
            ///< ±0.13 deg on each, where the mean over directions read up to 0.69 deg high on mounds;
-           ///< docs/benchmarks.md "Angle estimators").
+           ///< docs/explanation/benchmarks.md "Angle estimators").
 };
 /// "paper" / "robust"; throws std::invalid_argument listing the valid names.
 AngleEstimator angle_estimator_from_string(const std::string& name);
@@ -64,7 +64,7 @@ std::vector<std::string> angle_estimator_names();
 /// and reach less far out than the flank above them; a regression of radial distance on height (unlike the paper's
 /// orthogonal fit) turns that into a flatter line. On synthetic cones (bench/angle_estimators.cpp, 20 seeds per
 /// angle from 22° to 41°) the largest mean error over the angles went from −0.42° / −0.55° / +0.45° (smooth / 1 mm /
-/// 2 mm of jitter) at 0.20–0.75 to −0.30° / −0.23° / +0.47° at 0.25–0.80 (docs/benchmarks.md).
+/// 2 mm of jitter) at 0.20–0.75 to −0.30° / −0.23° / +0.47° at 0.25–0.80 (docs/explanation/benchmarks.md).
 constexpr double k_robust_level_low = 0.25;
 constexpr double k_robust_level_high = 0.80;
 /// Unless level_low is given, the robust estimator's lowest level is also at least this many of the largest particle
@@ -73,7 +73,7 @@ constexpr double k_robust_level_high = 0.80;
 /// shallow flank; the outermost of them reads further out than the flank above, and the line flatter. On synthetic
 /// 22° cones of set 1 (bench/angle_estimators.cpp, 20 seeds) the sector sections read −0.50° / −0.42° / −0.41° on
 /// average (±1 mm, ±2 mm of jitter, sticking out) from 0.25 h_P, and −0.35° / −0.18° / −0.27° with this floor
-/// (docs/benchmarks.md).
+/// (docs/explanation/benchmarks.md).
 constexpr double k_robust_floor_radii = 1.5;
 /// The paper's band of levels (§3.3: 0.2 h_P to 0.75 h_P), which the paper's estimator uses unless told otherwise.
 constexpr double k_paper_level_low = 0.20;

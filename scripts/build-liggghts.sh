@@ -2,7 +2,7 @@
 # Build LIGGGHTS 3.8.0 from Debian's source archive with the project's rolling model
 # (liggghts/rolling_model_viscous.h) and compiled kernels for hertz / tangential history /
 # cohesion off / rolling off, cdt, epsd, epsd2, epsd3 and viscous (liggghts/style_contact_model.whitelist), and the
-# mesh walls' contact history cleared per atom instead of per page (the same trajectories: docs/benchmarks.md).
+# mesh walls' contact history cleared per atom instead of per page (the same trajectories: docs/explanation/benchmarks.md).
 #
 #   scripts/build-liggghts.sh                build (once per source + patch hash), print the prefix
 #   scripts/build-liggghts.sh --print-prefix print the prefix this checkout's build lives in; build nothing

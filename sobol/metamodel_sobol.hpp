@@ -57,7 +57,7 @@ struct MetamodelSobolOptions {
   /// Design-bootstrap refits, or GP-posterior draws, B >= 0 (0: no interval).
   int bootstrap = 100;
   /// See the top of this file. The design bootstrap by default: the GP-posterior interval, at the fitted
-  /// hyperparameters, covered the true indices less often than its level in docs/benchmarks.md.
+  /// hyperparameters, covered the true indices less often than its level in docs/explanation/benchmarks.md.
   MetamodelInterval interval = MetamodelInterval::design_bootstrap;
   int features = 1000;         ///< random Fourier features of the GP-posterior draws, >= 1
   int qmc_replicates = 8;      ///< scrambled designs behind the QMC error of the GP-posterior interval, >= 2

@@ -53,9 +53,9 @@ struct SaltelliOptions {
 };
 
 /// The replicates of a Saltelli design written for any simulator (`demsa design saltelli`) unless told otherwise.
-/// Ishigami, Sobol' G and a 7-D polynomial at N = 1024 (docs/benchmarks.md): with 8 replicates the 95% Student-t
-/// intervals covered 0.93-0.97 of the true indices at 5.3-6.2 times the mean error, where the bootstrap of one design
-/// was 8-30 times the error.
+/// Ishigami, Sobol' G and a 7-D polynomial at N = 1024 (docs/explanation/benchmarks.md): with 8 replicates the 95%
+/// Student-t intervals covered 0.93-0.97 of the true indices at 5.3-6.2 times the mean error, where the bootstrap of
+/// one design was 8-30 times the error.
 inline constexpr int k_default_saltelli_replicates = 8;
 /// The fewest base rows per replicate that default_saltelli_replicates leaves.
 inline constexpr int k_min_replicate_base = 16;

@@ -216,7 +216,8 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
     CalibratedTarget& t = outcome.targets[k];
     t.predicted = result.predictions[k];
     // A target outside what the samples produced, and missed by the optimum by more than the metamodel's error:
-    // the optimum sits where the metamodel comes closest, not where the measurement would be (docs/checks.md).
+    // the optimum sits where the metamodel comes closest, not where the measurement would be
+    // (docs/reference/checks.md).
     const double tolerance = std::max(k_miss_rmse * t.rmse_loo, k_miss_span * (t.observed_high - t.observed_low));
     const bool outside = t.target < t.observed_low || t.target > t.observed_high;
     t.contradicted = t.weight > 0 && outside && std::abs(t.predicted - t.target) > tolerance;
@@ -328,7 +329,7 @@ CalibrationOutcome read_calibration(const fs::path& file) {
       t.scale = e.at("scale").get<double>();
       t.predicted = e.at("predicted").get<double>();
       if (!e.at("measured").is_null()) t.measured = e.at("measured").get<double>();
-      // Written since the checks (docs/checks.md); an older file has none.
+      // Written since the checks (docs/reference/checks.md); an older file has none.
       if (e.contains("rmse_loo") && e.at("rmse_loo").is_number()) t.rmse_loo = e.at("rmse_loo").get<double>();
       t.observed_low = e.value("observed_low", 0.0);
       t.observed_high = e.value("observed_high", 0.0);

@@ -56,9 +56,9 @@ inline constexpr int k_auto_first_steps = 3000;
 inline constexpr int k_auto_max_runs = 3;
 inline constexpr double k_max_auto_draws = 2.5e7;
 
-/// The checks of a posterior against its measurements (docs/checks.md). A target fails when its measured value lies
-/// in a tail of the posterior predictive holding less than k_predictive_tail (two-sided); a parameter is "at bound"
-/// when more than k_bound_share of its draws lie in the outer k_bound_band of its prior range at one end.
+/// The checks of a posterior against its measurements (docs/reference/checks.md). A target fails when its measured
+/// value lies in a tail of the posterior predictive holding less than k_predictive_tail (two-sided); a parameter is "at
+/// bound" when more than k_bound_share of its draws lie in the outer k_bound_band of its prior range at one end.
 inline constexpr double k_predictive_tail = 1e-3;
 inline constexpr double k_bound_band = 0.02;
 inline constexpr double k_bound_share = 0.5;

@@ -130,7 +130,7 @@ PosteriorOutcome read_posterior(const fs::path& file) {
       t.predictive_q05 = e.at("predictive_q05");
       t.predictive_q50 = e.at("predictive_q50");
       t.predictive_q95 = e.at("predictive_q95");
-      // Written since the checks (docs/checks.md); an older file has none.
+      // Written since the checks (docs/reference/checks.md); an older file has none.
       t.tail_probability = e.value("tail_probability", 1.0);
       t.contradicted = e.value("contradicted", false);
       t.observed_low = e.value("observed_low", 0.0);

@@ -1,6 +1,6 @@
 #pragma once
-// `demsa refine` (docs/refine.md): how sure the Sobol' indices of a study are, where the next cases go, and the loop
-// that runs, analyses and grows the study until they are sure enough.
+// `demsa refine` (docs/how-to/refine.md): how sure the Sobol' indices of a study are, where the next cases go, and the
+// loop that runs, analyses and grows the study until they are sure enough.
 //
 //   - refine_study: run what is left (handed in: the command line runs exec::run_study, so that analysis never runs
 //     LIGGGHTS), fit the study's metamodels, compute the indices with their intervals, and stop once every S1 and ST

@@ -340,7 +340,7 @@ DataSensitivity data_sensitivity(const DataSensitivityOptions& options) {
         data.fail(r, columns[k], fmt::format("{} is outside the bounds [{}, {}]", v, b.low, b.high));
       x(r, static_cast<Eigen::Index>(k)) = sobol::to_unit(v, b);
     }
-  // What share of each input's bounds the samples span (docs/checks.md).
+  // What share of each input's bounds the samples span (docs/reference/checks.md).
   result.coverage.assign(inputs.size(), 1.0);
   for (std::size_t k = 0; k < inputs.size() && x.rows() > 0; ++k) {
     const auto c = x.col(static_cast<Eigen::Index>(k));
@@ -392,7 +392,7 @@ DataSensitivity data_sensitivity(const DataSensitivityOptions& options) {
   sobol::MetamodelSobolOptions index_options = options.indices;
   if (!std::has_single_bit(static_cast<unsigned>(index_options.base)) && index_options.base > 0) {
     // As the study analysis and `design saltelli`: the QMC design on the metamodel is a scrambled Sobol' sequence,
-    // balanced only at powers of two (Owen 1997; docs/benchmarks.md).
+    // balanced only at powers of two (Owen 1997; docs/explanation/benchmarks.md).
     const int given = index_options.base;
     index_options.base = static_cast<int>(std::bit_ceil(static_cast<unsigned>(given)));
     warn_with(options.warn,

@@ -44,7 +44,7 @@ int do_analyze(const AnalyzeArgs& args) {
   options.base_samples = args.base;
   if (args.base > 0 && !std::has_single_bit(static_cast<unsigned>(args.base))) {
     // As for [analysis] base_samples and `design saltelli --base`: a scrambled Sobol' sequence is balanced only at
-    // powers of two (Owen 1997; the error at N = 10000 against 8192: docs/benchmarks.md).
+    // powers of two (Owen 1997; the error at N = 10000 against 8192: docs/explanation/benchmarks.md).
     options.base_samples = static_cast<int>(std::bit_ceil(static_cast<unsigned>(args.base)));
     log::warn(
         "--base {} is not a power of two: rounded up to {} (a scrambled Sobol' sequence is balanced only at "

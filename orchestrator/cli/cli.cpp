@@ -58,12 +58,12 @@ void print_version() {
         "default for every other)\n",
         liggghts_cache_dir().string());
   }
-  // exec::resolve_liggghts is the rule; docs/benchmarks.md ("LIGGGHTS builds") measured the two builds.
+  // exec::resolve_liggghts is the rule; docs/explanation/benchmarks.md ("LIGGGHTS builds") measured the two builds.
   fmt::print(
       "which a study runs: the one its [run] liggghts names; else, but for `cdt`, $DEMSA_LIGGGHTS; else the build of "
       "scripts/build-liggghts.sh when it is built ({}); else `liggghts` on PATH. The build is the default because it "
       "ran the quickstart's piles 1.076 times as fast as Debian's, with the same angles to the last digit "
-      "(docs/benchmarks.md, \"LIGGGHTS builds\").\n",
+      "(docs/explanation/benchmarks.md, \"LIGGGHTS builds\").\n",
       cached_liggghts_executable() ? "here it is" : "here it is not");
 }
 

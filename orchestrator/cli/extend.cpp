@@ -1,4 +1,4 @@
-// `demsa extend DIR --samples N` (docs/refine.md): grows a study's design to N points, keeping it space-filling;
+// `demsa extend DIR --samples N` (docs/how-to/refine.md): grows a study's design to N points, keeping it space-filling;
 // the next `demsa run` runs the new cases (the finished ones are never run again).
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"

@@ -1,4 +1,4 @@
-// `demsa refine DIR --target-ci W [--batch B] [--max-samples M]` (docs/refine.md): run what is left, fit the
+// `demsa refine DIR --target-ci W [--batch B] [--max-samples M]` (docs/how-to/refine.md): run what is left, fit the
 // study's metamodels, compute the Sobol' indices with their intervals, and stop once every S1 and ST interval
 // half-width is at most W (for every observable) or the study holds M samples; otherwise add B samples where the
 // metamodels are least sure (analysis/refinement.hpp) and go round again.

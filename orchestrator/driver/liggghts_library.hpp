@@ -2,9 +2,9 @@
 // LIGGGHTS's library interface (library.h) and the few MPI calls the trial-step driver makes, loaded at run time
 // (dlopen, POSIX.1-2008) rather than linked: only `demsa drive-oedometer` needs them, and Debian's libliggghts
 // brings VTK, Open MPI and some 45 other libraries that every demsa process would otherwise map and relocate at
-// start (~40 ms each; docs/benchmarks.md, "Saltelli pipeline against OpenTURNS"). Loading it rather than moving the
-// driver into a second executable keeps one binary: run.sh of a case finds one demsa ($DEMSA, the one that wrote
-// it, or PATH), also when the folder moves to another machine, and nothing else has to be installed beside it.
+// start (~40 ms each; docs/explanation/benchmarks.md, "Saltelli pipeline against OpenTURNS"). Loading it rather than
+// moving the driver into a second executable keeps one binary: run.sh of a case finds one demsa ($DEMSA, the one that
+// wrote it, or PATH), also when the folder moves to another machine, and nothing else has to be installed beside it.
 //
 // The library is found as the dynamic loader finds a linked one: LD_LIBRARY_PATH first (run.sh of a `viscous`
 // case puts there the lib/ folder of the build of scripts/build-liggghts.sh it runs), then the system's

@@ -433,7 +433,7 @@ StudyEstimate estimate(const EstimateInput& input) {
         fmt::format("this study's {} finished case(s): {:.3g} atom-steps in {:.0f} CPU-s", e.finished, atom_steps, cpu);
   } else if (probe && probe->finished && probe->rate > 0.0) {
     // Only a probe that ran its case to the end: the start of a case is not its average (a set-1 pile's first 7 % of
-    // atom-steps ran 1.8 times as fast as the whole case, docs/cost.md).
+    // atom-steps ran 1.8 times as fast as the whole case, docs/how-to/cost.md).
     e.rate = probe->rate;
     e.rate_source = fmt::format("the probe of sample {} ({:.3g} atom-steps in {:.1f} CPU-s, run to its end; {})",
                                 probe->sample, probe->atom_steps, probe->cpu_seconds, probe->measured_at);

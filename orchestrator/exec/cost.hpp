@@ -2,7 +2,7 @@
 // What a study costs before and while it runs: the atom-steps of each case by its experiment's schedule
 // (Experiment::case_cost), the CPU-seconds at a LIGGGHTS's measured rate (atom-steps per CPU-second, measured once per
 // LIGGGHTS binary by a short standard run and cached, or the study's own finished cases), and the wall time with the
-// executor's parallelism. docs/cost.md.
+// executor's parallelism. docs/how-to/cost.md.
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/store.hpp"
 
@@ -46,8 +46,8 @@ std::filesystem::path rate_cache_file();
 std::string rate_benchmark_input();
 
 /// The window of plausible LIGGGHTS rates [atom-steps per CPU-second]: three decades either side of what the standard
-/// run and the studies measured (3.5e6 to 6.3e6, docs/cost.md). A cached rate outside it, or an entry whose fields
-/// have other types, is measured again; a standard run that measures one outside it is an error, not cached.
+/// run and the studies measured (3.5e6 to 6.3e6, docs/how-to/cost.md). A cached rate outside it, or an entry whose
+/// fields have other types, is measured again; a standard run that measures one outside it is an error, not cached.
 inline constexpr double k_min_plausible_rate = 1e3;
 inline constexpr double k_max_plausible_rate = 1e10;
 
@@ -154,8 +154,8 @@ struct StudyEstimate {
   std::optional<ProbeResult> probe;  ///< the study's probe, when it has one that still holds
 };
 
-/// The estimate (docs/cost.md): a finished case counts its actual atom-steps and CPU; any other case its cap, times
-/// the ratio actual / cap of the study's finished cases when it may end early and some have finished (else of the
+/// The estimate (docs/how-to/cost.md): a finished case counts its actual atom-steps and CPU; any other case its cap,
+/// times the ratio actual / cap of the study's finished cases when it may end early and some have finished (else of the
 /// probe, when it ran its case to the end). The rate is the study's own (its finished cases' atom-steps over their CPU)
 /// when it has any, else the probe's when it ran its case to the end, else `input.rate`. The wall time
 /// schedules the cases in order on `slots` slots, each case on the first slot to free (Graham's list scheduling,

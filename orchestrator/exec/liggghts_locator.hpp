@@ -43,8 +43,8 @@ std::optional<std::string> cached_liggghts_executable();
 
 /// The LIGGGHTS a study runs: `[run] liggghts` when set (not the default "liggghts"), else (but for `cdt`, which
 /// every LIGGGHTS has) $DEMSA_LIGGGHTS, else the cached build of scripts/build-liggghts.sh (the faster, with the same
-/// trajectories: docs/benchmarks.md), else `liggghts` on $PATH. Sets config.run.liggghts to it (an absolute path when
-/// found). With `refuse`, throws util::UserError naming the study file and `[contact] rolling_model` when the
+/// trajectories: docs/explanation/benchmarks.md), else `liggghts` on $PATH. Sets config.run.liggghts to it (an absolute
+/// path when found). With `refuse`, throws util::UserError naming the study file and `[contact] rolling_model` when the
 /// executable's `-h` lists rolling models without the study's (or when a `viscous` study would drive the trial-step
 /// plate in-process without the library of that build), saying how to get one (scripts/build-liggghts.sh); without it,
 /// logs a warning instead.

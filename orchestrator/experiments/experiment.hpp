@@ -137,7 +137,7 @@ struct Experiment {
   std::string_view summary;  ///< for the docs of `[study] experiment`: "angle of repose of a pile, paper §3"
 
   // ---------------------------------------------------------------- the study file
-  /// Its sections (docs order) with their prose for docs/study-file.md.
+  /// Its sections (docs order) with their prose for docs/reference/study-file.md.
   std::vector<study::SettingSection> (*sections)();
   /// Its rows (settings.hpp, built with setting_row.hpp).
   std::vector<study::Setting> (*settings)();

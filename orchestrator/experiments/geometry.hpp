@@ -15,10 +15,10 @@ using Triangle = std::array<Vertex, 3>;
 /// circle's polygon, whose points are `rim_element` apart (it is where particles roll off); the side band is split to
 /// edges of about `rim_element`. The cost of LIGGGHTS's mesh wall grows with the triangles within reach of each
 /// particle (every pair is checked every step): coarse triangles inside a fine rim halve it against triangles of the
-/// rim's size everywhere, and long thin ones (a fan from the centre) raise it (docs/benchmarks.md, "The pedestal
-/// mesh"). `top_element` = `rim_element` gives compact triangles of one size. Without `with_top`, the side band only:
-/// a pedestal whose top is covered by a frozen layer of particles ([pile] base = "particles"), whose contacts with a
-/// top mesh would cost 2.5 to 3.5 times the CPU of the pile on a wall and change nothing.
+/// rim's size everywhere, and long thin ones (a fan from the centre) raise it (docs/explanation/benchmarks.md, "The
+/// pedestal mesh"). `top_element` = `rim_element` gives compact triangles of one size. Without `with_top`, the side
+/// band only: a pedestal whose top is covered by a frozen layer of particles ([pile] base = "particles"), whose
+/// contacts with a top mesh would cost 2.5 to 3.5 times the CPU of the pile on a wall and change nothing.
 std::vector<Triangle> pedestal_mesh(double radius, double height, double rim_element, double top_element,
                                     bool with_top = true);
 

@@ -1,7 +1,7 @@
 #pragma once
-// Physics of a case that demsa decides before LIGGGHTS runs, shared by every experiment (docs/study-file.md; paper
-// §2): the Rayleigh time and the time step, the contact model's LIGGGHTS words, and the limits LIGGGHTS 3.8.0 enforces
-// or silently needs.
+// Physics of a case that demsa decides before LIGGGHTS runs, shared by every experiment (docs/reference/study-file.md;
+// paper §2): the Rayleigh time and the time step, the contact model's LIGGGHTS words, and the limits LIGGGHTS 3.8.0
+// enforces or silently needs.
 #include "orchestrator/study/config.hpp"
 
 #include <filesystem>
@@ -43,8 +43,8 @@ std::vector<std::string> liggghts_limit_violations(const study::Material& materi
 /// "rolling_friction cdt", ..., "rolling_friction viscous".
 std::string rolling_model_words(const study::ContactSettings& contact);
 
-/// The `fix property/global` lines of the rolling model's coefficients (docs/study-file.md, [contact]): the per
-/// type-pair coefficient from ${mu_r_pp} and ${mu_r_pw} (coefficientRollingFriction, or coefficientRollingViscosity
+/// The `fix property/global` lines of the rolling model's coefficients (docs/reference/study-file.md, [contact]): the
+/// per type-pair coefficient from ${mu_r_pp} and ${mu_r_pw} (coefficientRollingFriction, or coefficientRollingViscosity
 /// for `viscous`), plus ${rolling_damping} for epsd/epsd3 and ${rolling_stiffness} for epsd3.
 std::string rolling_property_lines(const study::ContactSettings& contact);
 

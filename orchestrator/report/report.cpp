@@ -164,7 +164,7 @@ std::optional<ReportSection> cost_section(const std::vector<CaseCostRow>& rows) 
       "{} done cases: {:.3g} atom-steps against {:.3g} predicted before each ran (actual / predicted {:.2f}); {:.0f} "
       "CPU-s{}. A prediction is the case's schedule (its cap, times the ratio actual / cap of the cases done before "
       "it) at the rate known then: the standard run's of this LIGGGHTS (`demsa --version`), then the study's own "
-      "(docs/cost.md).",
+      "(docs/how-to/cost.md).",
       rows.size(), steps, predicted_steps, predicted_steps > 0 ? steps / predicted_steps : k_nan, cpu,
       predicted_cpu > 0 ? fmt::format(" against {:.0f} predicted for the cases that had a rate (actual / predicted "
                                       "{:.2f})",

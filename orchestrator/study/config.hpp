@@ -1,9 +1,9 @@
 #pragma once
 // The study file (TOML): what a study varies, how it samples, what it simulates, where it runs and how it is
 // analysed. Every key of the file is one row of settings.hpp (type, default, range, unit, effect, documentation),
-// from which the parser, the design hash and the reference of docs/study-file.md come.
+// from which the parser, the design hash and the reference of docs/reference/study-file.md come.
 //
-// Units are SI throughout (m, s, kg, Pa, N). The paper's mg-mm-ms values are converted in docs/study-file.md.
+// Units are SI throughout (m, s, kg, Pa, N). The paper's mg-mm-ms values are converted in docs/reference/study-file.md.
 #include "orchestrator/study/parameters.hpp"
 #include "sobol/metamodel.hpp"
 #include "sobol/metamodel_sobol.hpp"
@@ -26,7 +26,7 @@ enum class TimestepMode { rayleigh, fixed };
 enum class ExecutorKind { local, slurm };
 /// How the SLURM executor submits: one job array per batch of cases, or one allocation whose cases run as job steps.
 enum class SlurmMode { array, pack };
-/// The rolling-resistance model of every pair and wall contact (docs/study-file.md, [contact]).
+/// The rolling-resistance model of every pair and wall contact (docs/reference/study-file.md, [contact]).
 enum class RollingModel { cdt, epsd, epsd2, epsd3, viscous };
 /// The unit in which a study gives the viscous model's μ_R (mu_r_pp, mu_r_pw and their ranges).
 enum class ViscousUnit { s_m, mm_ms };

@@ -1,6 +1,6 @@
 // The core sections of the study file (those every experiment has): their rows and their prose for
-// docs/study-file.md (settings.hpp's core_settings() and core_sections()). The table's machinery (lookup, hints,
-// hash, markdown) is settings.cpp's; each experiment's rows are in its folder.
+// docs/reference/study-file.md (settings.hpp's core_settings() and core_sections()). The table's machinery (lookup,
+// hints, hash, markdown) is settings.cpp's; each experiment's rows are in its folder.
 #include "orchestrator/study/settings.hpp"
 
 #include "orchestrator/study/setting_row.hpp"
@@ -109,7 +109,7 @@ std::vector<Setting> build_core_settings() {
           .cases("samples")
           .doc("number of samples (the paper: 160 pile, 200 oedometer); the optimised Latin hypercubes keep an "
                "N × N matrix of the sample pairs. Raising it in an existing study extends the design (the finished "
-               "cases are kept, docs/refine.md); lowering it is refused"));
+               "cases are kept, docs/how-to/refine.md); lowering it is refused"));
 
   // DEM noise: replicate cases at the first P design points (cases/case_writer.hpp: CaseRequest::assembly_seed). The
   // replicates are case rows of their own (study/store.hpp), so a design that grows keeps them.
@@ -329,10 +329,11 @@ std::vector<Setting> build_core_settings() {
                   std::vector<sobol::MetamodelInterval>{sobol::MetamodelInterval::gp_posterior,
                                                         sobol::MetamodelInterval::design_bootstrap},
                   sobol::metamodel_interval_from_string, [](sobol::MetamodelInterval i) { return sobol::to_string(i); })
-          .doc("interval of metamodel indices: `design-bootstrap` refits every metamodel on resampled samples; "
-               "`gp-posterior` takes the `gp` metamodel's from draws of its posterior (Le Gratiet et al. 2014; it "
-               "narrows where points are added, but at the fitted hyperparameters it covered the true indices less "
-               "often than its level, docs/benchmarks.md; the other metamodels keep the design bootstrap)"));
+          .doc(
+              "interval of metamodel indices: `design-bootstrap` refits every metamodel on resampled samples; "
+              "`gp-posterior` takes the `gp` metamodel's from draws of its posterior (Le Gratiet et al. 2014; it "
+              "narrows where points are added, but at the fitted hyperparameters it covered the true indices less "
+              "often than its level, docs/explanation/benchmarks.md; the other metamodels keep the design bootstrap)"));
   add(Row("analysis", "confidence")
           .number(FIELD(analysis.confidence), between(0, false, 1, false))
           .doc("confidence level"));
@@ -427,7 +428,7 @@ std::vector<Setting> build_core_settings() {
 
 }  // namespace
 
-/// [contact]: one paragraph per rolling model (docs/study-file.md).
+/// [contact]: one paragraph per rolling model (docs/reference/study-file.md).
 const char* const k_contact_intro =
     "Every pair and wall contact is Hertz normal (`model hertz`, damping from `e_r`) with Mindlin tangential "
     "(`tangential history`, capped by Coulomb friction) and one rolling model, written into `pair_style gran` "

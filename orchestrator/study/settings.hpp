@@ -2,7 +2,7 @@
 // Every setting of the study file, once: one row per key with its section, type, default, admissible range, unit,
 // effect on an existing study and documentation line. The parser (config.cpp) reads the file through these rows,
 // the unknown-key hints list them, design_hash() hashes the rows that change the cases or their measurement, and
-// the key-by-key reference of docs/study-file.md is settings_markdown().
+// the key-by-key reference of docs/reference/study-file.md is settings_markdown().
 #include "orchestrator/study/config.hpp"
 #include "sobol/design.hpp"
 
@@ -127,8 +127,8 @@ struct ExperimentSchema {
 
 /// The one table of every study setting: the sections in the order of the docs, the rows section by section, and
 /// the experiments whose sections they are. The parser (config.cpp) reads a file through it, the unknown-key hints
-/// list its keys, design_hash() hashes its rows and docs/study-file.md is its markdown(). The core sections are
-/// core_settings(); the full table, with every experiment, is orchestrator/experiments/registry.hpp's.
+/// list its keys, design_hash() hashes its rows and docs/reference/study-file.md is its markdown(). The core sections
+/// are core_settings(); the full table, with every experiment, is orchestrator/experiments/registry.hpp's.
 class SettingsTable {
  public:
   /// `sections` in docs order (rows of a section not listed are a programming error); `rows` in table order;
@@ -166,8 +166,8 @@ class SettingsTable {
   /// "[section] key: BEFORE -> AFTER" each.
   std::vector<std::string> changed(const StudyConfig& before, const StudyConfig& after) const;
 
-  /// The key-by-key reference of docs/study-file.md (between its settings-table markers): per section a heading, its
-  /// intro, one table row per setting and its notes.
+  /// The key-by-key reference of docs/reference/study-file.md (between its settings-table markers): per section a
+  /// heading, its intro, one table row per setting and its notes.
   std::string markdown() const;
 
   /// Reads and validates study text; `file` is the name used in messages. Throws util::UserError

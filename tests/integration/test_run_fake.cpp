@@ -315,7 +315,7 @@ TEST(RunFake, ChangedDesignIsRefusedUnlessNew) {
   const test::CommandResult refused = test::run_demsa(test::run_args(tmp, {}));
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("design-relevant settings differ"), std::string::npos) << refused.err;
-  // More samples extend the design (docs/refine.md); fewer are refused.
+  // More samples extend the design (docs/how-to/refine.md); fewer are refused.
   s.experiment = "pile";
   s.samples = 6;
   write_study(tmp, s);

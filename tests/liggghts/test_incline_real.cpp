@@ -1,6 +1,6 @@
 // A real LIGGGHTS run of a tiny incline (written by `demsa case`, run by hand with run.sh, measured by `demsa
 // measure`): its free probes roll at tan θ = μ_R,PW (`cdt`) and its locked probes slide at tan θ = μ_PW, within a few
-// tenths of a degree once the lag of their start is corrected (docs/experiments.md). A few seconds.
+// tenths of a degree once the lag of their start is corrected (docs/explanation/experiments.md). A few seconds.
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

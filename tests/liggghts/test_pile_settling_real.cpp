@@ -57,8 +57,8 @@ FailureOptions strict_options(long particles) {
   return options;
 }
 
-// The baseline of the one-at-a-time runs of docs/study-file.md ("Settling and removal") at the quickstart's softest
-// E (its range is [1e7, 1e8] Pa): the cheapest of its cases.
+// The baseline of the one-at-a-time runs of docs/reference/study-file.md ("Settling and removal") at the quickstart's
+// softest E (its range is [1e7, 1e8] Pa): the cheapest of its cases.
 const char* k_quickstart_baseline = "E=1e7,nu=0.3,mu_pp=1.3,mu_pw=1.15,e_r=0.4,mu_r_pp=0.275,mu_r_pw=0.275";
 
 }  // namespace

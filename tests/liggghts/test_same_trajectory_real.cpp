@@ -1,7 +1,8 @@
 // The project's LIGGGHTS build (scripts/build-liggghts.sh) against Debian's on the same tiny cases written by
 // `demsa case`: the final states are identical to the last digit (positions, velocities and angular velocities
 // written with %.17g). The build changes code paths only (compiled kernels, the mesh contact history's cheaper
-// clearing), never the arithmetic; a build change that did would fail here (docs/benchmarks.md, "LIGGGHTS builds").
+// clearing), never the arithmetic; a build change that did would fail here (docs/explanation/benchmarks.md, "LIGGGHTS
+// builds").
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

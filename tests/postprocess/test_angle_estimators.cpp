@@ -1,7 +1,8 @@
 // The two angle estimators (AngleEstimator::paper, ::robust) on synthetic cones of known flank angle, smooth and
 // with 1–2 mm of surface jitter (tests/postprocess/synthetic_cone.hpp); the Theil–Sen line on its own.
 // The tolerances are on the mean over a few seeds (one cone's own random surface moves both estimators by a few
-// tenths of a degree); docs/benchmarks.md "Angle estimators on synthetic cones" has the full table over 20 seeds.
+// tenths of a degree); docs/explanation/benchmarks.md "Angle estimators on synthetic cones" has the full table over 20
+// seeds.
 #include "postprocess/pile_angle.hpp"
 
 #include "tests/postprocess/synthetic_cone.hpp"

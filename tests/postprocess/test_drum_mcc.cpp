@@ -1,5 +1,5 @@
 // A real laboratory photograph measured: the GranuDrum's time average of microcrystalline cellulose at 45 rpm
-// (tests/data/postprocess/drum/, with its source and license), as docs/drum-images.md records it. With
+// (tests/data/postprocess/drum/, with its source and license), as docs/explanation/drum-images.md records it. With
 // DEMSA_DRUM_FIGURES=DIR the test also writes its figure there (docs/images/drum-mcc-45rpm.png is that file).
 #include "postprocess/drum.hpp"
 #include "support/test_support.hpp"
@@ -29,7 +29,7 @@ TEST(DrumMcc, Photograph45RpmAsRecorded) {
 
   const postprocess::DrumImage image = postprocess::drum_image_from_photograph(photograph, geometry);
   const postprocess::DrumSurfaceResult r = postprocess::measure_drum_surface(image);
-  // The values of docs/drum-images.md.
+  // The values of docs/explanation/drum-images.md.
   EXPECT_NEAR(r.dynamic_angle, 51.48, 0.01);
   EXPECT_NEAR(r.angle_uncertainty, 0.09, 0.01);
   EXPECT_NEAR(r.s_shape, 21.25e-3, 0.01e-3);

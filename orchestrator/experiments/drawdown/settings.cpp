@@ -9,7 +9,8 @@
 #include <numbers>
 #include <vector>
 
-// The [drawdown] section of the study file: its rows, the rules between them, and its prose in docs/study-file.md.
+// The [drawdown] section of the study file: its rows, the rules between them, and its prose in
+// docs/reference/study-file.md.
 namespace demsa::experiments::drawdown {
 
 using namespace demsa::study;
@@ -75,7 +76,8 @@ std::vector<Setting> drawdown_settings() {
                                                                      {"particles", DrawdownFloor::particles}})
           .cases("drawdown.floor")
           .doc("`particles`: a frozen layer of the material's particles glued onto the floor, so that the mass left in "
-               "the box does not depend on the wall frictions (docs/experiments.md); `wall`: the wall material"));
+               "the box does not depend on the wall frictions (docs/explanation/experiments.md); `wall`: the wall "
+               "material"));
   time("fill_time", DRAWDOWN(fill_time), "the fill settles on the closed floor before the slot opens");
   time("check_time", DRAWDOWN(check_time), "the discharge is recorded and fallen particles removed every this long");
   time("window", DRAWDOWN(window),
@@ -117,14 +119,14 @@ std::vector<Setting> drawdown_settings() {
 #undef DRAWDOWN
 
 std::vector<SettingSection> drawdown_sections() {
-  return {{"drawdown",
-           "Defaults: the radii of the paper's particle set 1 (Table 2), a 102 mm wide box with a 30 mm slot.",
-           "The fill is placed by random sequential addition, settles for `fill_time` on the closed floor, then the "
-           "slot's plate is removed. Observables: `slope_angle` (the surface of what is left, per slice across the "
-           "slope the highest particle top per bin between the slot's edge and the wall, a Theil–Sen line per side and "
-           "slice, the median over the slices, the mean of the two sides), `discharged_mass` and `discharge_rate` "
-           "(the least-squares slope of the discharged mass against time between 20 % and 80 % of the final); "
-           "`retained_fraction` is recorded. docs/experiments.md has the measured values and their noise."}};
+  return {
+      {"drawdown", "Defaults: the radii of the paper's particle set 1 (Table 2), a 102 mm wide box with a 30 mm slot.",
+       "The fill is placed by random sequential addition, settles for `fill_time` on the closed floor, then the "
+       "slot's plate is removed. Observables: `slope_angle` (the surface of what is left, per slice across the "
+       "slope the highest particle top per bin between the slot's edge and the wall, a Theil–Sen line per side and "
+       "slice, the median over the slices, the mean of the two sides), `discharged_mass` and `discharge_rate` "
+       "(the least-squares slope of the discharged mass against time between 20 % and 80 % of the final); "
+       "`retained_fraction` is recorded. docs/explanation/experiments.md has the measured values and their noise."}};
 }
 
 void check_drawdown(const StudyConfig& config, const SectionCheck& at) {

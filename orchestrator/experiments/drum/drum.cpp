@@ -432,7 +432,7 @@ PhotographSettings photograph_settings(const fs::path& image) {
     throw util::UserError(fmt::format(
         "{}: no geometry for this photograph: write {} (or drum.toml in its folder) with the drum's inner radius, e.g. "
         "`preset = \"granudrum\"` (a square picture spanning a 42 mm radius) and `rotation = \"clockwise\"` "
-        "(docs/experiments.md)",
+        "(docs/explanation/experiments.md)",
         image.string(), image.string() + ".drum.toml"));
   return read_photograph_settings(*file);
 }

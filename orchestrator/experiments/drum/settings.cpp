@@ -9,7 +9,8 @@
 #include <numbers>
 #include <numeric>
 
-// The [drum] section of the study file: its rows, the rules between them, and its prose in docs/study-file.md.
+// The [drum] section of the study file: its rows, the rules between them, and its prose in
+// docs/reference/study-file.md.
 namespace demsa::experiments::drum {
 
 using namespace demsa::study;
@@ -115,7 +116,7 @@ std::vector<Setting> drum_settings() {
           .number(DRUM(coarse_grain), between(1, true, 20, true))
           .cases("drum.coarse_grain")
           .doc("K: every radius × K and the count / K³ at the same bulk volume (a coarse twin, K⁴ cheaper: "
-               "docs/experiments.md says what it keeps and what it cannot)"));
+               "docs/explanation/experiments.md says what it keeps and what it cannot)"));
   add(Row("drum", "wall_sides")
           .integer(DRUM(wall_sides), between(12, true, 720, true))
           .cases("drum.wall_sides")
@@ -163,7 +164,8 @@ std::vector<SettingSection> drum_sections() {
            "LIGGGHTS x and its up LIGGGHTS z. The measurement projects every snapshot onto a picture of `image_size` "
            "pixels spanning the inner diameter, averages them into the occupancy image (occupancy.png in the case "
            "folder) and measures it as a laboratory photograph is measured (postprocess/drum.hpp): `dynamic_angle`, "
-           "`surface_K` at each of `stations`, `s_shape`, `fill_fraction` (docs/experiments.md). `demsa measure "
+           "`surface_K` at each of `stations`, `s_shape`, `fill_fraction` (docs/explanation/experiments.md). `demsa "
+           "measure "
            "IMAGE` measures a photograph the same way."}};
 }
 

@@ -5,7 +5,8 @@
 
 #include <fmt/core.h>
 
-// The [incline] section of the study file: its rows, the rules between them, and its prose in docs/study-file.md.
+// The [incline] section of the study file: its rows, the rules between them, and its prose in
+// docs/reference/study-file.md.
 namespace demsa::experiments::incline {
 
 using namespace demsa::study;
@@ -59,7 +60,7 @@ std::vector<Setting> incline_settings() {
           .cases("incline.tilt_rate")
           .doc(
               "Ω: gravity turns at this rate in the plate's frame (a slow tilt); the measured onsets are corrected for "
-              "the lag of a start from rest at this rate (docs/experiments.md)"));
+              "the lag of a start from rest at this rate (docs/explanation/experiments.md)"));
   add(Row("incline", "max_angle")
           .number(INCLINE(max_angle), tilt_bounds())
           .unit("deg")
@@ -105,7 +106,7 @@ std::vector<SettingSection> incline_sections() {
        "had moved `onset_distance` down the slope, less the lag of its start from rest (x = k g √(1 + μ²) Ω t³ / 6 "
        "with μ = tan θ_c, k = 5/7 rolling and 1 sliding). With `[contact] rolling_model = \"viscous\"` (no static "
        "rolling resistance: the free probes roll at once) `roll_speed`, their median speed at `speed_angle`, takes "
-       "the place of `roll_angle`. docs/experiments.md has the measured onsets against atan(μ)."}};
+       "the place of `roll_angle`. docs/explanation/experiments.md has the measured onsets against atan(μ)."}};
 }
 
 void check_incline(const StudyConfig& config, const SectionCheck& at) {

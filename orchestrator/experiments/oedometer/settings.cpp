@@ -6,7 +6,8 @@
 
 #include <cmath>
 
-// The [oedometer] section of the study file: its rows, the rules between them, and its prose in docs/study-file.md.
+// The [oedometer] section of the study file: its rows, the rules between them, and its prose in
+// docs/reference/study-file.md.
 namespace demsa::experiments::oedometer {
 
 using namespace demsa::study;

@@ -108,7 +108,7 @@ std::vector<Particle> build_base_layer(const PileSettings& s, std::uint64_t seed
       const double y = static_cast<double>(j) * row;
       // Every site whose centre lies on the top: a particle may overhang the rim, so that no gap down to the top is
       // left there (with only the sites whose particle fits inside, 6 % of the top's area near the rim was within
-      // reach of the smallest pile particle, against 0.5 % this way: docs/experiments.md).
+      // reach of the smallest pile particle, against 0.5 % this way: docs/explanation/experiments.md).
       if (std::hypot(x, y) <= R) sites.emplace_back(x, y);
     }
   }
@@ -272,9 +272,9 @@ CaseWritten PileDraft::write(const Material& m, const TimestepChoice& ts, Params
   write_text(dir / "pile_history.liggghts", snapshots);
   // The pedestal: its rim (the circle's polygon), side band and flat top of 5 mm elements. A top of 12.5 mm rings
   // halves the mesh wall's particle-triangle pairs (the quickstart's piles ran 1.29 times as fast, their angle within
-  // its packing noise: docs/benchmarks.md, "The pedestal mesh"), but a quickstart-size pile on it was still moving at
-  // its settling cap (59 particles above the speed limit, the fastest at 0.074 m/s), where on this one it settles by
-  // the criterion: kept at 5 mm until that is understood.
+  // its packing noise: docs/explanation/benchmarks.md, "The pedestal mesh"), but a quickstart-size pile on it was still
+  // moving at its settling cap (59 particles above the speed limit, the fastest at 0.074 m/s), where on this one it
+  // settles by the criterion: kept at 5 mm until that is understood.
   write_text(
       dir / k_pedestal_stl,
       to_ascii_stl(pedestal_mesh(s.pedestal_radius, s.pedestal_height, 0.005, 0.005, m_base.empty()), "pedestal"));

@@ -20,8 +20,8 @@ double pedestal_capacity(const PileSettings& s) {
   // A cone of the angle of repose on the pedestal's top, plus one layer of mean particles over the top, at the solid
   // fraction of a random loose packing, 0.6 (Onoda & Liniger, Phys. Rev. Lett. 64 (1990) 2727), in mean particle
   // volumes (E[r^3] = mean^3 + 3 mean sd^2 of the radius distribution). The angle is the larger of target_angle and
-  // 35 degrees, so that the bill errs on the dear side. Against the quickstart's settled piles (docs/cost.md): 1745 at
-  // 32.8 degrees against 1764 on the pedestal, 1922 at 36.3 against 1894.
+  // 35 degrees, so that the bill errs on the dear side. Against the quickstart's settled piles (docs/how-to/cost.md):
+  // 1745 at 32.8 degrees against 1764 on the pedestal, 1922 at 36.3 against 1894.
   constexpr double k_solid_fraction = 0.6;
   constexpr double k_pi = 3.14159265358979323846;
   const double angle = std::max(s.target_angle, 35.0) * k_pi / 180.0;

@@ -128,8 +128,8 @@ PileAssembly build_assembly(const PileSettings& settings, std::uint64_t seed);
 std::vector<Particle> build_base_layer(const PileSettings& settings, std::uint64_t seed);
 
 /// The lattice pitch of the base layer in units of the mean radius: neighbours of mean size touch (pitch 2 r_mean),
-/// so that a pile particle finds no gap down to the pedestal's wall between them (docs/experiments.md measures how
-/// often one still touches it).
+/// so that a pile particle finds no gap down to the pedestal's wall between them (docs/explanation/experiments.md
+/// measures how often one still touches it).
 inline constexpr double k_base_pitch = 2.0;
 
 /// Paper §3.2: a new disc is appended every t = sqrt(4 r_U / |g|) — the time in which a disc released at rest falls

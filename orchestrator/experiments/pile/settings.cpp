@@ -8,7 +8,8 @@
 #include <cmath>
 #include <numbers>
 
-// The [pile] section of the study file: its rows, the rules between them, and its prose in docs/study-file.md.
+// The [pile] section of the study file: its rows, the rules between them, and its prose in
+// docs/reference/study-file.md.
 namespace demsa::experiments::pile {
 
 using namespace demsa::study;
@@ -138,7 +139,7 @@ std::vector<Setting> pile_settings() {
                "the pile's horizontal sections at the exact level heights, in a sector about each direction, a "
                "Theil–Sen line per direction and the median over directions, within 0.14° on average on synthetic "
                "cones of nine kinds of surface (jitter, holes, mounds, two radius sets) and 0.33° on held-out cones "
-               "with Gaussian jitter from 22° to 45° (docs/benchmarks.md, angle estimators)"));
+               "with Gaussian jitter from 22° to 45° (docs/explanation/benchmarks.md, angle estimators)"));
   add(Row("pile", "base")
           .choice(PILE(base), std::vector<std::pair<std::string, PileBase>>{{"wall", PileBase::wall},
                                                                             {"particles", PileBase::particles}})
@@ -292,7 +293,7 @@ void check_pile(const StudyConfig& config, const SectionCheck& at) {
 std::map<std::string, std::string> pile_retired_keys() {
   return {{"ke_stop",
            "it was replaced by `settle_speed` and `settle_window`: a pile is settled once the particles on the "
-           "pedestal are slow, whatever rolls on the ground; remove `ke_stop`, see docs/study-file.md"}};
+           "pedestal are slow, whatever rolls on the ground; remove `ke_stop`, see docs/reference/study-file.md"}};
 }
 
 }  // namespace demsa::experiments::pile

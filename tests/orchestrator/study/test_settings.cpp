@@ -1,6 +1,6 @@
 // The table of study settings: every row is read by the parser into its own field, the design hash is that of the
 // previous version for unchanged measurement settings and sees [pile] levels and directions, and
-// docs/study-file.md holds the table's rendering.
+// docs/reference/study-file.md holds the table's rendering.
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/experiments/settings_docs.hpp"
 #include "orchestrator/study/config.hpp"
@@ -376,7 +376,7 @@ TEST(StudySettings, ChangedSettingsNameTheKeys) {
 // ------------------------------------------------------------------------------------------------ docs
 
 TEST(StudySettings, DocsHoldTheTable) {
-  const fs::path docs = fs::path(DEMSA_SOURCE_DIR) / "docs" / "study-file.md";
+  const fs::path docs = fs::path(DEMSA_SOURCE_DIR) / "docs" / "reference" / "study-file.md";
   std::ifstream in(docs);
   ASSERT_TRUE(in) << docs;
   std::ostringstream text;
