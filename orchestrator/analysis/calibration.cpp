@@ -165,7 +165,7 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
   const std::vector<std::string> candidates =
       options.model.empty() ? config.analysis.metamodels : std::vector<std::string>{options.model};
 
-  // Fit the candidates per target observable; keep the best Q² (docs: README "Usage", `demsa calibrate`).
+  // Fit the candidates per target observable; keep the best Q² (docs/reference/command-line.md, `demsa calibrate`).
   std::vector<std::unique_ptr<sobol::Metamodel>> models;
   std::vector<sobol::CalibrationTarget> targets;
   const std::vector<sobol::MetamodelKind> kinds = metamodel_kinds(candidates);

@@ -1,6 +1,6 @@
 #pragma once
-// `demsa predict` (README "Usage"): a saved metamodel (model_file.hpp) evaluated at new points given in physical
-// units.
+// `demsa predict` (docs/reference/command-line.md): a saved metamodel (model_file.hpp) evaluated at new points given in
+// physical units.
 //
 // The points file is a CSV table with a header (util/csv.hpp); the model's input columns are found by name, in any
 // order; other columns are not read. For a study folder the model is DIR/analysis/models/<observable>.<metamodel>.json:

@@ -1,5 +1,6 @@
 #pragma once
-// Sobol' indices of any simulator from CSV files (`demsa sensitivity`; README "Usage"; paper §5–6), two ways:
+// Sobol' indices of any simulator from CSV files (`demsa sensitivity`; docs/reference/command-line.md; paper §5–6), two
+// ways:
 //   saltelli_sensitivity: outputs evaluated outside on a Saltelli design (saltelli_design_file.hpp), intervals from
 //                         the design's independently scrambled replicates (or a bootstrap of its rows, or none);
 //   data_sensitivity:     samples the user already has: metamodels fitted on the unit cube (scaled by the given

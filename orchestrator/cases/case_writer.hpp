@@ -1,8 +1,8 @@
 #pragma once
-// One LIGGGHTS case folder per sample (README "A study" and "One case by hand"; paper §3–4): what every case has — a
-// generated params.liggghts with every physical value, the system and contact includes (embedded in demsa from
-// liggghts_templates/), run.sh and case.json — around what its experiment writes (orchestrator/experiments/: its input
-// script, particles and geometry). A person runs it with `cd DIR && ./run.sh`.
+// One LIGGGHTS case folder per sample (docs/explanation/method.md "A study" and docs/how-to/case-by-hand.md; paper
+// §3–4): what every case has — a generated params.liggghts with every physical value, the system and contact includes
+// (embedded in demsa from liggghts_templates/), run.sh and case.json — around what its experiment writes
+// (orchestrator/experiments/: its input script, particles and geometry). A person runs it with `cd DIR && ./run.sh`.
 //
 // Files written by LIGGGHTS (or by the demsa command an experiment runs in-process) in the folder: log.liggghts,
 // screen.txt and the experiment's final dump and outputs (study/folder.hpp and the experiment's folder name them).

@@ -1,6 +1,6 @@
 #pragma once
-// The final state of a case as files ParaView opens directly (README "A case in ParaView"): VTK XML PolyData
-// (postprocess/vtk.hpp says why that format), written after a case is measured (runner, point_run) and by
+// The final state of a case as files ParaView opens directly (docs/how-to/case-by-hand.md "A case in ParaView"): VTK
+// XML PolyData (postprocess/vtk.hpp says why that format), written after a case is measured (runner, point_run) and by
 // `demsa export-vtk`. Files, in CASE/vtk/ unless another folder is given:
 //   particles.vtp  every atom of the final dump: id, type, radius, velocity
 //   NAME.vtp       each surface of the case's experiment (Experiment::vtk_surfaces): for a pile pedestal.vtp (the

@@ -158,7 +158,7 @@ void resolve_liggghts(study::StudyConfig& config, bool refuse) {
   config.run.liggghts = *exe;
 
   const std::string how =
-      "build LIGGGHTS with it by scripts/build-liggghts.sh (README: \"LIGGGHTS with the viscous rolling model\"); "
+      "build LIGGGHTS with it by scripts/build-liggghts.sh (docs/how-to/viscous-liggghts.md); "
       "demsa then finds it in " +
       liggghts_cache_dir().string() + ", or name it by [run] liggghts or $DEMSA_LIGGGHTS";
   std::string problem;

@@ -1,5 +1,6 @@
 #pragma once
-// `demsa run`: a study from its file to committed observables (README "A study"; ARCHITECTURE.md "exec/"), resumable.
+// `demsa run`: a study from its file to committed observables (docs/explanation/method.md "A study"; ARCHITECTURE.md
+// "exec/"), resumable.
 //
 //   design (sobol/) -> DIR/design.csv and the store's samples (first run only)
 //   per sample still to do: a fresh case folder (case_writer.hpp) -> executor -> failure classification

@@ -1,7 +1,7 @@
 #pragma once
-// `demsa status` (README "Usage"): a study's counts by state, its failures with their class, the ETA, the piles still
-// moving, and its bill (exec/cost.hpp; status never runs LIGGGHTS); on a SLURM study that no demsa runs, it first
-// collects the tasks that have ended.
+// `demsa status` (docs/reference/command-line.md): a study's counts by state, its failures with their class, the ETA,
+// the piles still moving, and its bill (exec/cost.hpp; status never runs LIGGGHTS); on a SLURM study that no demsa
+// runs, it first collects the tasks that have ended.
 #include "orchestrator/exec/cost.hpp"
 #include "orchestrator/study/store.hpp"
 

@@ -458,7 +458,8 @@ const char* const k_contact_notes =
     "over one step the exact exponential decay of ω_t that its torque causes, its one-step fraction capped at "
     "1/8 (the header's comment gives the derivation), which equals model B whenever the rolling relaxes over "
     "more than about 8 steps. A purely viscous torque gives no static rolling resistance (ω = 0, no torque). Not "
-    "in stock LIGGGHTS: build it with `scripts/build-liggghts.sh` (README); demsa refuses a `viscous` study "
+    "in stock LIGGGHTS: build it with `scripts/build-liggghts.sh` (docs/how-to/viscous-liggghts.md); demsa refuses a "
+    "`viscous` study "
     "before any case runs when the LIGGGHTS it found lacks the model.";
 
 std::vector<SettingSection> core_sections(const std::vector<SettingSection>& experiment_sections) {
@@ -476,7 +477,7 @@ std::vector<SettingSection> core_sections(const std::vector<SettingSection>& exp
        "apart from the particles'. The pair is one parameter of the design, the metamodels, the Sobol' indices, "
        "`demsa calibrate` and `demsa plan` (named \"μ_PP = μ_PW\" in the report); each case gives the tied one its "
        "partner's value. Calibrated together with a study that varies both, the tied parameter maps onto its "
-       "partner there too (README, \"Report and calibration\").",
+       "partner there too (docs/explanation/method.md, \"The report and the calibration\").",
        ""},
       {"material", "",
        "The rolling coefficients `mu_r_pp` and `mu_r_pw` are those of `[contact] rolling_model`: dimensionless "

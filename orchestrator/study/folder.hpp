@@ -1,7 +1,7 @@
 #pragma once
-// The names of everything in a study folder and of the files every case folder has (README "A study"): every file
-// name has this one home. The files of one experiment's cases (its final dump, its plate files) are named in its
-// folder, orchestrator/experiments/NAME/.
+// The names of everything in a study folder and of the files every case folder has (docs/explanation/method.md "A
+// study"): every file name has this one home. The files of one experiment's cases (its final dump, its plate files) are
+// named in its folder, orchestrator/experiments/NAME/.
 #include "orchestrator/util/file_lock.hpp"
 
 #include <filesystem>

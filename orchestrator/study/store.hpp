@@ -1,8 +1,8 @@
 #pragma once
-// The study store: one SQLite database per study (DIR/study.db, README "A study") in WAL mode, so that `demsa status`
-// reads while `demsa run` writes. It holds the samples of the design, every run attempt (state, attempt, exit
-// status, failure class, wall and CPU time, host, log tail, executor job id), the measured observables, an event
-// log, and the hash of the design-relevant settings.
+// The study store: one SQLite database per study (DIR/study.db, docs/explanation/method.md "A study") in WAL mode, so
+// that `demsa status` reads while `demsa run` writes. It holds the samples of the design, every run attempt (state,
+// attempt, exit status, failure class, wall and CPU time, host, log tail, executor job id), the measured observables,
+// an event log, and the hash of the design-relevant settings.
 //
 // Invariants kept by the schema itself:
 //   - a sample has at most one run in state `done` (a partial unique index), so a finished case can never be

@@ -14,7 +14,7 @@
 
 namespace demsa::util {
 
-/// Exit statuses of every demsa command (README "Exit status").
+/// Exit statuses of every demsa command (docs/reference/command-line.md, "Exit status").
 inline constexpr int k_exit_ok = 0;
 inline constexpr int k_exit_check_failed = 1;   ///< compare beyond tolerance, failures left in a study
 inline constexpr int k_exit_usage = 2;          ///< usage or input error: the user can fix it

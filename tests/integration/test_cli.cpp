@@ -1,5 +1,5 @@
-// The command line's contract (README "Usage"): every subcommand is listed, the version names LIGGGHTS, usage
-// errors exit 2.
+// The command line's contract (docs/reference/command-line.md): every subcommand is listed, the version names LIGGGHTS,
+// usage errors exit 2.
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
-// Exit statuses of failures through the real binary (README "Exit status"): a mistake in the user's input exits 2
-// with "demsa: error: ...", a failure of the machine (a folder that cannot be written, a study store that cannot be
-// opened) exits 3 with "demsa: internal error: ..." naming what failed.
+// Exit statuses of failures through the real binary (docs/reference/command-line.md, "Exit status"): a mistake in the
+// user's input exits 2 with "demsa: error: ...", a failure of the machine (a folder that cannot be written, a study
+// store that cannot be opened) exits 3 with "demsa: internal error: ..." naming what failed.
 #include "orchestrator/study/store.hpp"
 #include "support/synthetic_study.hpp"
 #include "support/test_support.hpp"
