@@ -1,6 +1,6 @@
-// `demsa analyze` (README "Usage"): metamodels and Sobol' indices on a study's observables, written to analysis/.
-// SIGINT/SIGTERM stop it within a step of its loops (exit 128 + N) before it writes any file; an analysis in which no
-// observable got indices is written (it records why) and exits 2.
+// `demsa analyze` (docs/reference/command-line.md): metamodels and Sobol' indices on a study's observables, written to
+// analysis/. SIGINT/SIGTERM stop it within a step of its loops (exit 128 + N) before it writes any file; an analysis in
+// which no observable got indices is written (it records why) and exits 2.
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"

@@ -1,4 +1,5 @@
-// `demsa calibrate` (README "Usage"): what measured values say about the parameters, on the studies' metamodels.
+// `demsa calibrate` (docs/reference/command-line.md): what measured values say about the parameters, on the studies'
+// metamodels.
 //   --method bayes:    the posterior (analysis/calibration_posterior.hpp) of one or several studies, its
 //                      diagnostics and plots under DIR/calibration/; --verify K runs the MAP and K draws.
 //   --method optimize: the one point that best matches (analysis/calibration.hpp), --verify runs it.

@@ -1,6 +1,6 @@
 #pragma once
-// The command line of README "Usage". main() calls run_cli() and returns its status; each subcommand is registered
-// by its own cli/<command>.cpp file through the functions in commands.hpp.
+// The command line of docs/reference/command-line.md. main() calls run_cli() and returns its status; each subcommand is
+// registered by its own cli/<command>.cpp file through the functions in commands.hpp.
 #include <exception>
 #include <string>
 

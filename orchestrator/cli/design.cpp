@@ -1,8 +1,8 @@
-// `demsa design lhs|sobol|saltelli`: a design of experiments as CSV, for any simulator (README "Usage"). Values are
-// on the unit cube unless parameters with bounds are given (--param NAME:LOW:HIGH[:log]); the space-filling
-// metrics (on the unit cube) go to standard output, as JSON with --json (for saltelli: only with --json). A Saltelli
-// design comes in independently scrambled replicates by default (sobol::default_saltelli_replicates), from whose
-// spread `demsa sensitivity` takes its intervals.
+// `demsa design lhs|sobol|saltelli`: a design of experiments as CSV, for any simulator
+// (docs/reference/command-line.md). Values are on the unit cube unless parameters with bounds are given (--param
+// NAME:LOW:HIGH[:log]); the space-filling metrics (on the unit cube) go to standard output, as JSON with --json (for
+// saltelli: only with --json). A Saltelli design comes in independently scrambled replicates by default
+// (sobol::default_saltelli_replicates), from whose spread `demsa sensitivity` takes its intervals.
 #include "sobol/design.hpp"
 #include "orchestrator/analysis/saltelli_design_file.hpp"
 #include "orchestrator/cli/commands.hpp"

@@ -1,6 +1,7 @@
 // `demsa export-vtk CASE|DUMP [--out DIR]`: the final state of a case folder (particles, and the pedestal and ground
 // of a pile or the box and plate of an oedometer), or the particles of the last frame of one dump file, as VTK XML
-// PolyData that ParaView opens (exec/case_vtk.hpp, README "A case in ParaView"). Prints the files written.
+// PolyData that ParaView opens (exec/case_vtk.hpp, docs/how-to/case-by-hand.md "A case in ParaView"). Prints the files
+// written.
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/exec/case_vtk.hpp"
 #include "orchestrator/study/folder.hpp"

@@ -1,6 +1,6 @@
-// `demsa plan DIR [DIR ...]` (README "Which experiments to run"): before any lab work, the expected posterior width
-// of every parameter for every set of the given studies' experiments (analysis/experiment_plan.hpp), its cost, a
-// recommendation, DIR/plan/plan.json and the figure plan_widths.
+// `demsa plan DIR [DIR ...]` (docs/explanation/method.md "Which experiments to run"): before any lab work, the expected
+// posterior width of every parameter for every set of the given studies' experiments (analysis/experiment_plan.hpp),
+// its cost, a recommendation, DIR/plan/plan.json and the figure plan_widths.
 #include "orchestrator/analysis/experiment_plan.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/report/posterior_plots.hpp"

@@ -1,4 +1,4 @@
-// `demsa report` (README "Usage"): plots and report.md / report.html for a study.
+// `demsa report` (docs/reference/command-line.md): plots and report.md / report.html for a study.
 #include "orchestrator/report/report.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/study/folder.hpp"

@@ -1,4 +1,4 @@
-// `demsa run` (README "Usage"): a whole study, resumable, then its analysis.
+// `demsa run` (docs/reference/command-line.md): a whole study, resumable, then its analysis.
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"

@@ -1,4 +1,4 @@
-// `demsa sensitivity`: Sobol' indices for any simulator (README "Usage"; paper §5–6), either
+// `demsa sensitivity`: Sobol' indices for any simulator (docs/reference/command-line.md; paper §5–6), either
 //   --saltelli DESIGN.csv --responses Y.csv   outputs evaluated outside on a `demsa design saltelli` design (or
 //   --saltelli DESIGN.csv --response NAME     response columns appended to the design file, the SALib habit),
 //                                             intervals from the design's replicates (--interval, default

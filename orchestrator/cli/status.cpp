@@ -1,5 +1,5 @@
-// `demsa status` (README "Usage"; exec/status.hpp): counts by state, failures with their class, ETA; on a SLURM study
-// that no demsa runs, first collects the tasks that have ended.
+// `demsa status` (docs/reference/command-line.md; exec/status.hpp): counts by state, failures with their class, ETA; on
+// a SLURM study that no demsa runs, first collects the tasks that have ended.
 #include "orchestrator/exec/status.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/util/errors.hpp"
