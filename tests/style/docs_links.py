@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """docs_links.py ROOT DEMSA: the docs a reader follows hold. Prints every fault and exits 1 when there is one:
-- every `demsa SUBCOMMAND` in the code of README.md and docs/tutorials/*.md (fenced blocks and inline code) is a
+- every `demsa SUBCOMMAND` in the code of README.md, docs/tutorials/, docs/how-to/ and
+  docs/reference/command-line.md (fenced blocks and inline code) is a
   command: `DEMSA SUBCOMMAND --help` exits 0 and prints that command's usage;
 - every examples/... path they name exists (a path without an extension may be the folder a study file of that
   name writes, or a file in it: examples/calibration/pile/ for examples/calibration/pile.toml);
@@ -31,7 +32,8 @@ def code_of(text):
 
 
 checked = {}
-for page in [root / "README.md", *sorted((root / "docs" / "tutorials").glob("*.md"))]:
+for page in [root / "README.md", *sorted((root / "docs" / "tutorials").glob("*.md")),
+             *sorted((root / "docs" / "how-to").glob("*.md")), root / "docs" / "reference" / "command-line.md"]:
     name = page.relative_to(root)
     text = page.read_text()
     for number, code in code_of(text):

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The docs a reader follows hold (tests/style/docs_links.py): the commands of README.md and the tutorials exist, the
-# example files they name exist, every relative link of README.md, CONTRIBUTING.md, ARCHITECTURE.md and docs/
-# resolves. Then proves the check can fail: a copy with a broken link, a missing example and an unknown command.
+# The docs a reader follows hold (tests/style/docs_links.py): the commands of README.md, the tutorials and the how-to
+# guides exist, the example files they name exist, every relative link of README.md, CONTRIBUTING.md, ARCHITECTURE.md
+# and docs/ resolves. Then proves the check can fail: a copy with a broken link, a missing example and an unknown
+# command.
 set -euo pipefail
 cd "${DEMSA_SOURCE_DIR:?}"
 python3 tests/style/docs_links.py . "${DEMSA_BINARY:?}"
