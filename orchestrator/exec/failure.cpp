@@ -193,8 +193,10 @@ FailureReport classify_case(const CaseExit& exit, const fs::path& folder, const 
                               removed > 0 ? fmt::format("; {} more removed on purpose", removed) : ""));
   }
   if (experiment.check_outputs)
-    if (const std::optional<experiments::OutputProblem> p = experiment.check_outputs(folder, *options.config))
+    if (const std::optional<experiments::OutputProblem> p = experiment.check_outputs(folder, *options.config)) {
+      report.final = p->final;
       return fail(p->failure, p->message);
+    }
   return report;
 }
 

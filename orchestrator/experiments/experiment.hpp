@@ -54,6 +54,9 @@ class CaseDraft {
 struct OutputProblem {
   study::FailureClass failure = study::FailureClass::missing_dump;
   std::string message;
+  /// The outputs of a case that ran to its end say the settings cannot reach the goal (a load the servo plate never
+  /// reached in its cap): a run on one rank repeats itself to the last digit, so a retry ends the same way.
+  bool final = false;
 };
 
 /// What one written case costs by its schedule (exec/cost.hpp adds them up into a study's bill). An atom-step is one

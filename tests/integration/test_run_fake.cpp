@@ -283,6 +283,8 @@ TEST(RunFake, OedometerPlateNotConvergedIsAFailureClass) {
   EXPECT_EQ(j.at("failures")[0].at("sample").get<int>(), 2);
   EXPECT_EQ(j.at("failures")[0].at("class").get<std::string>(), "plate-not-converged");
   const Store store = Store::open_read_only((tmp / "study" / "study.db").string());
+  // A load not reached is final: the study allows a retry, and the sample ran once.
+  EXPECT_EQ(store.runs_in_state(RunState::failed).size(), 1u);
   // Settlements relative to the first load: 3 loads after 100 N, growing with the load.
   const std::map<std::string, double>& values = store.observables().at(0);
   ASSERT_TRUE(values.count("settlement_3"));

@@ -226,10 +226,12 @@ TEST(Failure, PlateNotConvergedAndMissingPlateStates) {
   FailureReport report = classify_case(clean_exit(), tmp.path(), options);
   EXPECT_EQ(report.failure, FailureClass::plate_not_converged);
   EXPECT_NE(report.message.find("400"), std::string::npos);
+  EXPECT_TRUE(report.final);  // the same run ends the same way: no retry
   write_file(tmp / "plate_states.txt", "# load_N plate_z_m force_N converged\n100 0.09 100.01 1\n400 0.089 400 1\n");
   report = classify_case(clean_exit(), tmp.path(), options);
   EXPECT_EQ(report.failure, FailureClass::plate_not_converged);
   EXPECT_EQ(report.message, "only 2 of 3 load steps reached");
+  EXPECT_FALSE(report.final);
   write_file(tmp / "plate_states.txt", "100 0.09 100 1\n400 0.089 400 1\n1100 0.088 1100 1\n");
   EXPECT_EQ(classify_case(clean_exit(), tmp.path(), options).failure, FailureClass::none);
 }
