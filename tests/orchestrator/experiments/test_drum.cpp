@@ -320,7 +320,10 @@ TEST(DrumPhotograph, TheGeometryFileIsFoundBesideTheImageAndCheckedAtItsLines) {
   EXPECT_EQ(refused("radius = -1\n"), bad + ":1: radius = -1: must lie in [0.0001, 100]");
   EXPECT_NE(refused("preset = \"granudrum\"\nrotation = \"up\"\n").find(bad + ":2: rotation = up:"), std::string::npos);
   EXPECT_NE(refused("rotation = \"clockwise\"\n").find("give the drum's inner radius"), std::string::npos);
-  EXPECT_NE(refused("radius = 0.04\ncentre_col = 10\n").find("need radius_px"), std::string::npos);
+  EXPECT_NE(
+      refused("radius = 0.04\ncentre_col = 10\n")
+          .find("centre_col, centre_row and radius_px (the drum's centre and inner radius in pixels) go together"),
+      std::string::npos);
   EXPECT_NE(refused("radius = 0.04\njudged_radius = 0.5\nangle_half_width = 0.6\n").find("angle_half_width"),
             std::string::npos);
 }
