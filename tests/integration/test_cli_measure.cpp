@@ -189,11 +189,11 @@ TEST(CliMeasure, AnOverlayThatWouldOverwriteAnInputIsRefusedBeforeMeasuring) {
   test::TempDir tmp;
   test::write_file(tmp / "study.toml", test::StudyToml{.name = "overlay",
                                                        .experiment = "drum",
-                                                       .samples = 2,
+                                                       .samples = 4,
                                                        .parameters = "mu_pp = { low = 0.4, high = 0.9 }\n",
                                                        .tables = "[drum]\npreset = \"granudrum\"\ncoarse_grain = 3\n",
                                                        .run = test::fake_liggghts_run_lines(),
-                                                       .analysis = ""}
+                                                       .analysis = "metamodels = [\"rsm1\"]\nbootstrap = 0\n"}
                                            .text());
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
   const test::CommandResult run =
@@ -232,6 +232,16 @@ TEST(CliMeasure, AnOverlayThatWouldOverwriteAnInputIsRefusedBeforeMeasuring) {
   EXPECT_EQ(overlay(tmp / "o.png").exit_code, 0);
   r = overlay(tmp / "o.png");
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  // `report --photograph` with a file that is no photograph wrote the report without the comparison (and without the
+  // case's own figures) with exit 0 and a note.
+  ASSERT_EQ(test::run_demsa({"analyze", (tmp / "s").string()}).exit_code, 0)
+      << test::run_demsa({"analyze", (tmp / "s").string()}).err;
+  test::write_file(tmp / "notes.png", "not a picture\n");
+  r = test::run_demsa({"report", (tmp / "s").string(), "--photograph", (tmp / "notes.png").string(), "--no-html"});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("--photograph " + (tmp / "notes.png").string() + ": against sample "), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("not a BMP or PNG image"), std::string::npos) << r.err;
   // A FIFO named as the case: named as one, not "no such case folder".
   ASSERT_EQ(::mkfifo((tmp / "fifo").c_str(), 0600), 0);
   r = test::run_demsa({"measure", (tmp / "fifo").string(), "--photograph", photo.string()});
