@@ -4,6 +4,7 @@
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "postprocess/error.hpp"
 
 #include <fmt/core.h>
 #include <unistd.h>
@@ -23,8 +24,17 @@ CaseMeasurement measure_case_described(const std::filesystem::path& folder) {
   const experiments::Experiment& experiment = experiments::of_case(doc, folder / study::k_case_json);
   CaseMeasurement m;
   m.experiment = std::string(experiment.name);
-  for (const auto& [name, value] : experiment.measure(folder, doc))
-    m.values.push_back({experiments::describe_observable(name), value});
+  std::map<std::string, double> values;
+  try {
+    values = experiment.measure(folder, doc);
+  } catch (const postprocess::InputError& e) {
+    // What cannot be measured names the case it is about ("no direction has 3 boundary points ...: not a pile"
+    // named nothing), unless the message already does.
+    const std::string what = e.what();
+    if (what.rfind(folder.string(), 0) == 0) throw;
+    throw postprocess::InputError(fmt::format("{}: {}", folder.string(), what));
+  }
+  for (const auto& [name, value] : values) m.values.push_back({experiments::describe_observable(name), value});
   return m;
 }
 

@@ -78,6 +78,22 @@ TEST(CliMeasure, AFolderThatIsNoFinishedCaseIsAnInputError) {
   EXPECT_NE(m.err.find("pile_final.dump"), std::string::npos) << m.err;
 }
 
+TEST(CliMeasure, ACaseThatHoldsNothingToMeasureIsNamed) {
+  // A final dump whose one particle has a radius of 1e300 m: "no direction has 3 boundary points ... not a pile",
+  // naming neither the case nor its dump.
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", study("pile"));
+  ASSERT_EQ(test::run_demsa({"run", (tmp / "study.toml").string(), "--dir", (tmp / "s").string()}).exit_code, 0);
+  const fs::path folder = tmp / "s" / "cases" / "000000";
+  std::string dump = test::read_file(folder / "pile_final.dump");
+  const std::size_t row = dump.find('\n', dump.find("ITEM: ATOMS")) + 1;
+  dump.replace(row, dump.find('\n', row) - row, "1 1 0.01 0 0.01 1e300 0 0 0");
+  test::write_file(folder / "pile_final.dump", dump);
+  const test::CommandResult m = test::run_demsa({"measure", folder.string()});
+  EXPECT_EQ(m.exit_code, 2) << m.out;
+  EXPECT_EQ(m.err.rfind("demsa: error: " + folder.string() + ": ", 0), 0u) << m.err;
+}
+
 TEST(CliMeasure, APhotographIsMeasuredUnderTheCasesNamesWithItsBands) {
   // The GranuDrum's MCC at 15 and 45 rpm (examples/drum-mcc/, drum.toml beside them): clockwise, the surface high on
   // the left and steeper at 45 rpm.
