@@ -302,6 +302,19 @@ DrumImage drum_image_from_photograph(const GreyImage& photograph, const DrumGeom
   // level and the bed's: a pixel that showed powder a fraction f of the time averages to
   // empty + f·(material − empty). Both levels come from the picture itself (photograph_levels), so neither the
   // lighting nor the camera's exposure enters the observables.
+  check_geometry(geometry);
+  check_image(photograph, "the photograph");
+  // The whole drum in the picture, to half a pixel: beyond its edges a surface's columns, its stations and the bed's
+  // area are cut off, and the scan from the top of the judged circle would start on the picture's first row, taking
+  // the edge for the surface (a drum of 400 px in a 406 px picture measured a fill of 0.13 for 0.50).
+  const double left = geometry.centre_col - geometry.radius_px, right = geometry.centre_col + geometry.radius_px;
+  const double top = geometry.centre_row - geometry.radius_px, bottom = geometry.centre_row + geometry.radius_px;
+  if (left < -0.5 || top < -0.5 || right > photograph.width + 0.5 || bottom > photograph.height + 0.5)
+    throw InputError(fmt::format(
+        "the drum (centre at column {:g}, row {:g}, radius {:g} px) reaches beyond the picture's {} × {} pixels "
+        "(columns {:g} to {:g}, rows {:g} to {:g}): the whole drum must be in the picture",
+        geometry.centre_col, geometry.centre_row, geometry.radius_px, photograph.width, photograph.height, left, right,
+        top, bottom));
   const PhotographLevels levels = photograph_levels(photograph, geometry, dark_material);
   DrumImage image;
   image.geometry = geometry;
@@ -438,7 +451,7 @@ DrumSurfaceResult measure_drum_surface(const DrumImage& image, const DrumSurface
   result.angle_line_slope = line.slope;
   result.angle_line_height = line.intercept;
   const double angle = std::atan(line.slope) * k_rad_to_deg;  // rising to the right: positive
-  result.dynamic_angle = clockwise ? -angle : angle;
+  result.dynamic_angle = (clockwise ? -angle : angle) + 0.0;  // + 0.0: a level surface is 0°, not −0°
 
   // Its uncertainty: each column's height taken as uncertain by half its band (the surface's fluctuation and blur,
   // as one standard deviation) and propagated through the slope of a line fitted by least squares,

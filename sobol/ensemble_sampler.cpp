@@ -190,6 +190,21 @@ EnsembleResult sample_ensemble(const BatchLogDensity& log_density, const std::ve
   return r;
 }
 
+Eigen::MatrixXd highest_density_start(const Eigen::MatrixXd& points, const Eigen::VectorXd& log_density, int walkers) {
+  assert(points.rows() == log_density.size() && walkers > 0);
+  std::vector<Eigen::Index> finite;
+  for (Eigen::Index i = 0; i < log_density.size(); ++i)
+    if (std::isfinite(log_density(i))) finite.push_back(i);
+  if (static_cast<Eigen::Index>(finite.size()) < walkers)
+    throw InputError(fmt::format("ensemble sampler: {} of {} points have a finite density, fewer than the {} walkers",
+                                 finite.size(), points.rows(), walkers));
+  std::partial_sort(finite.begin(), finite.begin() + walkers, finite.end(),
+                    [&](Eigen::Index a, Eigen::Index b) { return log_density(a) > log_density(b); });
+  Eigen::MatrixXd start(walkers, points.cols());
+  for (int w = 0; w < walkers; ++w) start.row(w) = points.row(finite[static_cast<size_t>(w)]);
+  return start;
+}
+
 double integrated_time(const Eigen::MatrixXd& chains, double c) {
   const Eigen::Index n = chains.rows();
   const Eigen::Index m = chains.cols();

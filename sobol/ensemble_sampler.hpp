@@ -67,6 +67,17 @@ struct EnsembleResult {
 EnsembleResult sample_ensemble(const BatchLogDensity& log_density, const std::vector<double>& lower,
                                const std::vector<double>& upper, const EnsembleOptions& options);
 
+/// The `walkers` rows of `points` (n × d) of largest finite `log_density`, largest first: a starting ensemble
+/// (EnsembleOptions::start) in the region of highest density among them. Started uniformly in the box, the stretch
+/// move, whose steps scale with the ensemble's own spread (Goodman & Weare 2010, §3), must shrink the ensemble by
+/// orders of magnitude to reach a posterior much narrower than the box, and in a chain of fixed length it may not:
+/// its walkers stay apart and its widths are its starting spread. emcee's advice is to start the walkers in a small
+/// region of high probability (Foreman-Mackey, Hogg, Lang, Goodman 2013, PASP 125, §4; emcee's "Fitting a model to
+/// data" tutorial starts them in a small ball around the optimum); among points spread over the box, the best ones
+/// also span a ridge or several modes where the density has them. InputError when fewer than `walkers` rows have a
+/// finite density.
+Eigen::MatrixXd highest_density_start(const Eigen::MatrixXd& points, const Eigen::VectorXd& log_density, int walkers);
+
 /// Integrated autocorrelation time of an ensemble of chains (columns of `chains`, one walker each), emcee's
 /// estimator: ACF averaged over walkers, Sokal's window with c = 5. A constant chain gives 1.
 double integrated_time(const Eigen::MatrixXd& chains, double c = 5.0);

@@ -37,8 +37,9 @@ struct PosteriorOptions {
   std::vector<std::string> weights;  ///< "NAME=W", W >= 0 (tempers that target's likelihood term)
   std::string model;                 ///< one metamodel for every target; empty: the best Q² per observable
   int walkers = 0;                   ///< 0: the sampler's default (max(32, 4d))
-  /// Kept steps per walker; 0 (the default): automatic, 3000 and then, while the chain is shorter than 50 τ,
-  /// run again with 60 τ steps (and a burn-in of at least 5 τ), within k_max_auto_draws values in memory.
+  /// Kept steps per walker; 0 (the default): automatic, 3000 and then, while the chain is not converged (shorter
+  /// than 50 τ, or split R̂ >= 1.05), continue it with max(60 τ, twice as many) steps (and a burn-in of at least
+  /// 5 τ), at most k_auto_max_runs runs within k_max_auto_draws values in memory.
   int steps = 0;
   int burn_in = 1000;                 ///< discarded steps per walker (automatic steps may raise it)
   std::optional<std::uint64_t> seed;  ///< empty: the first study's seed
@@ -55,6 +56,9 @@ struct PosteriorOptions {
 inline constexpr int k_auto_first_steps = 3000;
 inline constexpr int k_auto_max_runs = 3;
 inline constexpr double k_max_auto_draws = 2.5e7;
+/// The sampler's walkers start at the points of highest posterior density among this many uniform draws from the
+/// prior box.
+inline constexpr int k_start_points = 16384;
 
 /// The checks of a posterior against its measurements (docs/reference/checks.md). A target fails when its measured
 /// value lies in a tail of the posterior predictive holding less than k_predictive_tail (two-sided); a parameter is "at

@@ -109,11 +109,9 @@ struct PlanChain {
 };
 
 /// One truth's posterior where importance sampling falls short: the ensemble sampler, started at the
-/// k_plan_walkers_per_parameter d + 2 prior points of largest weight rather than uniformly in the box. A posterior
-/// narrower than the prior sample's spacing is then found at once; started uniformly, the stretch move (whose steps
-/// scale with the ensemble's own spread, Goodman & Weare 2010 §3) had to shrink the ensemble by orders of magnitude
-/// and, in a fixed chain, did not: its widths were its starting spread. emcee's advice is the same: start the walkers
-/// in a small region of high density (Foreman-Mackey et al. 2013, PASP 125, §4). The chain is then doubled, each run
+/// k_plan_walkers_per_parameter d + 2 prior points of largest weight rather than uniformly in the box
+/// (sobol::highest_density_start says why). A posterior narrower than the prior sample's spacing is then found at
+/// once; started uniformly, a fixed chain did not reach it. The chain is then doubled, each run
 /// continuing the last ensemble, until sobol::diagnose calls it converged (steps >= 50 τ, split R̂ < 1.05) or
 /// k_plan_max_steps.
 PlanChain sample_plan_posterior(const sobol::GaussianPosterior& posterior, const Eigen::MatrixXd& u,
@@ -122,12 +120,7 @@ PlanChain sample_plan_posterior(const sobol::GaussianPosterior& posterior, const
   const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
   sobol::EnsembleOptions sampler;
   sampler.walkers = k_plan_walkers_per_parameter * d + 2;
-  std::vector<int> best(static_cast<size_t>(log_w.size()));
-  std::iota(best.begin(), best.end(), 0);
-  std::partial_sort(best.begin(), best.begin() + sampler.walkers, best.end(),
-                    [&](int a, int b) { return log_w(a) > log_w(b); });
-  sampler.start.resize(sampler.walkers, d);
-  for (int w = 0; w < sampler.walkers; ++w) sampler.start.row(w) = u.row(best[static_cast<size_t>(w)]);
+  sampler.start = sobol::highest_density_start(u, log_w, sampler.walkers);
   sampler.burn_in = k_plan_burn_in;
   sampler.steps = k_plan_steps;
   sampler.seed = seed;

@@ -62,16 +62,19 @@ std::size_t best_measurable(const std::vector<FittedMetamodel>& fits, const std:
   }
   if (best) return *best;
   std::string reasons;
-  for (const FittedMetamodel& f : fits)
+  bool fewest = false;  // rsm1, the metamodel of fewest terms, was among them: naming it would not help
+  for (const FittedMetamodel& f : fits) {
+    fewest = fewest || f.name() == "rsm1";
     reasons += fmt::format("\n  {}: {}", f.name(),
                            f.ok() ? fmt::format("leave-one-out Q² is not finite on {} samples: as many as its terms, "
                                                 "so its error cannot be measured",
                                                 samples)
                                   : f.error);
-  throw util::UserError(fmt::format(
-      "{}: no metamodel of {} whose error can be measured:{}\nrun more cases of the study, or name a metamodel with "
-      "fewer terms (--model rsm1)",
-      where, observable, reasons));
+  }
+  throw util::UserError(
+      fmt::format("{}: no metamodel of {} whose error can be measured:{}\nrun more cases of the "
+                  "study{}",
+                  where, observable, reasons, fewest ? "" : ", or name a metamodel with fewer terms (--model rsm1)"));
 }
 
 }  // namespace demsa::analysis

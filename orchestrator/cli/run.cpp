@@ -67,6 +67,7 @@ int do_run(const RunArgs& args) {
   if (args.json && !args.dry_run) throw UserError("--json goes with --dry-run: the estimate of a study as JSON");
   if (args.probe != 0.0 && !args.dry_run)
     throw UserError("--probe goes with --dry-run: a short run of the first case that measures the study's own rate");
+  if (args.probe != 0.0) check_probe_budget(args.probe);
   if (::isatty(STDIN_FILENO) == 1)
     options.ask_cancel = [](int in_flight) { return ask_cancel_on_interrupt(in_flight, std::cin, std::cerr); };
   if (!fs::exists(options.study_file)) throw UserError(fmt::format("{}: no such study file", args.study));
@@ -78,7 +79,7 @@ int do_run(const RunArgs& args) {
     resolve_liggghts(config, args.probe != 0.0);
     if (args.probe != 0.0) {
       if (!args.json && !args.quiet)
-        fmt::print(stderr, "probing: the first case runs for at most {:.0f} s (LIGGGHTS on 1 case, {} rank(s))\n",
+        fmt::print(stderr, "probing: the first case runs for at most {:g} s (LIGGGHTS on 1 case, {} rank(s))\n",
                    args.probe, config.run.ranks);
       probe_study(config, summary.dir, args.probe);
     }

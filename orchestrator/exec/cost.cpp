@@ -270,13 +270,17 @@ nlohmann::ordered_json probe_json(const ProbeResult& p) {
 
 }  // namespace
 
-ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, double budget_seconds) {
+void check_probe_budget(double budget_seconds) {
   // A budget that rounds to 0 ms would be run_capture's "no timeout": the probe would run the whole case.
   if (!(budget_seconds >= k_min_probe_seconds) || !std::isfinite(budget_seconds))
     throw UserError(
         fmt::format("--probe {}: give at least {:g} s (LIGGGHTS alone takes a fraction of a second to "
                     "start; a shorter budget measures nothing)",
                     budget_seconds, k_min_probe_seconds));
+}
+
+ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, double budget_seconds) {
+  check_probe_budget(budget_seconds);
   const study::Store store = study::Store::open_read_only((dir / study::k_store_file).string());
   const std::vector<study::SampleRow> samples = store.samples();
   if (samples.empty()) throw UserError(fmt::format("{}: the study has no samples to probe", dir.string()));

@@ -101,6 +101,9 @@ struct ProbeResult {
 /// round to no timeout at all.
 inline constexpr double k_min_probe_seconds = 1.0;
 ProbeResult probe_study(const study::StudyConfig& config, const std::filesystem::path& dir, double budget_seconds);
+/// Throws util::UserError naming --probe when `budget_seconds` is below k_min_probe_seconds or not finite (before the
+/// dry run writes anything).
+void check_probe_budget(double budget_seconds);
 
 /// DIR/cost_probe.json when it is there and still describes this study's first case and LIGGGHTS (the same cap, the
 /// same binary); none otherwise.

@@ -39,4 +39,10 @@ experiments::LabComparison compare_case_with_lab_file(const std::filesystem::pat
                                                       const std::filesystem::path& file,
                                                       std::filesystem::path picture = {});
 
+/// Refuses (util::UserError naming --overlay), before anything is measured, a `picture` whose folder does not exist or
+/// cannot be written, that is a folder, the laboratory file itself, one of the case's run outputs, or an existing
+/// file that is not a PNG: the overlay is written over it.
+void check_overlay_path(const std::filesystem::path& picture, const std::filesystem::path& lab_file,
+                        const std::filesystem::path& folder, const experiments::Experiment& experiment);
+
 }  // namespace demsa::exec

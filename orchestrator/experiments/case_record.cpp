@@ -22,7 +22,13 @@ namespace fs = std::filesystem;
 nlohmann::json read_case_json(const fs::path& case_dir) {
   const fs::path file = case_dir / study::k_case_json;
   std::error_code ec;
-  if (!fs::is_directory(case_dir, ec)) throw util::UserError(case_dir.string(), 0, "no such case folder");
+  if (!fs::is_directory(case_dir, ec)) {
+    if (!fs::exists(fs::symlink_status(case_dir, ec)))
+      throw util::UserError(case_dir.string(), 0, "no such case folder");
+    if (const std::optional<std::string> kind = postprocess::special_file_kind(case_dir))
+      throw util::UserError(case_dir.string(), 0, postprocess::special_file_message(*kind));
+    throw util::UserError(case_dir.string(), 0, "a file, not a case folder");
+  }
   if (!fs::exists(file, ec))
     throw util::UserError(case_dir.string(), 0, fmt::format("not a case folder (no {})", study::k_case_json));
   if (const std::optional<std::string> kind = postprocess::special_file_kind(file))

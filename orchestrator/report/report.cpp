@@ -21,6 +21,7 @@
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
+#include "postprocess/error.hpp"
 #include "sobol/metamodel.hpp"
 
 #include <fmt/core.h>
@@ -466,6 +467,13 @@ int choose_sample(const StudyData& s, int requested) {
   return best;
 }
 
+/// The photograph given with --photograph cannot be set against the case: the report asked for is not written
+/// without it (exit 2), unlike a case whose own figures fail, which is a note.
+class PhotographError : public UserError {
+ public:
+  using UserError::UserError;
+};
+
 /// The experiment's section on one case, its figures drawn (experiments::CaseReport).
 ReportSection case_section(const StudyData& s, int sample, const Plotter& plotter, const fs::path& out,
                            const fs::path& dir, const fs::path& lab_file, ReportSummary& summary) {
@@ -503,8 +511,16 @@ ReportSection case_section(const StudyData& s, int sample, const Plotter& plotte
     // The case against the laboratory's own picture of the setup: where the two disagree, and by how much.
     const experiments::Experiment& experiment = experiments::of(s.config);
     const fs::path overlay = out / "lab_overlay.png";
-    const experiments::LabComparison c =
-        experiment.compare_with_lab_file(folder, experiments::read_case_json(folder), lab_file, overlay);
+    experiments::LabComparison c;
+    try {
+      c = experiment.compare_with_lab_file(folder, experiments::read_case_json(folder), lab_file, overlay);
+    } catch (const UserError& e) {
+      throw PhotographError(fmt::format("--photograph {}: against sample {}: {}", lab_file.string(), sample, e.what()));
+    } catch (const postprocess::ParseError& e) {
+      throw PhotographError(fmt::format("--photograph {}: against sample {}: {}", lab_file.string(), sample, e.what()));
+    } catch (const postprocess::InputError& e) {
+      throw PhotographError(fmt::format("--photograph {}: against sample {}: {}", lab_file.string(), sample, e.what()));
+    }
     section.paragraphs.push_back(fmt::format(
         "Against the photograph `{}`: the case and the photograph disagree about material over {:.1f} mm² {} (below: "
         "the photograph in grey, the case's bed in blue over it, light where the photograph has no material).",
@@ -887,6 +903,8 @@ ReportSummary write_study_report(const ReportOptions& options) {
     try {
       doc.sections.push_back(
           case_section(s, summary.sample_shown, plotter, summary.out_dir, dir, options.lab_file, summary));
+    } catch (const PhotographError&) {
+      throw;
     } catch (const std::exception& e) {
       summary.notes.push_back(fmt::format("sample {}: no case figures: {}", summary.sample_shown, e.what()));
     }

@@ -325,10 +325,29 @@ TEST(CalibratePosteriorCli, AMetamodelWhoseErrorCannotBeMeasuredIsRefused) {
     EXPECT_NE(r.err.find("no metamodel of angle whose error can be measured"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("rsm2: leave-one-out Q² is not finite on 6 samples"), std::string::npos) << r.err;
   }
+  EXPECT_NE(run_demsa({"plan", folder, "--no-plots"}).err.find("(--model rsm1)"), std::string::npos);
   // With a metamodel of fewer terms (rsm1: 3) the error is measured and the calibration runs.
   const CommandResult rsm1 =
       run_demsa({"calibrate", folder, "--target", "angle=27±0.5", "--model", "rsm1", "--no-plots", "--steps", "500"});
   EXPECT_NE(rsm1.exit_code, 2) << rsm1.err;
+  // On as many samples as rsm1's terms, the advice is to run more cases, not to name rsm1 again.
+  SyntheticStudy three = start_synthetic_study(
+      dir / "three",
+      StudyToml{
+          .name = "three", .seed = 3, .samples = 12, .parameters = k_ranges, .analysis = "metamodels = [\"rsm1\"]\n"}
+          .text(),
+      2);
+  for (size_t i = 0; i < 3; ++i) {
+    RunOutcome done;
+    done.exit_code = 0;
+    three.store.record_done(three.store.add_run(three.samples[i].sample, 1), done,
+                            {{"angle", 20.0 + 10.0 * three.samples[i].unit[0]}});
+  }
+  const CommandResult r = run_demsa({"plan", (dir / "three").string(), "--no-plots"});
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.err.find("rsm1: leave-one-out Q² is not finite on 3 samples"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("run more cases of the study"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("--model rsm1"), std::string::npos) << r.err;
 }
 
 TEST(CalibratePosteriorCli, AMeasuredCurveFromACsvFile) {

@@ -302,6 +302,9 @@ TEST(CliCost, AProbeBudgetBelowASecondIsRefusedNotUnlimited) {
     EXPECT_EQ(dry.exit_code, 2) << dry.out << dry.err;
     EXPECT_NE(dry.err.find(fmt::format("--probe {}: give at least 1 s", budget)), std::string::npos) << dry.err;
     EXPECT_FALSE(fs::exists(tmp / "study" / "cost_probe.json"));
+    // Refused before the dry run writes its design and cases (and before it announces a probe of "at most 0 s").
+    EXPECT_FALSE(fs::exists(tmp / "study")) << dry.err;
+    EXPECT_EQ(dry.err.find("probing:"), std::string::npos) << dry.err;
   }
 }
 

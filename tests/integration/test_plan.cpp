@@ -168,7 +168,10 @@ TEST(PlanCli, OnAnInclineLikePairOfGpsTheWidthsShrinkWithTheSdAsCalibrateSays) {
   write_study(
       dir / "roll", "roll", 12, [](const std::vector<double>& u) { return std::atan(0.1 + 0.4 * u[2]) * 57.3; }, 0,
       "[\"gp\"]");
-  std::vector<double> previous{1.0, 1.0};
+  // The analytic width is 2 · 1.645 sd / (dy/du) at u = 0.5 (slide: 57.3 · 1.5 / (1 + 1.15²) = 37.0 °, roll: 57.3 ·
+  // 0.4 / 1.09 = 21.0 °), widened by the GPs' own variance.
+  const std::vector<double> slope{37.0, 21.0};
+  std::vector<double> previous{1.0, 1.0}, previous_calibrated{1.0, 1.0};
   for (const double sd : {0.3, 0.1, 0.01, 0.001, 0.0002}) {
     SCOPED_TRACE(fmt::format("sd {}", sd));
     const nlohmann::json j =
@@ -176,9 +179,6 @@ TEST(PlanCli, OnAnInclineLikePairOfGpsTheWidthsShrinkWithTheSdAsCalibrateSays) {
               "--no-plots", "--out", (dir / fmt::format("plan-{}", sd)).string()});
     EXPECT_TRUE(j.at("checks").at("passed").get<bool>()) << j.at("checks").dump();
     const nlohmann::json& both = subset(j, {"slide", "roll"});
-    // The analytic width, 2 · 1.645 sd / (dy/du) at u = 0.5 (slide: 57.3 · 1.5 / (1 + 1.15²) = 37.0 °, roll: 57.3 · 0.4
-    // / 1.09 = 21.0 °), widened by the GPs' own variance.
-    const std::vector<double> slope{37.0, 21.0};
     for (int p : {1, 2}) {
       const double w = width(both, p);
       EXPECT_LT(w, previous[static_cast<size_t>(p - 1)]) << "parameter " << p << ": " << both.dump();
@@ -187,17 +187,26 @@ TEST(PlanCli, OnAnInclineLikePairOfGpsTheWidthsShrinkWithTheSdAsCalibrateSays) {
       EXPECT_GT(w, 0.5 * analytic) << "parameter " << p;
       EXPECT_LT(w, 3.0 * analytic) << "parameter " << p;
     }
-    // `calibrate` at b = c = 0.5 (angles 48.99° and 16.70°). At 0.0002° its own chain, started uniformly in the box,
-    // does not reach the posterior either (it reports 0.44 and 0.13); it is compared down to 0.001°.
-    if (sd < 0.001) continue;
+    // `calibrate` at b = c = 0.5 (angles 48.99° and 16.70°), converged. At 0.0002° its own chain, started uniformly
+    // in the box, did not reach the posterior either: it reported widths of 0.44 and 0.13, its walkers apart.
     const CommandResult r =
         run_demsa({"calibrate", (dir / "slide").string(), (dir / "roll").string(), "--target",
                    fmt::format("slide:angle=48.99±{}", sd), "--target", fmt::format("roll:angle=16.70±{}", sd),
                    "--json", "--no-plots", "--out", (dir / fmt::format("calibration-{}", sd)).string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const nlohmann::json calibrated = nlohmann::json::parse(r.out).at("parameters");
-    for (int p : {1, 2})
-      EXPECT_NEAR(width(both, p), calibrated.at(p).at("width_ratio").get<double>(), 0.05) << "parameter " << p;
+    const nlohmann::json posterior = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(posterior.at("diagnostics").at("converged").get<bool>()) << posterior.at("diagnostics").dump();
+    const nlohmann::json& calibrated = posterior.at("parameters");
+    for (int p : {1, 2}) {
+      const double w = calibrated.at(p).at("width_ratio").get<double>();
+      EXPECT_NEAR(width(both, p), w, 0.05) << "parameter " << p;
+      // Below 0.05 itself, the same bounds as the plan's: narrower with the sd, near the analytic width.
+      EXPECT_LT(w, previous_calibrated[static_cast<size_t>(p - 1)]) << "parameter " << p;
+      previous_calibrated[static_cast<size_t>(p - 1)] = w;
+      const double analytic = 3.29 * sd / slope[static_cast<size_t>(p - 1)];
+      EXPECT_GT(w, 0.5 * analytic) << "parameter " << p;
+      EXPECT_LT(w, 3.0 * analytic) << "parameter " << p;
+    }
   }
   // d(slide)/db = 57.3 · 1.5 / (1 + 1.15²) = 37.0 °: at sd 0.0002° a 90 % width of 9e-6, far below the 0.40 before.
   EXPECT_LT(previous[0], 1e-3);

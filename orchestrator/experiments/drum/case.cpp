@@ -150,15 +150,84 @@ double mean_particle_volume(const DrumSettings& s) {
   return 4.0 / 3.0 * k_pi * third / mass;
 }
 
-long fill_count(const DrumSettings& s) {
+double exact_fill_count(const DrumSettings& s) {
   const double full =
       s.particles > 0 ? static_cast<double>(s.particles) : s.bulk_volume * s.packing_fraction / mean_particle_volume(s);
-  return std::lround(full / std::pow(s.coarse_grain, 3));
+  return full / std::pow(s.coarse_grain, 3);
+}
+
+long fill_count(const DrumSettings& s) {
+  // Rounding is undefined beyond a long's range: a count that large is one no check lets through anyway.
+  const double n = exact_fill_count(s);
+  return n < 1e18 ? std::lround(n) : static_cast<long>(1e18);
+}
+
+namespace {
+
+/// The face-centred cubic sites of the fill (nearest neighbours 2 r_max (1 + gap) apart, FCC holding 0.74 (d/a)³ of
+/// its volume) inside the drum's flat sides less a radius and a gap, visited plane by plane of constant z from the
+/// bottom, each plane's sites by x, then y. After each plane `enough(sites so far)` may stop the walk, so that a fill
+/// at the bottom of a large drum never enumerates the whole drum.
+template <class Visit, class Enough>
+void walk_lattice(const DrumSettings& s, Visit visit, Enough enough) {
+  const double r_max = full_r_max(s) * s.coarse_grain;
+  const double gap = k_lattice_gap * 2 * r_max;
+  const double c = (2 * r_max + gap) * std::sqrt(2.0);
+  const double inner = polygon_vertex_radius(s.radius, s.wall_sides) * std::cos(k_pi / s.wall_sides) - r_max - gap;
+  const double y_low = r_max + gap, y_high = s.depth - r_max - gap;
+  if (!(inner > 0) || !(y_high >= y_low)) return;
+  // Basis of the cubic cell (x, y, z in cell units), grouped by its z offset.
+  const std::array<std::array<double, 2>, 2> at_z0{{{0, 0}, {0.5, 0.5}}};
+  const std::array<std::array<double, 2>, 2> at_z1{{{0.5, 0}, {0, 0.5}}};
+  const long cells_xz = static_cast<long>(std::ceil(inner / c)) + 1;
+  const long cells_y = static_cast<long>(std::ceil((y_high - y_low) / c)) + 1;
+  long visited = 0;
+  for (long l = -cells_xz; l <= cells_xz; ++l)
+    for (int half = 0; half < 2; ++half) {
+      const double z = (static_cast<double>(l) + 0.5 * half) * c;
+      if (std::abs(z) > inner) continue;
+      const double chord = std::sqrt(inner * inner - z * z);
+      const long i_low = static_cast<long>(std::floor(-chord / c)) - 1,
+                 i_high = static_cast<long>(std::ceil(chord / c));
+      std::vector<std::array<double, 3>> plane;
+      for (long i = i_low; i <= i_high; ++i)
+        for (long j = 0; j <= cells_y; ++j)
+          for (const auto& b : half == 0 ? at_z0 : at_z1) {
+            const double x = (static_cast<double>(i) + b[0]) * c;
+            const double y = y_low + (static_cast<double>(j) + b[1]) * c;
+            if (y > y_high + 1e-12 || x * x + z * z > inner * inner) continue;
+            plane.push_back({x, y, z});
+          }
+      std::sort(plane.begin(), plane.end());
+      for (const auto& p : plane) visit(p);
+      visited += static_cast<long>(plane.size());
+      if (enough(visited)) return;
+    }
+}
+
+double lattice_spacing(const DrumSettings& s) { return 2 * full_r_max(s) * s.coarse_grain * (1 + k_lattice_gap); }
+
+}  // namespace
+
+long lattice_capacity(const DrumSettings& s, long wanted) {
+  long sites = 0;
+  walk_lattice(
+      s, [&](const std::array<double, 3>&) { ++sites; }, [&](long n) { return n >= wanted; });
+  return sites;
 }
 
 std::vector<Particle> build_fill(const DrumSettings& s, std::uint64_t seed) {
   const long count = fill_count(s);
   const double k = s.coarse_grain;
+  // The lowest sites (then x, then y): the fill starts as a loose bed at the bottom of the drum.
+  std::vector<std::array<double, 3>> sites;
+  walk_lattice(
+      s, [&](const std::array<double, 3>& p) { sites.push_back(p); }, [&](long n) { return n >= count; });
+  if (static_cast<long>(sites.size()) < count)
+    throw util::UserError(fmt::format(
+        "[drum]: {} particles do not fit into the drum: it holds {} lattice sites {:.4g} m apart (lower bulk_volume "
+        "or particles, or a smaller coarse_grain)",
+        count, sites.size(), lattice_spacing(s)));
   std::unique_ptr<gsl_rng, decltype(&gsl_rng_free)> rng(gsl_rng_alloc(gsl_rng_mt19937), &gsl_rng_free);
   gsl_rng_set(rng.get(), static_cast<unsigned long>(seed));
   std::vector<double> radii;
@@ -171,37 +240,6 @@ std::vector<Particle> build_fill(const DrumSettings& s, std::uint64_t seed) {
     radii = truncated_normal_radii(s.radii, static_cast<int>(count), gsl_rng_get(rng.get()));
   }
   for (double& r : radii) r *= k;
-
-  // Face-centred cubic sites (nearest neighbours 2 r_max (1 + gap) apart; FCC holds 0.74 (d/a)³ of its volume,
-  // room enough for a fill up to 90 % of the drum) inside the drum's flat sides less a radius and a gap.
-  const double r_max = full_r_max(s) * k;
-  const double gap = k_lattice_gap * 2 * r_max;
-  const double a = 2 * r_max + gap;
-  const double c = a * std::sqrt(2.0);
-  const double inner = polygon_vertex_radius(s.radius, s.wall_sides) * std::cos(k_pi / s.wall_sides) - r_max - gap;
-  const double y_low = r_max + gap, y_high = s.depth - r_max - gap;
-  const std::array<std::array<double, 3>, 4> basis{{{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}}};
-  const long cells_xz = static_cast<long>(std::ceil(inner / c)) + 1;
-  const long cells_y = static_cast<long>(std::ceil((y_high - y_low) / c)) + 1;
-  std::vector<std::array<double, 3>> sites;
-  for (long i = -cells_xz; i <= cells_xz; ++i)
-    for (long j = 0; j <= cells_y; ++j)
-      for (long l = -cells_xz; l <= cells_xz; ++l)
-        for (const auto& b : basis) {
-          const double x = (static_cast<double>(i) + b[0]) * c;
-          const double y = y_low + (static_cast<double>(j) + b[1]) * c;
-          const double z = (static_cast<double>(l) + b[2]) * c;
-          if (y > y_high + 1e-12 || x * x + z * z > inner * inner) continue;
-          sites.push_back({x, y, z});
-        }
-  if (static_cast<long>(sites.size()) < count)
-    throw util::UserError(fmt::format(
-        "[drum]: {} particles do not fit into the drum: it holds {} lattice sites {:.4g} m apart (lower bulk_volume "
-        "or particles, or raise coarse_grain less)",
-        count, sites.size(), a));
-  // Lowest sites first (then x, then y): the fill starts as a loose bed at the bottom of the drum.
-  std::sort(sites.begin(), sites.end(),
-            [](const auto& p, const auto& q) { return std::tie(p[2], p[0], p[1]) < std::tie(q[2], q[0], q[1]); });
   std::vector<Particle> fill;
   for (long i = 0; i < count; ++i) {
     const auto& p = sites[static_cast<std::size_t>(i)];
@@ -224,8 +262,11 @@ Schedule schedule(const DrumSettings& s, double dt) {
   t.settle = steps_for(s.settle_time, dt, "[drum] settle_time");
   t.spin_up = steps_for(s.spin_up, dt, "[drum] spin_up");
   t.snapshot = steps_for(s.snapshot_interval, dt, "[drum] snapshot_interval");
-  // Whole snapshot intervals: the window ends on a snapshot.
-  t.window = std::max(1L, std::lround(s.window / s.snapshot_interval)) * t.snapshot;
+  // Whole snapshot intervals of the steps the window asks for, so that the window ends on a snapshot and lasts about
+  // `window` even where the interval rounds to another number of steps (an interval below the time step is one step;
+  // counting the intervals in seconds made its window a hundred times longer, or, beyond a long, one step).
+  const long window = steps_for(s.window, dt, "[drum] window");
+  t.window = std::max(1L, std::lround(static_cast<double>(window) / static_cast<double>(t.snapshot))) * t.snapshot;
   t.period = 60.0 / s.rpm;
   return t;
 }

@@ -377,10 +377,23 @@ PhotographSettings read_photograph_settings(const fs::path& file) {
   }
   if (!radius_given)
     throw util::UserError(file.string(), 0, "give the drum's inner radius in metres (radius = 0.042) or a preset");
+  // The centre and the radius in pixels together or not at all: one alone left the others at 0, a drum centred on the
+  // picture's top left corner, measured with exit 0.
+  const int placed = static_cast<int>(root.contains("centre_col")) + static_cast<int>(root.contains("centre_row")) +
+                     static_cast<int>(root.contains("radius_px"));
+  if (placed > 0 && placed < 3)
+    throw util::UserError(file.string(), 0,
+                          "centre_col, centre_row and radius_px (the drum's centre and inner radius in pixels) go "
+                          "together: give all three, or none for a square picture that spans the drum's diameter");
   if (centre_given) {
-    if (s.radius_px <= 0)
-      throw util::UserError(file.string(), 0, "centre_col and centre_row need radius_px (the inner radius in pixels)");
+    const toml::node* spans = root.get("spans_diameter");
+    if (spans && spans->value<bool>().value_or(false))
+      fail_at(file, *spans, "spans_diameter = true: the picture is placed by centre_col, centre_row and radius_px");
     s.spans_diameter = false;
+  } else if (!s.spans_diameter) {
+    throw util::UserError(file.string(), static_cast<long>(root.get("spans_diameter")->source().begin.line),
+                          "spans_diameter = false: give the drum's centre and inner radius in pixels (centre_col, "
+                          "centre_row, radius_px)");
   }
   try {
     s.surface.validate();
@@ -391,6 +404,16 @@ PhotographSettings read_photograph_settings(const fs::path& file) {
 }
 
 namespace {
+
+/// `what` (which reads or measures the photograph `image`), its InputErrors naming the file.
+template <class F>
+auto naming(const fs::path& image, F what) {
+  try {
+    return what();
+  } catch (const pp::InputError& e) {
+    throw pp::InputError(fmt::format("{}: {}", image.string(), e.what()));
+  }
+}
 
 /// The photograph in the drum frame (its geometry from `s`).
 pp::DrumImage photograph_image(const fs::path& image, const PhotographSettings& s, pp::DrumGeometry& geometry) {
@@ -411,7 +434,7 @@ pp::DrumImage photograph_image(const fs::path& image, const PhotographSettings& 
     m.geometry.rotation = s.rotation;
   }
   geometry = m.geometry;
-  return pp::drum_image_from_photograph(photo, m.geometry, s.dark_material);
+  return naming(image, [&] { return pp::drum_image_from_photograph(photo, m.geometry, s.dark_material); });
 }
 
 }  // namespace
@@ -419,7 +442,18 @@ pp::DrumImage photograph_image(const fs::path& image, const PhotographSettings& 
 PhotographMeasurement measure_photograph(const fs::path& image, const PhotographSettings& s) {
   PhotographMeasurement m;
   const pp::DrumImage drum = photograph_image(image, s, m.geometry);
-  m.surface = pp::measure_drum_surface(drum, s.surface);
+  m.surface = naming(image, [&] { return pp::measure_drum_surface(drum, s.surface); });
+  // The angle is positive when the surface rises towards the wall that carries the powder up, which the rotation
+  // names; a turning drum's surface always does. One that falls there by more than three times its uncertainty was
+  // taken by a drum turning the other way (or a mirrored picture): measured as it is, it gave −40° with exit 0.
+  if (m.surface.dynamic_angle < -3 * m.surface.angle_uncertainty)
+    throw pp::InputError(fmt::format(
+        "{}: the surface falls by {:.2f}° ± {:.2g}° towards the {} wall, which a drum turning {} (the geometry file's "
+        "rotation) carries the powder up: the drum in this picture turns the other way, or the picture is mirrored; "
+        "set rotation = \"{}\"",
+        image.string(), -m.surface.dynamic_angle, m.surface.angle_uncertainty,
+        s.rotation == pp::DrumRotation::clockwise ? "left" : "right", pp::to_string(s.rotation),
+        s.rotation == pp::DrumRotation::clockwise ? "counterclockwise" : "clockwise"));
   m.values = observable_values(m.surface);
   return m;
 }

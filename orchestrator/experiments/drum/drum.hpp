@@ -48,6 +48,10 @@ struct DrumSettings {
   double threshold = 0.5;  ///< postprocess::DrumSurfaceOptions::threshold
 };
 
+/// The most snapshots a case's window may hold (`window` / `snapshot_interval`): each is a dump frame of every
+/// particle.
+inline constexpr double k_max_snapshots = 10000;
+
 const DrumSettings& settings(const study::StudyConfig& config);
 DrumSettings& settings(study::StudyConfig& config);
 
@@ -62,6 +66,12 @@ postprocess::DrumSurfaceOptions surface_options(const DrumSettings& s);
 /// The particle count of a study: the full-size count (`particles`, or bulk_volume × packing_fraction over the mean
 /// particle volume of the size distribution) divided by K³ and rounded, at least 1.
 long fill_count(const DrumSettings& s);
+/// fill_count before rounding (it may exceed a long's range: a check compares it with k_max_particles first).
+double exact_fill_count(const DrumSettings& s);
+
+/// The sites of build_fill's lattice in the lowest planes of the drum that hold `wanted` of them; fewer (all the drum
+/// holds) when the drum cannot. Never enumerates more than one plane beyond `wanted`.
+long lattice_capacity(const DrumSettings& s, long wanted);
 
 /// The full-size mean particle volume of the size distribution [m³]: Σ f_i π d_i³ / 6 over the classes, or the
 /// truncated normal's third moment by quadrature.
@@ -70,7 +80,7 @@ double mean_particle_volume(const DrumSettings& s);
 /// The fill: `fill_count` particles with radii from the size distribution × K, on a face-centred cubic lattice of
 /// nearest-neighbour distance 2 r_max (1 + 2 %) inside the drum, lowest sites first, the radii shuffled over the sites
 /// by a generator seeded with `seed`: identical for every sample of a study. Throws util::UserError when the drum
-/// holds fewer sites than particles.
+/// holds fewer sites than particles (the study file's check refuses such a fill first, at its line).
 std::vector<Particle> build_fill(const DrumSettings& s, std::uint64_t seed);
 
 /// The wall: a closed prism of `sides` sides about the y axis from y = 0 to y = depth, as one triangle mesh — the rim

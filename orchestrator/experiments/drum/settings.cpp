@@ -85,7 +85,9 @@ std::vector<Setting> drum_settings() {
           .unit("m³")
           .cases("drum.bulk_volume")
           .doc("the fill as a bulk volume (the lab's 50 mL = 5e-5 m³): count = bulk_volume × `packing_fraction` / "
-               "mean particle volume, divided by K³; at most 90 % of the drum"));
+               "mean particle volume, divided by K³; at most 90 % of the drum, at least the segment below "
+               "`judged_radius` (6.4 % "
+               "for 0.77: a level bed's surface must lie in the judged circle), at most 1e7 particles"));
   add(Row("drum", "particles")
           .integer(DRUM(particles), between(0, true, k_max_particles, true))
           .cases("drum.particles")
@@ -125,9 +127,10 @@ std::vector<Setting> drum_settings() {
   time("settle_time", DRUM(settle_time), "the fill settles in the drum at rest");
   time("spin_up", DRUM(spin_up),
        "the drum turns this long before the first snapshot (the flow reaches its steady "
-       "state)");
+       "state); at least a quarter turn, 15/rpm s");
   time("window", DRUM(window), "snapshots are taken over this time (the lab's images average a video)");
-  time("snapshot_interval", DRUM(snapshot_interval), "one snapshot every this much time within the window");
+  time("snapshot_interval", DRUM(snapshot_interval),
+       "one snapshot every this much time within the window; at most 10000 snapshots a window");
   add(Row("drum", "image_size")
           .integer(DRUM(image_size), between(32, true, 4096, true))
           .measurement("drum.image_size")
@@ -146,7 +149,7 @@ std::vector<Setting> drum_settings() {
           .measurement("drum.stations")
           .doc("positions across the drum, as fractions of R in x, at which the surface height is an observable "
                "(`surface_1`...: left to right for a clockwise drum, mirrored for counterclockwise); each within "
-               "`judged_radius`"));
+               "`judged_radius`, none twice"));
   add(Row("drum", "threshold")
           .number(DRUM(threshold), between(0, false, 1, false))
           .measurement("drum.threshold")
@@ -206,12 +209,42 @@ void check_drum(const StudyConfig& config, const SectionCheck& at) {
   const double drum_volume = std::numbers::pi * s.radius * s.radius * s.depth;
   const double bulk =
       s.particles > 0 ? static_cast<double>(s.particles) * mean_particle_volume(s) / s.packing_fraction : s.bulk_volume;
+  const std::string fill_key = s.particles > 0 ? "particles" : "bulk_volume";
   if (!(bulk <= 0.9 * drum_volume))
-    at.fail(s.particles > 0 ? "particles" : "bulk_volume",
+    at.fail(fill_key,
             fmt::format("a bulk volume of {:.4g} m³ fills more than 90 % of the drum ({:.4g} m³)", bulk, drum_volume));
+  // A level bed's surface lies below the judged circle when the bed is less than the circular segment cut off by a
+  // chord at judged_radius R from the centre: (θ − sin θ) / 2π of the cross-section, θ = 2 acos(judged_radius). Its
+  // measurement would find no surface (after every case had run).
+  const double theta = 2 * std::acos(s.judged_radius);
+  const double least = (theta - std::sin(theta)) / (2 * std::numbers::pi);
+  if (!(bulk >= least * drum_volume))
+    at.fail(fill_key, fmt::format("a bulk volume of {:.4g} m³ fills {:.3g} % of the drum ({:.4g} m³): a level bed's "
+                                  "surface would lie below judged_radius = {} of R, where the measurement finds no "
+                                  "surface; at least {:.3g} % ({:.4g} m³)",
+                                  bulk, 100 * bulk / drum_volume, drum_volume, s.judged_radius, 100 * least,
+                                  least * drum_volume));
+  if (!(exact_fill_count(s) <= k_max_particles))
+    at.fail(
+        fill_key,
+        fmt::format("{:.4g} particles (coarse_grain = {}), more than {:.0e}: a larger coarse_grain or a smaller fill",
+                    exact_fill_count(s), s.coarse_grain, k_max_particles));
   if (!(s.snapshot_interval <= s.window))
     at.fail("snapshot_interval", fmt::format("{} s is longer than the window, {} s: no snapshot would be taken",
                                              s.snapshot_interval, s.window));
+  if (!(s.window / s.snapshot_interval <= k_max_snapshots))
+    at.fail("snapshot_interval",
+            fmt::format("{} s over a window of {} s is {:.3g} snapshots, more than {} (each is a dump frame of every "
+                        "particle; the GranuDrum averages 40 images)",
+                        s.snapshot_interval, s.window, s.window / s.snapshot_interval, k_max_snapshots));
+  // A bed turned as a rigid body by less than its angle of repose has not begun to flow, and every material's lies
+  // below 90°: before a quarter turn the snapshots may show a bed at rest, not its dynamic angle.
+  if (!(s.spin_up * s.rpm / 60 >= 0.25))
+    at.fail(at.given("spin_up") || !at.given("rpm") ? "spin_up" : "rpm",
+            fmt::format("{} s at {} rpm turns the drum {:.3g} of a turn before the first snapshot: at least "
+                        "a quarter turn ({:.4g} s), beyond any material's angle of repose, before the bed "
+                        "is sure to flow",
+                        s.spin_up, s.rpm, s.spin_up * s.rpm / 60, 15 / s.rpm));
   if (s.stations.empty()) at.fail("stations", "give at least one station");
   if (!(s.angle_half_width <= s.judged_radius))
     at.fail("angle_half_width",
@@ -219,7 +252,19 @@ void check_drum(const StudyConfig& config, const SectionCheck& at) {
   for (const double x : s.stations)
     if (!(std::abs(x) <= s.judged_radius))
       at.fail("stations", fmt::format("station {} lies outside judged_radius = {}", shortest(x), s.judged_radius));
-  if (fill_count(s) < 1) at.fail("coarse_grain", "leaves no particle in the drum");
+  for (std::size_t i = 0; i < s.stations.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (s.stations[i] == s.stations[j])
+        at.fail("stations", fmt::format("station {} is given twice: its height would be two observables of one "
+                                        "measurement",
+                                        shortest(s.stations[i])));
+  const long count = fill_count(s);
+  if (count < 1) at.fail("coarse_grain", "leaves no particle in the drum");
+  if (const long sites = lattice_capacity(s, count); sites < count)
+    at.fail(fill_key,
+            fmt::format("{} particles (coarse_grain = {}) do not fit into the drum: it holds {} of the lattice sites "
+                        "where they start before they settle; lower {}",
+                        count, s.coarse_grain, sites, fill_key));
 }
 
 }  // namespace demsa::experiments::drum

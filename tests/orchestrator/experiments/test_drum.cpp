@@ -95,6 +95,58 @@ TEST(DrumSettings, BadValuesAreRefusedAtTheirLine) {
             std::string::npos);
 }
 
+TEST(DrumSettings, AFillOrAScheduleTheMeasurementCannotUseIsRefusedAtItsLine) {
+  // A drum of 10 m with the default 50 mL: the writer enumerated every lattice site of the drum (1e11, out of
+  // memory, exit 3); the bed would lie far below the judged circle.
+  EXPECT_NE(refusal("radius = 10\ndepth = 10\n")
+                .find("study.toml:11: [drum] bulk_volume: a bulk volume of 5e-05 m³ "
+                      "fills 1.59e-06 % of the drum"),
+            std::string::npos)
+      << refusal("radius = 10\ndepth = 10\n");
+  // 5.9 % of the GranuDrum: its level surface lies 0.78 R below the centre; 6.4 % is the least.
+  EXPECT_NE(refusal("bulk_volume = 6.5e-6\n").find("at least 6.39 %"), std::string::npos);
+  EXPECT_NO_THROW(parse("bulk_volume = 7.5e-6\n"));
+  // More particles than any study may hold (a cubic metre of them: 2.3e7 at K = 3): the dry run ran out of time and
+  // memory writing them.
+  EXPECT_NE(refusal("radius = 1\ndepth = 1\nbulk_volume = 1\ncoarse_grain = 3\n")
+                .find("study.toml:15: [drum] bulk_volume: 2.339e+07 particles (coarse_grain = 3), more than 1e+07"),
+            std::string::npos)
+      << refusal("radius = 1\ndepth = 1\nbulk_volume = 1\ncoarse_grain = 3\n");
+  // Below 90 % of the drum but more than its lattice holds: refused at the line, not by the case writer without one.
+  EXPECT_NE(refusal("coarse_grain = 3\nbulk_volume = 9e-5\n")
+                .find("study.toml:14: [drum] bulk_volume: 2105 particles (coarse_grain = 3) do not fit into the drum: "
+                      "it holds 1203 of the lattice sites"),
+            std::string::npos)
+      << refusal("coarse_grain = 3\nbulk_volume = 9e-5\n");
+  // A window of 2e300 snapshots (rounded to a long, one step) or of 2e7 one-step snapshots.
+  EXPECT_NE(refusal("snapshot_interval = 1e-300\n")
+                .find("study.toml:13: [drum] snapshot_interval: 1e-300 s over a "
+                      "window of 2 s is 2e+300 snapshots, more than 10000"),
+            std::string::npos);
+  // A drum that has not turned a quarter turn by the first snapshot shows a bed that may be at rest.
+  EXPECT_NE(refusal("rpm = 1e-9\n")
+                .find("study.toml:13: [drum] rpm: 1.5 s at 1e-09 rpm turns the drum 2.5e-11 of a "
+                      "turn"),
+            std::string::npos)
+      << refusal("rpm = 1e-9\n");
+  EXPECT_NE(refusal("rpm = 5\nspin_up = 2\n").find("study.toml:14: [drum] spin_up:"), std::string::npos);
+  EXPECT_NO_THROW(parse("rpm = 5\nspin_up = 3\n"));
+  EXPECT_NE(refusal("stations = [0.1, -0.2, 0.1]\n").find("study.toml:13: [drum] stations: station 0.1 is given twice"),
+            std::string::npos);
+}
+
+TEST(DrumCase, TheWindowLastsWhatItAsksWhereTheIntervalRoundsToAStep) {
+  // A snapshot interval below the time step is one step; the window's intervals were counted in seconds, so a window
+  // of 1 ms at an interval of 1e-7 s lasted a hundred times longer.
+  test::TempDir tmp;
+  const study::StudyConfig c = parse(k_classes + "coarse_grain = 3\nwindow = 1e-3\nsnapshot_interval = 1e-7\n");
+  const cases::CaseSummary a = cases::write_case(c, cases::request_from_unit_point(c, 0, {0.5}), tmp / "a");
+  const nlohmann::json doc = nlohmann::json::parse(test::read_file(tmp / "a" / "case.json"));
+  EXPECT_EQ(doc["drum"]["snapshot_steps"].get<long>(), 1);
+  EXPECT_EQ(doc["drum"]["window_steps"].get<long>(), std::lround(1e-3 / a.dt));
+  EXPECT_EQ(doc["drum"]["snapshots"].get<long>(), std::lround(1e-3 / a.dt));
+}
+
 TEST(DrumFill, CoarseGrainScalesTheRadiiAndDividesTheCount) {
   const drum::DrumSettings full = drum::settings(parse(k_classes));
   const drum::DrumSettings coarse = drum::settings(parse(k_classes + "coarse_grain = 3\n"));
@@ -268,7 +320,10 @@ TEST(DrumPhotograph, TheGeometryFileIsFoundBesideTheImageAndCheckedAtItsLines) {
   EXPECT_EQ(refused("radius = -1\n"), bad + ":1: radius = -1: must lie in [0.0001, 100]");
   EXPECT_NE(refused("preset = \"granudrum\"\nrotation = \"up\"\n").find(bad + ":2: rotation = up:"), std::string::npos);
   EXPECT_NE(refused("rotation = \"clockwise\"\n").find("give the drum's inner radius"), std::string::npos);
-  EXPECT_NE(refused("radius = 0.04\ncentre_col = 10\n").find("need radius_px"), std::string::npos);
+  EXPECT_NE(
+      refused("radius = 0.04\ncentre_col = 10\n")
+          .find("centre_col, centre_row and radius_px (the drum's centre and inner radius in pixels) go together"),
+      std::string::npos);
   EXPECT_NE(refused("radius = 0.04\njudged_radius = 0.5\nangle_half_width = 0.6\n").find("angle_half_width"),
             std::string::npos);
 }

@@ -64,11 +64,15 @@ std::string other_value(const Setting& s, const StudyConfig& c) {
   switch (s.type) {
     case SettingType::number: {
       const double d = std::stod(current);
+      // [drum] r_max: larger, the lattice the fill starts on no longer holds the default 50 mL.
+      if (s.section == "drum" && s.key == "r_max") return fmt::format("{:.17g}", d * 0.9);
       for (double v : {d * 1.1, d * 0.9, d + 1, d + 0.01, 1e-6})
         if (v != d && s.bounds.contains(v)) return fmt::format("{:.17g}", v);
       return "";
     }
     case SettingType::integer:
+      // [drum] particles: a fill whose surface lies in the judged circle (the default's, 50 mL of the MCC).
+      if (s.section == "drum" && s.key == "particles") return "30000";
       return std::to_string(std::stol(current) + 1);
     case SettingType::boolean:
       return current == "true" ? "false" : "true";
