@@ -4,16 +4,12 @@
 // (exec/measure.cpp); options given on the command line override them.
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
-#include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/experiments/oedometer/measurement_json.hpp"
-#include "orchestrator/experiments/oedometer/oedometer.hpp"
+#include "orchestrator/experiments/oedometer/plate_files.hpp"
 #include "orchestrator/experiments/pile/angle_json.hpp"
-#include "orchestrator/experiments/pile/case_angle.hpp"
-#include "orchestrator/experiments/pile/pile.hpp"
-#include "orchestrator/study/folder.hpp"
+#include "orchestrator/experiments/pile/dump_angle.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
-#include "postprocess/dump.hpp"
 #include "postprocess/oedometer.hpp"
 #include "postprocess/pile_angle.hpp"
 
@@ -21,12 +17,9 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
-#include <tuple>
 #include <vector>
 
 namespace demsa::cli {
@@ -37,19 +30,6 @@ namespace fs = std::filesystem;
 namespace pp = demsa::postprocess;
 
 namespace {
-
-/// A dump given directly, or the `pile_final.dump` of a case folder.
-fs::path resolve_dump(const std::string& arg, const char* final_name) {
-  const fs::path p(arg);
-  std::error_code ec;
-  if (fs::is_directory(p, ec)) {
-    const fs::path dump = p / final_name;
-    if (!fs::exists(dump, ec)) throw UserError(arg, 0, fmt::format("case folder has no {}", final_name));
-    return dump;
-  }
-  if (!fs::exists(p, ec)) throw UserError(arg, 0, "no such file or folder");
-  return p;
-}
 
 struct PileArgs {
   std::string dump;
@@ -84,60 +64,34 @@ const OptionNames k_pile_option_names{{"pedestal_radius", "--pedestal-radius"},
                                       {"min_points", "--min-points"},
                                       {"target_angle", "--target-angle"}};
 
-/// Takes the pile's pedestal and measurement settings from the case.json of the case that holds `dump` (the folder
-/// given, or the dump's own folder; experiments::pile::case_angle); command-line options win. Returns the case.json
-/// read, or "" when there is none: then the options stand, defaults included, with a warning when the pedestal was
-/// not given.
-std::string apply_case_settings(const PileArgs& a, const fs::path& dump, pp::PileAngleOptions& options,
-                                long& base_particles) {
-  const fs::path folder = dump.parent_path().empty() ? fs::path(".") : dump.parent_path();
-  const fs::path file = folder / study::k_case_json;
-  std::error_code ec;
-  if (!fs::exists(file, ec)) {
-    if (!given(a.pedestal_radius) || !given(a.pedestal_top))
-      log::warn(
-          "{}: no {} beside the dump: measured on the pedestal of the options (radius {} m, top at z = {} m); "
-          "give --pedestal-radius and --pedestal-top if the pile stood on another",
-          dump.string(), study::k_case_json, options.pedestal_radius, options.pedestal_top);
-    return {};
-  }
-  experiments::pile::ChosenAngleOptions chosen;
-  chosen.options = options;
-  chosen.pedestal_radius = given(a.pedestal_radius);
-  chosen.pedestal_top = given(a.pedestal_top);
-  chosen.directions = given(a.directions);
-  chosen.levels = given(a.levels);
-  chosen.estimator = given(a.estimator_option);
-  experiments::pile::CaseAngle angle;
+/// Runs a library call with its messages naming the options rather than the fields.
+template <typename Call>
+auto with_option_names(const OptionNames& names, Call&& call) {
   try {
-    angle = experiments::pile::case_angle(experiments::read_case_json(folder), file, chosen);
+    return call();
   } catch (const UserError& e) {
-    throw UserError(name_options(e.what(), k_pile_option_names));
+    throw UserError(name_options(e.what(), names));
   }
-  options = angle.options;
-  base_particles = angle.base_particles;
-  try {
-    options.validate();
-  } catch (const std::invalid_argument& e) {
-    throw UserError(file.string(), 0, e.what());
-  }
-  return file.string();
 }
 
 void run_pile(const PileArgs& a) {
-  pp::PileAngleOptions options = a.options;
-  options.point = pp::boundary_point_kind_from_string(a.point);
-  options.estimator = pp::angle_estimator_from_string(a.estimator);
-  const fs::path dump = resolve_dump(a.dump, experiments::pile::k_final_dump);
-  long base_particles = 0;
-  const std::string case_json = apply_case_settings(a, dump, options, base_particles);
-  const pp::Particles particles = experiments::pile::without_base(pp::read_particles(dump), base_particles);
-  pp::PileAngleResult r;
-  try {
-    r = pp::measure_pile_angle(particles, options);
-  } catch (const pp::InputError& e) {
-    throw UserError(dump.string(), 0, e.what());
-  }
+  experiments::pile::DumpAngleRequest request;
+  request.dump = a.dump;
+  request.chosen.options = a.options;
+  request.chosen.options.point = pp::boundary_point_kind_from_string(a.point);
+  request.chosen.options.estimator = pp::angle_estimator_from_string(a.estimator);
+  request.chosen.pedestal_radius = given(a.pedestal_radius);
+  request.chosen.pedestal_top = given(a.pedestal_top);
+  request.chosen.directions = given(a.directions);
+  request.chosen.levels = given(a.levels);
+  request.chosen.estimator = given(a.estimator_option);
+  request.warn = [](const std::string& message) { log::warn("{}", name_options(message, k_pile_option_names)); };
+  const experiments::pile::DumpAngle measured =
+      with_option_names(k_pile_option_names, [&] { return experiments::pile::measure_dump_angle(request); });
+  const pp::PileAngleResult& r = measured.result;
+  const pp::PileAngleOptions& options = measured.options;
+  const fs::path& dump = measured.dump;
+  const std::string& case_json = measured.case_json;
   if (a.json) {
     fmt::print("{}\n", experiments::pile::angle_result_json(r, dump.string(), case_json).dump(2));
     return;
@@ -165,65 +119,23 @@ struct OedometerArgs {
   bool json = false;
 };
 
-/// True when the file's column header is the `# step ...` of a plate history.
-bool looks_like_history(const fs::path& path) {
-  const std::string name = path.filename().string();
-  if (name.find("history") != std::string::npos) return true;
-  if (name.find("states") != std::string::npos) return false;
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) return false;
-  char line[4096];
-  bool history = false;
-  while (std::fgets(line, sizeof line, f) != nullptr) {
-    std::string s(line);
-    if (s.rfind("#", 0) != 0) break;
-    const std::size_t k = s.find_first_not_of("# \t");
-    if (k != std::string::npos && s.compare(k, 5, "step ") == 0) history = true;
-  }
-  std::fclose(f);
-  return history;
-}
-
 void run_oedometer(const OedometerArgs& a) {
-  std::optional<fs::path> states_file, history_file, dump_file;
-  if (!a.dump.empty()) dump_file = resolve_dump(a.dump, experiments::oedometer::k_final_dump);
-  for (const std::string& arg : a.files) {
-    const fs::path p(arg);
-    std::error_code ec;
-    if (fs::is_directory(p, ec)) {  // a case folder: its plate files and final dump
-      namespace oedometer = experiments::oedometer;
-      if (fs::exists(p / oedometer::k_plate_states, ec)) states_file = p / oedometer::k_plate_states;
-      if (fs::exists(p / oedometer::k_plate_history, ec)) history_file = p / oedometer::k_plate_history;
-      if (!dump_file && fs::exists(p / oedometer::k_final_dump, ec)) dump_file = p / oedometer::k_final_dump;
-      if (!states_file && !history_file)
-        throw UserError(arg, 0, "case folder has neither plate_states.txt nor plate_history.txt");
-      continue;
-    }
-    if (!fs::exists(p, ec)) throw UserError(arg, 0, "no such file or folder");
-    (looks_like_history(p) ? history_file : states_file) = p;
-  }
-  std::optional<pp::PlateHistory> history;
-  if (history_file) history = pp::read_plate_history(*history_file);
-  std::vector<pp::PlateState> states;
-  if (states_file)
-    states = pp::read_plate_states(*states_file);
-  else
-    states = pp::states_from_history(*history, a.load_tolerance);
-
-  pp::OedometerOptions options = a.options;
-  options.measured_settlements = a.measured;
-  if (dump_file) options.solid_volume = pp::solid_volume(pp::read_particles(*dump_file, 1));
-  validate_command_line(options, {{"box_side", "--box-side"},
-                                  {"floor_z", "--floor-z"},
-                                  {"measured_settlements", "--measured"},
-                                  {"solid_volume", "the solid volume of --dump"}});
-  const std::string source = (states_file ? *states_file : *history_file).string();
-  pp::OedometerResult r;
-  try {
-    r = pp::measure_oedometer(states, options, std::move(history));
-  } catch (const pp::InputError& e) {
-    throw UserError(source, 0, e.what());
-  }
+  experiments::oedometer::PlateFilesRequest request;
+  request.files = a.files;
+  request.dump = a.dump;
+  request.options = a.options;
+  request.options.measured_settlements = a.measured;
+  request.load_tolerance = a.load_tolerance;
+  const experiments::oedometer::PlateFiles measured =
+      with_option_names({{"box_side", "--box-side"},
+                         {"floor_z", "--floor-z"},
+                         {"measured_settlements", "--measured"},
+                         {"solid_volume", "the solid volume of --dump"}},
+                        [&] { return experiments::oedometer::measure_plate_files(request); });
+  const pp::OedometerResult& r = measured.result;
+  const std::optional<fs::path>& states_file = measured.states_file;
+  const std::optional<fs::path>& dump_file = measured.dump_file;
+  const std::string& source = measured.source;
   if (a.json) {
     nlohmann::json j = experiments::oedometer::measurement_json(r);
     j["states_file"] = states_file ? nlohmann::json(states_file->string()) : nlohmann::json(nullptr);
