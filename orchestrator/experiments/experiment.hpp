@@ -5,6 +5,7 @@
 // list (registry.hpp) holds the descriptors. The rest of demsa asks the registry; no code outside
 // orchestrator/experiments/ switches on an experiment's name. ARCHITECTURE.md, "Adding an experiment", is the
 // recipe.
+#include "orchestrator/experiments/angle_of_repose.hpp"
 #include "orchestrator/experiments/case_files.hpp"
 #include "orchestrator/experiments/case_report.hpp"
 #include "orchestrator/experiments/physics.hpp"
@@ -220,6 +221,14 @@ struct Experiment {
   LabComparison (*compare_with_lab_file)(const std::filesystem::path& case_dir, const nlohmann::json& case_json,
                                          const std::filesystem::path& file,
                                          const std::filesystem::path& picture) = nullptr;
+
+  // ---------------------------------------------------------------- one case outside a study run
+  /// The angle of repose of a finished case as `demsa postprocess` and `demsa compare` measure it: the angle options
+  /// its case.json (`case_json`, read from `file`) records, but for the caller's choices, and its base layer; null
+  /// when the experiment measures no angle of repose. Throws util::UserError naming `file` (and the fields
+  /// PileAngleOptions.pedestal_radius and .pedestal_top when the case records no pedestal).
+  CaseAngle (*case_angle)(const nlohmann::json& case_json, const std::filesystem::path& file,
+                          const ChosenAngleOptions& chosen) = nullptr;
 };
 
 }  // namespace demsa::experiments

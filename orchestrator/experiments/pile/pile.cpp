@@ -153,21 +153,6 @@ CaseAngle case_angle(const nlohmann::json& doc, const fs::path& file, const Chos
   return angle;
 }
 
-pp::Particles without_base(const pp::Particles& particles, long base_particles) {
-  if (base_particles <= 0) return particles;
-  pp::Particles pile;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.id[i] <= base_particles) continue;
-    pile.id.push_back(particles.id[i]);
-    pile.type.push_back(particles.type[i]);
-    pile.x.push_back(particles.x[i]);
-    pile.y.push_back(particles.y[i]);
-    pile.z.push_back(particles.z[i]);
-    pile.radius.push_back(particles.radius[i]);
-  }
-  return pile;
-}
-
 namespace {
 
 /// The pile of one state (its particles without the base layer) measured by both estimators; NaN angles when it holds
@@ -469,6 +454,7 @@ const Experiment& experiment() {
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,
       .case_cost = case_cost,
+      .case_angle = pile::case_angle,
   };
   return descriptor;
 }

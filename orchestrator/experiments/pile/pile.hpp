@@ -213,9 +213,6 @@ double angle_drift(const std::vector<PileMoment>& moments, double window);
 void write_history(const std::filesystem::path& folder, const std::vector<PileMoment>& moments);
 std::vector<PileMoment> read_history(const std::filesystem::path& folder);
 
-/// The particles of `particles` but the base layer's (ids 1..base_particles; all of them when it is 0).
-postprocess::Particles without_base(const postprocess::Particles& particles, long base_particles);
-
 }  // namespace demsa::experiments::pile
 
 namespace demsa::experiments::pile {
