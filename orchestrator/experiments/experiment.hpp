@@ -8,6 +8,7 @@
 #include "orchestrator/experiments/angle_of_repose.hpp"
 #include "orchestrator/experiments/case_files.hpp"
 #include "orchestrator/experiments/case_report.hpp"
+#include "orchestrator/experiments/case_tool.hpp"
 #include "orchestrator/experiments/physics.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/failure_class.hpp"
@@ -229,6 +230,9 @@ struct Experiment {
   /// PileAngleOptions.pedestal_radius and .pedestal_top when the case records no pedestal).
   CaseAngle (*case_angle)(const nlohmann::json& case_json, const std::filesystem::path& file,
                           const ChosenAngleOptions& chosen) = nullptr;
+  /// Its own tool, `demsa postprocess NAME` (case_tool.hpp): one case's files measured outside a study run; none
+  /// when `make` is null.
+  CaseToolEntry case_tool = {};
 };
 
 }  // namespace demsa::experiments

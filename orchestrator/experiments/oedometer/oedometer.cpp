@@ -301,6 +301,7 @@ const Experiment& experiment() {
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,
       .case_cost = case_cost,
+      .case_tool = {"Settlements, stress, void ratio and E_0 from the plate files (paper §4)", make_case_tool},
   };
   return descriptor;
 }

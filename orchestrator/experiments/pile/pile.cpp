@@ -455,6 +455,7 @@ const Experiment& experiment() {
       .vtk_surfaces = vtk_surfaces,
       .case_cost = case_cost,
       .case_angle = pile::case_angle,
+      .case_tool = {"Angle of repose and pile height of a pile dump (paper §3.3)", make_case_tool},
   };
   return descriptor;
 }

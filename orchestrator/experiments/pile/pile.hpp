@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -59,6 +60,9 @@ PileSettings& settings(study::StudyConfig& config);
 
 /// The pile's descriptor (registry.hpp lists it).
 const Experiment& experiment();
+
+/// Its tool, `demsa postprocess NAME` (Experiment::case_tool; tool.cpp).
+std::unique_ptr<CaseTool> make_case_tool();
 
 // ---------------------------------------------------------------- observables (paper §3.3)
 /// The one range of each measurement setting read back from case.json, checked by its row of the study file and by the
