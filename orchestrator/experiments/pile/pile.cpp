@@ -420,7 +420,6 @@ std::vector<CaseSurface> vtk_surfaces(const fs::path& folder, const nlohmann::js
 
 long particles(const StudyConfig& config) { return settings(config).particles; }
 double largest_radius(const StudyConfig& config) { return settings(config).radii.r_max; }
-std::string driver_command(const StudyConfig&) { return {}; }
 
 }  // namespace
 
@@ -433,9 +432,6 @@ const Experiment& experiment() {
       .check = check_pile,
       .retired_keys = pile_retired_keys,
       .draft = draft_case,
-      .limit_violations = nullptr,
-      .driver_command = driver_command,
-      .drivers = [] { return std::vector<Driver>{}; },
       .particles = particles,
       .largest_radius = largest_radius,
       .final_dump = k_final_dump,
@@ -447,7 +443,6 @@ const Experiment& experiment() {
       .observables = observables,
       .describe = describe,
       .removed_particles = removed_particles,
-      .check_outputs = nullptr,
       .default_targets = default_targets,
       .lab_observables = lab_observables,
       .report_focus = report_focus,
