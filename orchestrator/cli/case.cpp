@@ -69,12 +69,8 @@ void run_case(const CaseOptions& o, CliState& state) {
   if (o.sample < 0) options.values = parse_sets(o.sets);
   options.output = o.output;
   options.overwrite = o.overwrite;
-  exec::HandCase written;
-  try {
-    written = exec::write_hand_case(options);
-  } catch (const UserError& e) {
-    throw UserError(name_options(e.what(), {{"sample", "--sample"}}));
-  }
+  const exec::HandCase written =
+      with_option_names({{"sample", "--sample"}}, [&] { return exec::write_hand_case(options); });
   const cases::CaseSummary& summary = written.summary;
   if (o.json)
     fmt::print("{}\n", exec::hand_case_json(written).dump(2));

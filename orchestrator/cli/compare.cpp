@@ -63,16 +63,12 @@ int run_compare(const CompareArgs& args) {
   request.options = args.options;
   request.pedestal_radius = args.pedestal_radius != nullptr && args.pedestal_radius->count() > 0;
   request.pedestal_top = args.pedestal_top != nullptr && args.pedestal_top->count() > 0;
-  experiments::CaseComparison comparison;
-  try {
-    comparison = experiments::compare_cases(request);
-  } catch (const UserError& e) {
-    throw UserError(name_options(e.what(), {{"position_tolerance", "--tol-pos"},
-                                            {"radius_tolerance", "--tol-radius"},
-                                            {"angle_tolerance", "--tol-angle"},
-                                            {"pedestal_radius", "--pedestal-radius"},
-                                            {"pedestal_top", "--pedestal-top"}}));
-  }
+  const experiments::CaseComparison comparison = with_option_names({{"position_tolerance", "--tol-pos"},
+                                                                    {"radius_tolerance", "--tol-radius"},
+                                                                    {"angle_tolerance", "--tol-angle"},
+                                                                    {"pedestal_radius", "--pedestal-radius"},
+                                                                    {"pedestal_top", "--pedestal-top"}},
+                                                                   [&] { return experiments::compare_cases(request); });
   if (args.json)
     fmt::print("{}\n", experiments::case_comparison_json(comparison).dump(2));
   else

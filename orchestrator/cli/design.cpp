@@ -106,18 +106,6 @@ const OptionNames k_option_names{{"samples", "-n"},
                                  {"replicates", "--replicates"},
                                  {"output", "-o"}};
 
-/// Runs a library call with its messages and warnings naming the options rather than the fields.
-template <typename Call>
-auto with_option_names(Call&& call) {
-  try {
-    return call();
-  } catch (const UserError& e) {
-    throw UserError(name_options(e.what(), k_option_names));
-  }
-}
-
-void warn_with_option_names(const std::string& message) { log::warn("{}", name_options(message, k_option_names)); }
-
 /// -o is checked before the library sees it: the file is the user's to name.
 void check_output_given(const std::string& output) {
   if (output.empty()) throw UserError("-o/--out FILE is required: the CSV file to write");
@@ -133,9 +121,10 @@ void run_point_design(const DesignArgs& args, sobol::DesignKind kind) {
   options.iterations = args.iterations;
   options.phi_p = args.phi_p;
   options.output = args.output;
-  options.warn = warn_with_option_names;
+  options.warn = warnings_with_option_names(k_option_names);
   check_output_given(args.output);
-  const analysis::PointDesign written = with_option_names([&] { return analysis::write_point_design(options); });
+  const analysis::PointDesign written =
+      with_option_names(k_option_names, [&] { return analysis::write_point_design(options); });
   const sobol::DesignResult& r = written.design;
   if (args.json) {
     fmt::print("{}\n", analysis::point_design_json(written).dump(2));
@@ -161,10 +150,10 @@ void run_saltelli(const DesignArgs& args) {
   options.seed = args.seed;
   options.output = args.output;
   options.metrics = args.json;  // only on request: the pair metrics take O(N^2) time
-  options.warn = warn_with_option_names;
+  options.warn = warnings_with_option_names(k_option_names);
   check_output_given(args.output);
   const analysis::SaltelliDesignWritten written =
-      with_option_names([&] { return analysis::write_simulator_saltelli_design(options); });
+      with_option_names(k_option_names, [&] { return analysis::write_simulator_saltelli_design(options); });
   const sobol::SaltelliDesign& d = written.design;
   if (args.json) {
     fmt::print("{}\n", analysis::saltelli_design_written_json(written).dump(2));

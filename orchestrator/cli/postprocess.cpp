@@ -68,13 +68,7 @@ void register_tool(CLI::App* postprocess, const experiments::Experiment& experim
     for (const CLI::Option* option : *added)
       if (option->count() > 0) given.insert(option->get_name());
     const OptionNames names = tool->message_names();
-    std::string text;
-    try {
-      text = tool->run(given, [&names](const std::string& message) { log::warn("{}", name_options(message, names)); });
-    } catch (const UserError& e) {
-      throw UserError(name_options(e.what(), names));
-    }
-    fmt::print("{}", text);
+    fmt::print("{}", with_option_names(names, [&] { return tool->run(given, warnings_with_option_names(names)); }));
   });
 }
 
