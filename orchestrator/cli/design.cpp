@@ -4,10 +4,9 @@
 // saltelli: only with --json). A Saltelli design comes in independently scrambled replicates by default
 // (sobol::default_saltelli_replicates), from whose spread `demsa sensitivity` takes its intervals.
 #include "sobol/design.hpp"
-#include "orchestrator/analysis/saltelli_design_file.hpp"
+#include "orchestrator/analysis/simulator_design.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
-#include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
 #include "orchestrator/util/text.hpp"
@@ -16,15 +15,9 @@
 #include "sobol/scaling.hpp"
 
 #include <fmt/core.h>
-#include <nlohmann/json.hpp>
 
-#include <bit>
-#include <climits>
-#include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <filesystem>
-#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,25 +47,14 @@ struct DesignArgs {
   int replicates = 0;
 };
 
-// Points of the Sobol' sequence at most (sobol_sequence's limit, 30 binary digits per coordinate).
-constexpr int k_max_sobol_points = 1 << 30;
-/// The most values (samples x dimension) of a design `demsa design lhs|sobol` writes.
-constexpr long long k_max_design_values = 1LL << 26;
-
-struct Parameters {
-  std::vector<std::string> names;
-  std::vector<sobol::Bounds> bounds;
-  bool scaled = false;
-};
-
 double parse_number(const std::string& text, const std::string& what) {
   if (const std::optional<double> v = util::parse_number(text)) return *v;
   throw UserError(fmt::format("{}: '{}' is not a number", what, text));
 }
 
 /// --param NAME:LOW:HIGH[:log|uniform] (repeatable) or --dim D (names x1..xD on the unit cube).
-Parameters parse_parameters(const DesignArgs& args) {
-  Parameters p;
+analysis::DesignParameters parse_parameters(const DesignArgs& args) {
+  analysis::DesignParameters p;
   if (!args.params.empty() && args.dimension_given)
     throw UserError("give either --dim or --param, not both (--param fixes the dimension)");
   if (args.params.empty()) {
@@ -85,13 +67,7 @@ Parameters parse_parameters(const DesignArgs& args) {
     return p;
   }
   for (const std::string& spec : args.params) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (std::size_t colon = spec.find(':');; colon = spec.find(':', start)) {
-      parts.push_back(spec.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
-      if (colon == std::string::npos) break;
-      start = colon + 1;
-    }
+    const std::vector<std::string> parts = split(spec, ':');
     if (parts.size() < 3 || parts.size() > 4 || parts[0].empty())
       throw UserError(fmt::format("--param '{}': expected NAME:LOW:HIGH or NAME:LOW:HIGH:log", spec));
     sobol::Bounds b;
@@ -114,231 +90,88 @@ Parameters parse_parameters(const DesignArgs& args) {
   } catch (const sobol::InputError& e) {
     throw UserError(fmt::format("--param: {}", e.what()));
   }
-  p.scaled = true;
+  p.named = true;
   return p;
 }
 
-// The checks below name the command-line option, its value and the rule. They run before the library's own
-// validate(), whose messages name the fields of sobol::DesignOptions and sobol::SaltelliOptions, which a command-line
-// user never sees; the library keeps its checks for its other callers. CLI11 does not tell which spelling of an
-// option was typed, so the sample size is named "-n" (for -n/--samples) and "--base" (for -N/--base).
+/// The option of each field of analysis::PointDesignOptions and SaltelliDesignFileOptions. CLI11 does not tell which
+/// spelling of an option was typed, so the sample size is named "-n" (for -n/--samples) and "--base" (for -N/--base).
+const OptionNames k_option_names{{"samples", "-n"},
+                                 {"base", "--base"},
+                                 {"dimension", "--dim"},
+                                 {"parameters", "--param"},
+                                 {"time_limit", "--time-limit"},
+                                 {"iterations", "--iterations"},
+                                 {"phi_p", "--phi-p"},
+                                 {"replicates", "--replicates"},
+                                 {"output", "-o"}};
 
-/// How the dimension was given, for messages: "--dim 41" or "41 parameters (--param)".
-std::string dimension_source(const DesignArgs& args, int dimension) {
-  return args.params.empty() ? fmt::format("--dim {}", dimension) : fmt::format("{} parameters (--param)", dimension);
-}
-
-void check_sobol_samples(const std::string& option, int samples) {
-  if (samples > k_max_sobol_points)
-    throw UserError(
-        fmt::format("{} {}: the Sobol' sequence has at most 2^30 = {} points", option, samples, k_max_sobol_points));
-}
-
-/// A scrambled Sobol' sequence keeps the balance of a (t,m,d)-net only over its first 2^m points (Owen 1997,
-/// "Monte Carlo variance of scrambled net quadrature"); Saltelli et al. 2010 (Comput. Phys. Commun. 181, 259-270)
-/// take N = 2^k for the same reason. Another size is allowed, with a warning on standard error (standard output may
-/// carry the JSON).
-void warn_unless_power_of_two(const std::string& option, int samples, const std::string& why) {
-  const auto n = static_cast<unsigned>(samples);
-  if (samples < 1 || std::has_single_bit(n)) return;
-  const unsigned below = std::bit_floor(n);
-  log::warn("{} {} is not a power of two (nearest: {} and {}); {}", option, samples, below, 2 * below, why);
-}
-
-/// The design is held in memory (and its CSV text): -n 200000000 --dim 2 took 10 GB.
-void check_design_values(const DesignArgs& args, int dimension) {
-  const long long values = static_cast<long long>(args.samples) * dimension;
-  if (values > k_max_design_values)
-    throw UserError(fmt::format("-n {}: {} samples x {} = {} values, more than 2^26 = {} (a design is held in memory)",
-                                args.samples, args.samples, dimension_source(args, dimension), values,
-                                k_max_design_values));
-}
-
-void check_point_design(const DesignArgs& args, sobol::DesignKind kind, int dimension) {
-  if (kind == sobol::DesignKind::sobol) {
-    if (args.samples < 1) throw UserError(fmt::format("-n {}: the number of samples must be at least 1", args.samples));
-    check_sobol_samples("-n", args.samples);
-    if (dimension > sobol::k_max_sobol_dimension)
-      throw UserError(fmt::format("{}: the Sobol' sequence supports at most {} parameters",
-                                  dimension_source(args, dimension), sobol::k_max_sobol_dimension));
-    check_design_values(args, dimension);
-    return;
-  }
-  if (args.samples < 2) throw UserError(fmt::format("-n {}: a Latin hypercube needs at least 2 samples", args.samples));
-  if (!(args.time_limit > 0.0))
-    throw UserError(fmt::format("--time-limit {}: the safety stop must be > 0 seconds", args.time_limit));
-  if (args.iterations < 1)
-    throw UserError(fmt::format("--iterations {}: the optimisation needs at least 1 iteration", args.iterations));
-  if ((kind == sobol::DesignKind::lhs_maximin || kind == sobol::DesignKind::lhs_cl2) &&
-      args.samples > sobol::k_max_optimised_lhs_samples)
-    throw UserError(
-        fmt::format("-n {}: an optimised Latin hypercube keeps n x n tables of pairs; at most {} samples "
-                    "(a plain or centred one has no limit)",
-                    args.samples, sobol::k_max_optimised_lhs_samples));
-  if (!(args.phi_p >= 1.0) || !std::isfinite(args.phi_p))
-    throw UserError(fmt::format("--phi-p {}: p must be a finite number >= 1", args.phi_p));
-  check_design_values(args, dimension);
-}
-
-/// The base sample size of a Saltelli design: N rounded up to the next power of two, with a warning naming both
-/// values. Scrambled Sobol' points are balanced only over their first 2^m points (Owen 1997), and the Sobol' index
-/// estimates lose accuracy in between (Ishigami, S1: mean error 3.6e-3 at N = 10,000 against 5.4e-4 at 8192);
-/// Saltelli et al. 2010 take N = 2^k.
-int saltelli_base(int samples) {
-  if (samples < 2) throw UserError(fmt::format("--base {}: the base sample size must be at least 2", samples));
-  if (samples > sobol::k_max_base_samples)
-    throw UserError(fmt::format("--base {}: at most 2^20 = {} (the design holds N (2d + 2) rows in memory)", samples,
-                                sobol::k_max_base_samples));
-  const unsigned rounded = std::bit_ceil(static_cast<unsigned>(samples));
-  if (rounded == static_cast<unsigned>(samples)) return samples;
-  log::warn(
-      "--base {} is not a power of two: rounded up to {} (a scrambled Sobol' sequence is balanced only at "
-      "powers of two; Saltelli 2010 takes N = 2^k)",
-      samples, rounded);
-  return static_cast<int>(rounded);
-}
-
-void check_saltelli(const DesignArgs& args, int dimension) {
-  if (dimension > sobol::k_max_saltelli_dimension)
-    throw UserError(fmt::format(
-        "{}: a Saltelli design supports at most {} parameters (A and B come from one {}-dimensional Sobol' sequence)",
-        dimension_source(args, dimension), sobol::k_max_saltelli_dimension, 2 * sobol::k_max_saltelli_dimension));
-  if (args.replicates > 1 && (args.samples % args.replicates != 0 || args.samples / args.replicates < 2))
-    throw UserError(
-        fmt::format("--replicates {}: must divide the base N = {} and leave at least 2 rows to each "
-                    "replicate",
-                    args.replicates, args.samples));
-  const long long blocks = args.second_order ? 2LL * dimension + 2 : dimension + 2LL;
-  if (blocks * args.samples > INT_MAX)
-    throw UserError(fmt::format("--base {}: the design would have {} x {} = {} rows, more than {}", args.samples,
-                                args.samples, blocks, blocks * args.samples, INT_MAX));
-}
-
-/// A missing output folder is the user's error (exit 2), found before any work: the atomic writer would report it
-/// as an I/O error (exit 3) on its temporary file.
-void check_output_folder(const std::string& output) {
+/// -o is checked before the library sees it: the file is the user's to name.
+void check_output_given(const std::string& output) {
   if (output.empty()) throw UserError("-o/--out FILE is required: the CSV file to write");
-  const std::filesystem::path folder = std::filesystem::path(output).parent_path();
-  std::error_code ec;
-  if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
-    throw UserError(fmt::format("-o {}: the folder '{}' does not exist", output, folder.string()));
-}
-
-/// The pair metrics are absent above sobol::k_max_pair_metric_samples points (null in JSON).
-nlohmann::json optional_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
-
-nlohmann::json metrics_json(const sobol::DesignMetrics& m) {
-  return {{"min_distance", m.min_distance},
-          {"phi_p", optional_json(m.phi_p)},
-          {"phi_p_power", m.phi_p_power},
-          {"centred_l2_discrepancy", optional_json(m.centred_l2)}};
-}
-
-void warn_without_pair_metrics(const sobol::DesignMetrics& m, Eigen::Index rows) {
-  if (!m.phi_p)
-    log::warn("phi_p and the centred L2 discrepancy are not computed for {} points (O(n^2) time; at most {})", rows,
-              sobol::k_max_pair_metric_samples);
 }
 
 void run_point_design(const DesignArgs& args, sobol::DesignKind kind) {
-  const Parameters p = parse_parameters(args);
-  check_point_design(args, kind, static_cast<int>(p.names.size()));
-  check_output_folder(args.output);
-  if (kind == sobol::DesignKind::sobol)
-    warn_unless_power_of_two("-n", args.samples,
-                             "a scrambled Sobol' sequence is balanced only at powers of two (Owen 1997)");
-  sobol::DesignOptions options;
+  analysis::PointDesignOptions options;
+  options.parameters = parse_parameters(args);
   options.kind = kind;
   options.samples = args.samples;
-  options.dimension = static_cast<int>(p.names.size());
   options.seed = args.seed;
   options.time_limit = args.time_limit;
   options.iterations = args.iterations;
-  options.phi_p_power = args.phi_p;
-  const sobol::DesignResult r = sobol::make_design(options);
-  if (r.stop == sobol::DesignStop::time_limit)
-    log::warn(
-        "--time-limit {}: the optimisation stopped at the safety time limit after {} of at most {} iterations; "
-        "this design depends on the machine's speed, not on the seed alone (raise --time-limit or lower "
-        "--iterations)",
-        args.time_limit, r.iterations, args.iterations);
-  warn_without_pair_metrics(r.metrics, r.points.rows());
-  const Eigen::MatrixXd values = p.scaled ? sobol::to_physical(r.points, p.bounds) : r.points;
-  write_csv(args.output, p.names, values);
+  options.phi_p = args.phi_p;
+  options.output = args.output;
+  options.warn = warnings_with_option_names(k_option_names);
+  check_output_given(args.output);
+  const analysis::PointDesign written =
+      with_option_names(k_option_names, [&] { return analysis::write_point_design(options); });
+  const sobol::DesignResult& r = written.design;
   if (args.json) {
-    const nlohmann::json j = {{"design", sobol::to_string(r.kind)},
-                              {"file", args.output},
-                              {"samples", r.points.rows()},
-                              {"dimension", r.points.cols()},
-                              {"parameters", p.names},
-                              {"seed", r.seed},
-                              {"iterations", r.iterations},
-                              {"stop", sobol::to_string(r.stop)},
-                              {"seconds", r.seconds},
-                              {"metrics", metrics_json(r.metrics)}};
-    fmt::print("{}\n", j.dump(2));
-  } else {
-    fmt::print("{} design: {} samples x {} parameters (seed {}) written to {}\n", sobol::to_string(r.kind),
-               r.points.rows(), r.points.cols(), r.seed, args.output);
-    if (r.iterations > 0)
-      fmt::print("optimised in {} iterations (stop: {}), {:.2f} s\n", r.iterations, sobol::to_string(r.stop),
-                 r.seconds);
-    if (r.metrics.phi_p && r.metrics.centred_l2)
-      fmt::print("minimum distance {:.4f}, phi_{:g} {:.4f}, centred L2 discrepancy {:.5f} (on the unit cube)\n",
-                 r.metrics.min_distance, r.metrics.phi_p_power, *r.metrics.phi_p, *r.metrics.centred_l2);
-    else
-      fmt::print("minimum distance {:.4f} (on the unit cube)\n", r.metrics.min_distance);
+    fmt::print("{}\n", analysis::point_design_json(written).dump(2));
+    return;
   }
+  fmt::print("{} design: {} samples x {} parameters (seed {}) written to {}\n", sobol::to_string(r.kind),
+             r.points.rows(), r.points.cols(), r.seed, args.output);
+  if (r.iterations > 0)
+    fmt::print("optimised in {} iterations (stop: {}), {:.2f} s\n", r.iterations, sobol::to_string(r.stop), r.seconds);
+  if (r.metrics.phi_p && r.metrics.centred_l2)
+    fmt::print("minimum distance {:.4f}, phi_{:g} {:.4f}, centred L2 discrepancy {:.5f} (on the unit cube)\n",
+               r.metrics.min_distance, r.metrics.phi_p_power, *r.metrics.phi_p, *r.metrics.centred_l2);
+  else
+    fmt::print("minimum distance {:.4f} (on the unit cube)\n", r.metrics.min_distance);
 }
 
-void run_saltelli(const DesignArgs& given) {
-  const Parameters p = parse_parameters(given);
-  DesignArgs args = given;
-  args.samples = saltelli_base(given.samples);
-  // Replicates by default: `demsa sensitivity` takes its intervals from their spread (sobol/saltelli.hpp).
-  if (args.replicates == 0) args.replicates = sobol::default_saltelli_replicates(args.samples);
-  check_saltelli(args, static_cast<int>(p.names.size()));
-  check_output_folder(args.output);
-  sobol::SaltelliOptions options;
+void run_saltelli(const DesignArgs& args) {
+  analysis::SaltelliDesignFileOptions options;
+  options.parameters = parse_parameters(args);
   options.base = args.samples;
-  options.dimension = static_cast<int>(p.names.size());
   options.second_order = args.second_order;
-  options.seed = args.seed;
   options.replicates = args.replicates;
-  const sobol::SaltelliDesign d = sobol::saltelli_design(options);
-  Eigen::MatrixXd values = d.stacked();
-  if (p.scaled) values = sobol::to_physical(values, p.bounds);
-  analysis::write_saltelli_design(args.output, d, values, p.names);
+  options.seed = args.seed;
+  options.output = args.output;
+  options.metrics = args.json;  // only on request: the pair metrics take O(N^2) time
+  options.warn = warnings_with_option_names(k_option_names);
+  check_output_given(args.output);
+  const analysis::SaltelliDesignWritten written =
+      with_option_names(k_option_names, [&] { return analysis::write_simulator_saltelli_design(options); });
+  const sobol::SaltelliDesign& d = written.design;
   if (args.json) {
-    // Only on request: the pair metrics take O(N^2) time (computed up to sobol::k_max_pair_metric_samples).
-    const sobol::DesignMetrics m = sobol::design_metrics(d.a);
-    warn_without_pair_metrics(m, d.a.rows());
-    const nlohmann::json j = {{"design", "saltelli"},
-                              {"file", args.output},
-                              {"base", d.base},
-                              {"dimension", d.dimension},
-                              {"second_order", d.second_order},
-                              {"rows", d.rows()},
-                              {"parameters", p.names},
-                              {"seed", d.seed},
-                              {"replicates", d.replicates},
-                              {"metrics_of_a", metrics_json(m)}};
-    fmt::print("{}\n", j.dump(2));
-  } else {
-    fmt::print("saltelli design: base {} x {} parameters{}, {} rows (seed {}) written to {}\n", d.base, d.dimension,
-               d.second_order ? " with second order" : "", d.rows(), d.seed, args.output);
-    if (d.replicates > 1)
-      fmt::print(
-          "{} independently scrambled replicates of {} base rows (column 'replicate'): `demsa sensitivity` "
-          "gives Student-t intervals from their spread\n",
-          d.replicates, d.base / d.replicates);
-    else
-      fmt::print(
-          "one scrambled design (no replicates): `demsa sensitivity` gives its indices without intervals, or "
-          "with bootstrap ones by --interval bootstrap (conservative for QMC)\n");
-    fmt::print("column 'block': 0 = A, 1 = B, 1+i = AB_i, 1+{}+i = BA_i; evaluate every row, keep the order\n",
-               d.dimension);
+    fmt::print("{}\n", analysis::saltelli_design_written_json(written).dump(2));
+    return;
   }
+  fmt::print("saltelli design: base {} x {} parameters{}, {} rows (seed {}) written to {}\n", d.base, d.dimension,
+             d.second_order ? " with second order" : "", d.rows(), d.seed, args.output);
+  if (d.replicates > 1)
+    fmt::print(
+        "{} independently scrambled replicates of {} base rows (column 'replicate'): `demsa sensitivity` "
+        "gives Student-t intervals from their spread\n",
+        d.replicates, d.base / d.replicates);
+  else
+    fmt::print(
+        "one scrambled design (no replicates): `demsa sensitivity` gives its indices without intervals, or "
+        "with bootstrap ones by --interval bootstrap (conservative for QMC)\n");
+  fmt::print("column 'block': 0 = A, 1 = B, 1+i = AB_i, 1+{}+i = BA_i; evaluate every row, keep the order\n",
+             d.dimension);
 }
 
 void add_common(CLI::App* sub, DesignArgs& args, const std::string& samples_name, const std::string& samples_help) {

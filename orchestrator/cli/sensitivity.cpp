@@ -85,18 +85,6 @@ const OptionNames k_option_names{{"design", "--saltelli"},
                                  {"base", "--base"},
                                  {"repeats", "--repeats"}};
 
-/// Runs a library call with its messages naming the options rather than the fields.
-template <typename Call>
-auto with_option_names(Call&& call) {
-  try {
-    return call();
-  } catch (const UserError& e) {
-    throw UserError(name_options(e.what(), k_option_names));
-  }
-}
-
-void warn_with_option_names(const std::string& message) { log::warn("{}", name_options(message, k_option_names)); }
-
 /// The numeric options, checked here so that a message names the option as the user typed it.
 void check_numeric_options(const SensitivityArgs& args) {
   if (args.bootstrap != k_mode_default && args.bootstrap < 0)
@@ -178,14 +166,14 @@ void run_saltelli(const SensitivityArgs& args) {
   options.indices.confidence = args.confidence;
   options.indices.seed = args.seed;
   options.indices.stop = [] { return StopFlag::raised(); };
-  options.warn = warn_with_option_names;
+  options.warn = warnings_with_option_names(k_option_names);
   options.on_response = [&args](const std::vector<std::string>& inputs, const SaltelliResponseIndices& o) {
     if (args.json == "-") return;
     fmt::print("{}: Sobol' indices from a Saltelli design, N = {}, {} evaluations\n", o.response, o.indices.base,
                o.indices.evaluations);
     print_indices(o.indices, inputs);
   };
-  const SaltelliSensitivity result = with_option_names([&] { return saltelli_sensitivity(options); });
+  const SaltelliSensitivity result = with_option_names(k_option_names, [&] { return saltelli_sensitivity(options); });
   write_json(args.json, saltelli_sensitivity_json(result));
 }
 
@@ -263,7 +251,7 @@ void run_data(const SensitivityArgs& args) {
   }
   options.repeats = args.repeats;
   options.save_model = args.save_model;
-  options.warn = warn_with_option_names;
+  options.warn = warnings_with_option_names(k_option_names);
   const bool print = args.json != "-";
   options.on_model = [print, &options](const std::string& response, const DataModelIndices& m) {
     if (!print) return;
@@ -274,7 +262,7 @@ void run_data(const SensitivityArgs& args) {
   options.on_noise = [print](const NoiseAnalysis& noise) {
     if (print) fmt::print("{}\n", noise_text(noise));
   };
-  const DataSensitivity result = with_option_names([&] { return data_sensitivity(options); });
+  const DataSensitivity result = with_option_names(k_option_names, [&] { return data_sensitivity(options); });
   if (print)
     for (const std::string& file : result.model_files) fmt::print("metamodel written to {}\n", file);
   write_json(args.json, data_sensitivity_json(result));

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -49,6 +50,23 @@ using OptionNames = std::vector<std::pair<std::string, std::string>>;
 /// `message` with every "SomeOptions.FIELD" of `names` written as its option ("OedometerOptions.box_side = nan" ->
 /// "--box-side = nan"): a user knows the options, not the library's fields.
 std::string name_options(std::string message, const OptionNames& names);
+
+/// Runs a library call; a util::UserError it throws is thrown again with the fields it names written as their options
+/// (`names`).
+template <typename Call>
+auto with_option_names(const OptionNames& names, Call&& call) {
+  try {
+    return call();
+  } catch (const util::UserError& e) {
+    throw util::UserError(name_options(e.what(), names));
+  }
+}
+
+/// A library's warning sink that writes the fields it names as their options and warns.
+inline std::function<void(const std::string&)> warnings_with_option_names(OptionNames names) {
+  return
+      [names = std::move(names)](const std::string& message) { util::log::warn("{}", name_options(message, names)); };
+}
 
 /// Runs `options.validate()` on options filled from the command line. The postprocess library reports a bad option
 /// as std::invalid_argument, a programming error for its other callers; here the value came from the user, so it is

@@ -19,6 +19,19 @@ namespace demsa::experiments {
 
 namespace fs = std::filesystem;
 
+std::filesystem::path final_dump_path(const std::string& given, std::string_view final_name) {
+  namespace fs = std::filesystem;
+  const fs::path p(given);
+  std::error_code ec;
+  if (fs::is_directory(p, ec)) {
+    const fs::path dump = p / final_name;
+    if (!fs::exists(dump, ec)) throw util::UserError(given, 0, fmt::format("case folder has no {}", final_name));
+    return dump;
+  }
+  if (!fs::exists(p, ec)) throw util::UserError(given, 0, "no such file or folder");
+  return p;
+}
+
 nlohmann::json read_case_json(const fs::path& case_dir) {
   const fs::path file = case_dir / study::k_case_json;
   std::error_code ec;

@@ -11,11 +11,16 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace demsa::experiments {
 
 /// The largest case.json read (one is a few kB).
 inline constexpr std::size_t k_max_case_json_bytes = 1 << 20;
+
+/// A dump given directly (`given`), or the final dump `final_name` of the case folder `given` (a measurement of one
+/// case outside a study run). Throws util::UserError naming `given` when neither exists.
+std::filesystem::path final_dump_path(const std::string& given, std::string_view final_name);
 
 /// CASE/case.json as a JSON object. Throws util::UserError naming the folder when it is not a case folder (no
 /// case.json), and naming the file when it cannot be read, is larger than k_max_case_json_bytes, is not valid JSON

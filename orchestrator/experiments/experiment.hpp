@@ -5,8 +5,10 @@
 // list (registry.hpp) holds the descriptors. The rest of demsa asks the registry; no code outside
 // orchestrator/experiments/ switches on an experiment's name. ARCHITECTURE.md, "Adding an experiment", is the
 // recipe.
+#include "orchestrator/experiments/angle_of_repose.hpp"
 #include "orchestrator/experiments/case_files.hpp"
 #include "orchestrator/experiments/case_report.hpp"
+#include "orchestrator/experiments/case_tool.hpp"
 #include "orchestrator/experiments/physics.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/failure_class.hpp"
@@ -133,8 +135,14 @@ struct LabComparison {
   std::filesystem::path picture;  ///< the two superimposed (written)
 };
 
+/// The defaults of the descriptor's optional hooks: an experiment states only what differs.
+inline std::map<std::string, std::string> no_retired_keys() { return {}; }
+inline std::string no_driver_command(const study::StudyConfig&) { return {}; }
+inline std::vector<Driver> no_drivers() { return {}; }
+inline long no_removed_particles(const std::filesystem::path&) { return 0; }
+
 /// The descriptor of one experiment. Every hook is a plain function of the experiment's folder; none may be null
-/// unless its comment says so.
+/// unless its comment says so. A hook with a default (`= ...`) may be left out of an experiment's initialiser.
 struct Experiment {
   std::string_view name;     ///< the value of `[study] experiment`, the key of its section in case.json: "pile"
   std::string_view summary;  ///< for the docs of `[study] experiment`: "angle of repose of a pile, paper §3"
@@ -145,9 +153,9 @@ struct Experiment {
   /// Its rows (settings.hpp, built with setting_row.hpp).
   std::vector<study::Setting> (*settings)();
   /// The rules that tie its keys together, checked when one of its sections is read; may be null.
-  void (*check)(const study::StudyConfig& config, const study::SectionCheck& at);
+  void (*check)(const study::StudyConfig& config, const study::SectionCheck& at) = nullptr;
   /// Keys an earlier demsa read in its sections, each with its hint.
-  std::map<std::string, std::string> (*retired_keys)();
+  std::map<std::string, std::string> (*retired_keys)() = no_retired_keys;
 
   // ---------------------------------------------------------------- the case
   /// Draws the case's particles (identical for every sample: they depend only on the settings and `assembly_seed`).
@@ -155,13 +163,13 @@ struct Experiment {
   /// The LIGGGHTS limits of the experiment that the sample breaks, one sentence each (beyond the common ones of
   /// physics.hpp); may be null.
   std::vector<std::string> (*limit_violations)(const study::StudyConfig& config, const study::Material& material,
-                                               const TimestepChoice& timestep);
+                                               const TimestepChoice& timestep) = nullptr;
   /// The hidden demsa command that runs the case in-process instead of LIGGGHTS on in.liggghts ("" for LIGGGHTS),
   /// e.g. the trial-step oedometer's `drive-oedometer`: one of `drivers`.
-  std::string (*driver_command)(const study::StudyConfig& config);
+  std::string (*driver_command)(const study::StudyConfig& config) = no_driver_command;
   /// The hidden commands of its in-process drivers (`demsa NAME CASE_DIR`, started by run.sh under mpirun), each with
   /// its one-line description and the function that runs a case folder and returns the exit status.
-  std::vector<Driver> (*drivers)();
+  std::vector<Driver> (*drivers)() = no_drivers;
   /// The particle count and the largest radius the settings give (a study's lost-particle and kinetic-energy
   /// limits before any case is written) [m].
   long (*particles)(const study::StudyConfig& config);
@@ -183,9 +191,10 @@ struct Experiment {
   /// describe_observable(). A name may be a pattern's instance (settlement_K): `describe` answers for any name.
   std::optional<study::Observable> (*describe)(std::string_view name);
   /// Particles a finished case removed on purpose (not lost), from its folder; 0 when it removes none.
-  long (*removed_particles)(const std::filesystem::path& folder);
+  long (*removed_particles)(const std::filesystem::path& folder) = no_removed_particles;
   /// A problem with the outputs of a case that ran cleanly (an oedometer load not reached), or none; may be null.
-  std::optional<OutputProblem> (*check_outputs)(const std::filesystem::path& folder, const study::StudyConfig& config);
+  std::optional<OutputProblem> (*check_outputs)(const std::filesystem::path& folder,
+                                                const study::StudyConfig& config) = nullptr;
 
   // ---------------------------------------------------------------- calibration, report, ParaView
   /// The targets of `demsa calibrate` when none are given: (observable, value) pairs from the settings. Throws
@@ -223,6 +232,17 @@ struct Experiment {
   LabComparison (*compare_with_lab_file)(const std::filesystem::path& case_dir, const nlohmann::json& case_json,
                                          const std::filesystem::path& file,
                                          const std::filesystem::path& picture) = nullptr;
+
+  // ---------------------------------------------------------------- one case outside a study run
+  /// The angle of repose of a finished case as `demsa postprocess` and `demsa compare` measure it: the angle options
+  /// its case.json (`case_json`, read from `file`) records, but for the caller's choices, and its base layer; null
+  /// when the experiment measures no angle of repose. Throws util::UserError naming `file` (and the fields
+  /// PileAngleOptions.pedestal_radius and .pedestal_top when the case records no pedestal).
+  CaseAngle (*case_angle)(const nlohmann::json& case_json, const std::filesystem::path& file,
+                          const ChosenAngleOptions& chosen) = nullptr;
+  /// Its own tool, `demsa postprocess NAME` (case_tool.hpp): one case's files measured outside a study run; none
+  /// when `make` is null.
+  CaseToolEntry case_tool = {};
 };
 
 }  // namespace demsa::experiments

@@ -6,16 +6,12 @@
 #     (fake_liggghts.py with `def run(case, unit, mode, particles, sample)`);
 #   - the build (orchestrator/CMakeLists.txt), the fake LIGGGHTS's main and bench/fuzz-study-file.sh name no experiment
 #     folder, and no C++ file outside the folder compares a name with it (`== "NAME"`);
-#   - outside the folder only registry.cpp includes its headers, and the commands that are one experiment's own tools
-#     (`demsa postprocess pile|oedometer`, `demsa compare`'s pile angles), listed below.
+#   - outside the folder only registry.cpp includes its headers (an experiment's own tool, `demsa postprocess NAME`,
+#     comes through its descriptor: experiments/case_tool.hpp).
 # It checks demsa's tree, then proves the recipe on a throw-away copy: a new experiment `toy` (a copy of an existing
 # folder under the new name) with its registry line passes, and without that line fails.
 set -euo pipefail
 cd "${DEMSA_SOURCE_DIR:?}"
-declare -A own_tools=(
-  [orchestrator/cli/postprocess.cpp]="pile oedometer"
-  [orchestrator/cli/compare.cpp]="pile"
-)
 
 # check_tree ROOT: prints what breaks the recipe; succeeds when nothing does.
 check_tree() {
@@ -44,7 +40,6 @@ check_tree() {
       file=${hit#"$root"/}
       file=${file%%:*}
       [[ $file == orchestrator/experiments/$name/* || $file == orchestrator/experiments/registry.cpp ]] && continue
-      [[ " ${own_tools[$file]:-} " == *" $name "* ]] && continue
       bad+=$'\n'"${hit#"$root"/} (includes $name's headers)"
     done < <(grep -rnE "#include[[:space:]]*\"orchestrator/experiments/$name/" "$root/orchestrator" --include='*.cpp' \
       --include='*.hpp' || true)

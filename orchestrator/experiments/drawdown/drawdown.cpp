@@ -211,7 +211,6 @@ long particles(const StudyConfig& config) {
   return settings(config).particles;
 }
 double largest_radius(const StudyConfig& config) { return settings(config).radii.r_max; }
-std::string driver_command(const StudyConfig&) { return {}; }
 
 }  // namespace
 
@@ -222,11 +221,7 @@ const Experiment& experiment() {
       .sections = drawdown_sections,
       .settings = drawdown_settings,
       .check = check_drawdown,
-      .retired_keys = [] { return std::map<std::string, std::string>{}; },
       .draft = draft_case,
-      .limit_violations = nullptr,
-      .driver_command = driver_command,
-      .drivers = [] { return std::vector<Driver>{}; },
       .particles = particles,
       .largest_radius = largest_radius,
       .final_dump = k_final_dump,
@@ -238,7 +233,6 @@ const Experiment& experiment() {
       .observables = observables,
       .describe = describe,
       .removed_particles = removed_particles,
-      .check_outputs = nullptr,
       .default_targets = default_targets,
       .lab_observables = lab_observables,
       .report_focus = report_focus,

@@ -252,7 +252,6 @@ double largest_radius(const StudyConfig& config) {
   if (!s.diameters.empty()) r = *std::max_element(s.diameters.begin(), s.diameters.end()) / 2;
   return r * s.coarse_grain;
 }
-std::string driver_command(const StudyConfig&) { return {}; }
 
 std::vector<std::string> limit_violations(const StudyConfig& config, const Material&, const TimestepChoice& ts) {
   const DrumSettings& s = settings(config);
@@ -529,11 +528,8 @@ const Experiment& experiment() {
       .sections = drum_sections,
       .settings = drum_settings,
       .check = check_drum,
-      .retired_keys = [] { return std::map<std::string, std::string>{}; },
       .draft = draft_case,
       .limit_violations = limit_violations,
-      .driver_command = driver_command,
-      .drivers = [] { return std::vector<Driver>{}; },
       .particles = particles,
       .largest_radius = largest_radius,
       .final_dump = k_final_dump,
@@ -544,7 +540,6 @@ const Experiment& experiment() {
       .measure = measure,
       .observables = observables,
       .describe = describe,
-      .removed_particles = [](const fs::path&) { return 0L; },
       .check_outputs = check_outputs,
       .default_targets = default_targets,
       .lab_observables = lab_observables,

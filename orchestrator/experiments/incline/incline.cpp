@@ -182,7 +182,6 @@ std::vector<CaseSurface> vtk_surfaces(const fs::path&, const nlohmann::json&, co
 
 long particles(const StudyConfig& config) { return settings(config).rolling_probes + settings(config).sliding_probes; }
 double largest_radius(const StudyConfig& config) { return settings(config).radii.r_max; }
-std::string driver_command(const StudyConfig&) { return {}; }
 
 }  // namespace
 
@@ -193,11 +192,7 @@ const Experiment& experiment() {
       .sections = incline_sections,
       .settings = incline_settings,
       .check = check_incline,
-      .retired_keys = [] { return std::map<std::string, std::string>{}; },
       .draft = draft_case,
-      .limit_violations = nullptr,
-      .driver_command = driver_command,
-      .drivers = [] { return std::vector<Driver>{}; },
       .particles = particles,
       .largest_radius = largest_radius,
       .final_dump = k_final_dump,
@@ -209,7 +204,6 @@ const Experiment& experiment() {
       .observables = observables,
       .describe = describe,
       .removed_particles = removed_particles,
-      .check_outputs = nullptr,
       .default_targets = default_targets,
       .lab_observables = lab_observables,
       .report_focus = report_focus,

@@ -95,8 +95,6 @@ std::optional<Observable> describe(std::string_view name) {
   return std::nullopt;
 }
 
-long removed_particles(const fs::path&) { return 0; }
-
 /// A postprocess reader's complaint about `file`, named by its file name alone (the case folder is in the report).
 std::string problem(const fs::path& file, const pp::ParseError& e) {
   const std::string name = file.filename().string();
@@ -276,7 +274,6 @@ const Experiment& experiment() {
       .sections = oedometer_sections,
       .settings = oedometer_settings,
       .check = check_oedometer,
-      .retired_keys = [] { return std::map<std::string, std::string>{}; },
       .draft = draft_case,
       .limit_violations = limit_violations,
       .driver_command = driver_command,
@@ -295,7 +292,6 @@ const Experiment& experiment() {
       .measure = measure,
       .observables = observables,
       .describe = describe,
-      .removed_particles = removed_particles,
       .check_outputs = check_outputs,
       .default_targets = default_targets,
       .lab_observables = lab_observables,
@@ -303,6 +299,7 @@ const Experiment& experiment() {
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,
       .case_cost = case_cost,
+      .case_tool = {"Settlements, stress, void ratio and E_0 from the plate files (paper §4)", make_case_tool},
   };
   return descriptor;
 }

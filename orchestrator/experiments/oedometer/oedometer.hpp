@@ -54,6 +54,9 @@ OedometerSettings& settings(study::StudyConfig& config);
 /// The oedometer's descriptor (registry.hpp lists it).
 const Experiment& experiment();
 
+/// Its tool, `demsa postprocess NAME` (Experiment::case_tool; tool.cpp).
+std::unique_ptr<CaseTool> make_case_tool();
+
 // ---------------------------------------------------------------- observables (paper §4)
 inline constexpr std::string_view k_settlement_error = "settlement_error";  ///< E_0 [m]
 /// "settlement_K": the settlement s_K at load K relative to load 0 [m], K >= 1.

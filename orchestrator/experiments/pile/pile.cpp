@@ -153,21 +153,6 @@ CaseAngle case_angle(const nlohmann::json& doc, const fs::path& file, const Chos
   return angle;
 }
 
-pp::Particles without_base(const pp::Particles& particles, long base_particles) {
-  if (base_particles <= 0) return particles;
-  pp::Particles pile;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.id[i] <= base_particles) continue;
-    pile.id.push_back(particles.id[i]);
-    pile.type.push_back(particles.type[i]);
-    pile.x.push_back(particles.x[i]);
-    pile.y.push_back(particles.y[i]);
-    pile.z.push_back(particles.z[i]);
-    pile.radius.push_back(particles.radius[i]);
-  }
-  return pile;
-}
-
 namespace {
 
 /// The pile of one state (its particles without the base layer) measured by both estimators; NaN angles when it holds
@@ -435,7 +420,6 @@ std::vector<CaseSurface> vtk_surfaces(const fs::path& folder, const nlohmann::js
 
 long particles(const StudyConfig& config) { return settings(config).particles; }
 double largest_radius(const StudyConfig& config) { return settings(config).radii.r_max; }
-std::string driver_command(const StudyConfig&) { return {}; }
 
 }  // namespace
 
@@ -448,9 +432,6 @@ const Experiment& experiment() {
       .check = check_pile,
       .retired_keys = pile_retired_keys,
       .draft = draft_case,
-      .limit_violations = nullptr,
-      .driver_command = driver_command,
-      .drivers = [] { return std::vector<Driver>{}; },
       .particles = particles,
       .largest_radius = largest_radius,
       .final_dump = k_final_dump,
@@ -462,13 +443,14 @@ const Experiment& experiment() {
       .observables = observables,
       .describe = describe,
       .removed_particles = removed_particles,
-      .check_outputs = nullptr,
       .default_targets = default_targets,
       .lab_observables = lab_observables,
       .report_focus = report_focus,
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,
       .case_cost = case_cost,
+      .case_angle = pile::case_angle,
+      .case_tool = {"Angle of repose and pile height of a pile dump (paper §3.3)", make_case_tool},
   };
   return descriptor;
 }

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -59,6 +60,9 @@ PileSettings& settings(study::StudyConfig& config);
 
 /// The pile's descriptor (registry.hpp lists it).
 const Experiment& experiment();
+
+/// Its tool, `demsa postprocess NAME` (Experiment::case_tool; tool.cpp).
+std::unique_ptr<CaseTool> make_case_tool();
 
 // ---------------------------------------------------------------- observables (paper §3.3)
 /// The one range of each measurement setting read back from case.json, checked by its row of the study file and by the
@@ -212,9 +216,6 @@ double angle_drift(const std::vector<PileMoment>& moments, double window);
 /// Writes the series as FOLDER/pile_history.csv; reads it back (throws postprocess::ParseError at file:line).
 void write_history(const std::filesystem::path& folder, const std::vector<PileMoment>& moments);
 std::vector<PileMoment> read_history(const std::filesystem::path& folder);
-
-/// The particles of `particles` but the base layer's (ids 1..base_particles; all of them when it is 0).
-postprocess::Particles without_base(const postprocess::Particles& particles, long base_particles);
 
 }  // namespace demsa::experiments::pile
 
