@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""When a servo oedometer's load counts as reached (docs/experiments.md, "The oedometer as a calibration example").
+"""When a servo oedometer's load counts as reached (docs/explanation/experiments.md, "Oedometer").
 
 Replays the servo rule of liggghts_templates/oedometer.liggghts on the plate histories of a finished servo study
 (every case's plate_history.txt, a row every history interval): a load counts as reached at the first check
