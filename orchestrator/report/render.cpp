@@ -235,7 +235,7 @@ std::string render_html(const ReportDocument& document) {
   html += "<h1>" + html_escape(document.title) + "</h1>\n";
   for (const ReportSection& s : document.sections) {
     const int level = std::clamp(s.level, 2, 4);
-    html += fmt::format("<h{0}>{1}</h{0}>\n", level, html_escape(s.heading));
+    html += fmt::format("<h{0}>{1}</h{0}>\n", level, html_inline(s.heading));  // "Observable `angle`" as code
     for (const std::string& p : s.paragraphs) html += "<p>" + html_inline(p) + "</p>\n";
     for (const ReportTable& t : s.tables) {
       html += "<table>\n";

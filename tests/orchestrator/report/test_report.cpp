@@ -89,6 +89,12 @@ TEST(Report, MarkdownAndHtmlOfADocument) {
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,"), 1u);
   EXPECT_NE(html.find(base64_encode(read_file(dir / "img" / "bars.png"))), std::string::npos);
   EXPECT_EQ(count_of(html, "<td>"), 2u);
+  // A heading's code span is code, not backticks printed as text.
+  ReportSection observable;
+  observable.heading = "Observable `angle` & more";
+  doc.sections = {observable};
+  EXPECT_NE(render_html(doc).find("<h2>Observable <code>angle</code> &amp; more</h2>"), std::string::npos)
+      << render_html(doc);
 }
 
 TEST(Report, MarkdownShowsTheStudyNameAsTextNotMarkup) {
