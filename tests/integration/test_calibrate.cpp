@@ -30,13 +30,9 @@ void write_study(const fs::path& dir) {
                 .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 5\nbase_samples = 256\n"}
           .text(),
       2);
-  for (const SampleRow& row : study.samples) {
-    RunOutcome done;
-    done.exit_code = 0;
-    study.store.record_done(
-        study.store.add_run(row.sample, 1), done,
-        {{"angle", angle_of(row.unit[0], row.unit[1])}, {"pile_height", height_of(row.unit[0], row.unit[1])}});
-  }
+  record_every_sample_done(study, [](const SampleRow& row) -> std::map<std::string, double> {
+    return {{"angle", angle_of(row.unit[0], row.unit[1])}, {"pile_height", height_of(row.unit[0], row.unit[1])}};
+  });
 }
 
 TEST(CalibrateCli, JsonOutputRecoversTheOptimum) {

@@ -33,11 +33,9 @@ void write_pile(const fs::path& dir, const std::string& ranges, const std::strin
                 .analysis = "metamodels = [\"rsm2\", \"gp\"]\nbootstrap = 5\nbase_samples = 256\n"}
           .text(),
       2);
-  for (const SampleRow& row : study.samples) {
-    RunOutcome done;
-    done.exit_code = 0;
-    study.store.record_done(study.store.add_run(row.sample, 1), done, {{"angle", angle(row.unit[0], row.unit[1])}});
-  }
+  record_every_sample_done(study, [&angle](const SampleRow& row) -> std::map<std::string, double> {
+    return {{"angle", angle(row.unit[0], row.unit[1])}};
+  });
 }
 
 /// An oedometer study over mu_pw only (its own range): settlement_k = k · (1 + u) mm.
@@ -52,13 +50,11 @@ void write_oedometer(const fs::path& dir, const std::string& ranges) {
                                       .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 5\nbase_samples = 256\n"}
                                 .text(),
                             3);
-  for (const SampleRow& row : study.samples) {
-    RunOutcome done;
-    done.exit_code = 0;
+  record_every_sample_done(study, [](const SampleRow& row) {
     std::map<std::string, double> v;
     for (int k = 1; k <= 3; ++k) v[fmt::format("settlement_{}", k)] = k * 1e-3 * (1.0 + row.unit[0]);
-    study.store.record_done(study.store.add_run(row.sample, 1), done, v);
-  }
+    return v;
+  });
 }
 
 const std::string k_ranges = "mu_pw = { low = 0.4, high = 1.9 }\nmu_r_pw = { low = 0.1, high = 0.5 }\n";

@@ -80,13 +80,10 @@ void write_done_study(const fs::path& dir) {
           .name = "held", .samples = 12, .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 0\nbase_samples = 64\n"}
           .text();
   SyntheticStudy study = start_synthetic_study(dir, toml, 5);
-  for (const SampleRow& row : study.samples) {
-    RunOutcome done;
-    done.exit_code = 0;
-    study.store.record_done(study.store.add_run(row.sample, 1), done,
-                            {{"angle", 25.0 + 8.0 * row.unit[0] + 3.0 * row.unit[1] * row.unit[1]},
-                             {"pile_height", 0.02 + 0.01 * row.unit[1]}});
-  }
+  record_every_sample_done(study, [](const SampleRow& row) -> std::map<std::string, double> {
+    return {{"angle", 25.0 + 8.0 * row.unit[0] + 3.0 * row.unit[1] * row.unit[1]},
+            {"pile_height", 0.02 + 0.01 * row.unit[1]}};
+  });
 }
 
 TEST(CliInputs, CommandsThatWriteIntoAStudyRefuseWhileARunHoldsIt) {

@@ -28,12 +28,9 @@ TEST(LabTargets, EveryExampleTargetFileCalibratesAStudy) {
                 .analysis = "metamodels = [\"rsm2\"]\nbootstrap = 5\nbase_samples = 256\n"}
           .text(),
       2);
-  for (const SampleRow& row : study.samples) {
-    RunOutcome done;
-    done.exit_code = 0;
-    study.store.record_done(study.store.add_run(row.sample, 1), done,
-                            {{"angle", 10.0 + 45.0 * row.unit[0] + 1.0 * row.unit[1]}});
-  }
+  record_every_sample_done(study, [](const SampleRow& row) -> std::map<std::string, double> {
+    return {{"angle", 10.0 + 45.0 * row.unit[0] + 1.0 * row.unit[1]}};
+  });
   const fs::path lab = fs::path(DEMSA_SOURCE_DIR) / "examples" / "calibration" / "lab";
   int files = 0;
   for (const fs::directory_entry& entry : fs::directory_iterator(lab)) {

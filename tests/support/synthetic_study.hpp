@@ -6,6 +6,8 @@
 #include "orchestrator/study/store.hpp"
 
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,5 +22,9 @@ struct SyntheticStudy {
 /// Writes DIR/study.toml (`toml`), draws the design at uniform random points of the unit cube (std::mt19937(seed),
 /// one draw per parameter, sample after sample) and initialises DIR/study.db with it.
 SyntheticStudy start_synthetic_study(const std::filesystem::path& dir, const std::string& toml, unsigned seed);
+
+/// Records one done run (attempt 1, exit 0) for every sample of `study`, with the observables `measure` gives for it.
+void record_every_sample_done(SyntheticStudy& study,
+                              const std::function<std::map<std::string, double>(const study::SampleRow&)>& measure);
 
 }  // namespace demsa::test
