@@ -42,6 +42,12 @@ std::string refusal(const std::string& drum) {
   return test::message_of<util::UserError>([&] { parse(drum); });
 }
 
+/// The refusal of `drum` holds `part`; the whole message is printed when it does not.
+void expect_refusal_holds(const std::string& drum, const std::string& part) {
+  const std::string message = refusal(drum);
+  EXPECT_NE(message.find(part), std::string::npos) << message;
+}
+
 TEST(DrumSettings, ThePresetAndTheDefaultsAreTheGranuDrums) {
   const study::StudyConfig c = parse(k_classes);
   const drum::DrumSettings& s = drum::settings(c);
@@ -98,37 +104,27 @@ TEST(DrumSettings, BadValuesAreRefusedAtTheirLine) {
 TEST(DrumSettings, AFillOrAScheduleTheMeasurementCannotUseIsRefusedAtItsLine) {
   // A drum of 10 m with the default 50 mL: the writer enumerated every lattice site of the drum (1e11, out of
   // memory, exit 3); the bed would lie far below the judged circle.
-  EXPECT_NE(refusal("radius = 10\ndepth = 10\n")
-                .find("study.toml:11: [drum] bulk_volume: a bulk volume of 5e-05 m³ "
-                      "fills 1.59e-06 % of the drum"),
-            std::string::npos)
-      << refusal("radius = 10\ndepth = 10\n");
+  expect_refusal_holds("radius = 10\ndepth = 10\n",
+                       "study.toml:11: [drum] bulk_volume: a bulk volume of 5e-05 m³ fills 1.59e-06 % of the drum");
   // 5.9 % of the GranuDrum: its level surface lies 0.78 R below the centre; 6.4 % is the least.
   EXPECT_NE(refusal("bulk_volume = 6.5e-6\n").find("at least 6.39 %"), std::string::npos);
   EXPECT_NO_THROW(parse("bulk_volume = 7.5e-6\n"));
   // More particles than any study may hold (a cubic metre of them: 2.3e7 at K = 3): the dry run ran out of time and
   // memory writing them.
-  EXPECT_NE(refusal("radius = 1\ndepth = 1\nbulk_volume = 1\ncoarse_grain = 3\n")
-                .find("study.toml:15: [drum] bulk_volume: 2.339e+07 particles (coarse_grain = 3), more than 1e+07"),
-            std::string::npos)
-      << refusal("radius = 1\ndepth = 1\nbulk_volume = 1\ncoarse_grain = 3\n");
+  expect_refusal_holds("radius = 1\ndepth = 1\nbulk_volume = 1\ncoarse_grain = 3\n",
+                       "study.toml:15: [drum] bulk_volume: 2.339e+07 particles (coarse_grain = 3), more than 1e+07");
   // Below 90 % of the drum but more than its lattice holds: refused at the line, not by the case writer without one.
-  EXPECT_NE(refusal("coarse_grain = 3\nbulk_volume = 9e-5\n")
-                .find("study.toml:14: [drum] bulk_volume: 2105 particles (coarse_grain = 3) do not fit into the drum: "
-                      "it holds 1203 of the lattice sites"),
-            std::string::npos)
-      << refusal("coarse_grain = 3\nbulk_volume = 9e-5\n");
+  expect_refusal_holds("coarse_grain = 3\nbulk_volume = 9e-5\n",
+                       "study.toml:14: [drum] bulk_volume: 2105 particles (coarse_grain = 3) do not fit into the drum: "
+                       "it holds 1203 of the lattice sites");
   // A window of 2e300 snapshots (rounded to a long, one step) or of 2e7 one-step snapshots.
   EXPECT_NE(refusal("snapshot_interval = 1e-300\n")
                 .find("study.toml:13: [drum] snapshot_interval: 1e-300 s over a "
                       "window of 2 s is 2e+300 snapshots, more than 10000"),
             std::string::npos);
   // A drum that has not turned a quarter turn by the first snapshot shows a bed that may be at rest.
-  EXPECT_NE(refusal("rpm = 1e-9\n")
-                .find("study.toml:13: [drum] rpm: 1.5 s at 1e-09 rpm turns the drum 2.5e-11 of a "
-                      "turn"),
-            std::string::npos)
-      << refusal("rpm = 1e-9\n");
+  expect_refusal_holds("rpm = 1e-9\n",
+                       "study.toml:13: [drum] rpm: 1.5 s at 1e-09 rpm turns the drum 2.5e-11 of a turn");
   EXPECT_NE(refusal("rpm = 5\nspin_up = 2\n").find("study.toml:14: [drum] spin_up:"), std::string::npos);
   EXPECT_NO_THROW(parse("rpm = 5\nspin_up = 3\n"));
   EXPECT_NE(refusal("stations = [0.1, -0.2, 0.1]\n").find("study.toml:13: [drum] stations: station 0.1 is given twice"),
