@@ -133,6 +133,9 @@ struct LabComparison {
   double mismatch_m2 = 0.0;       ///< the area where the two disagree about material [m²]
   std::string region;             ///< where it is counted ("within 0.77 R")
   std::filesystem::path picture;  ///< the two superimposed (written)
+  /// The laboratory file measured on its own, as `demsa measure FILE` reads it (written beside `picture`, its stem
+  /// followed by "_photograph"): what the comparison stands on. Empty when the experiment draws none.
+  std::filesystem::path lab_picture;
 };
 
 /// The defaults of the descriptor's optional hooks: an experiment states only what differs.

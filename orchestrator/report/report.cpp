@@ -531,6 +531,17 @@ ReportSection case_section(const StudyData& s, int sample, const Plotter& plotte
                                            sample, lab_file.filename().string(), c.mismatch_m2 * 1e6, c.region),
                                files});
     summary.images.push_back(overlay);
+    if (!c.lab_picture.empty()) {
+      PlotFiles lab;
+      lab.png = c.lab_picture;
+      section.figures.push_back(
+          {fmt::format("The photograph {} measured on its own, as demsa measure reads it: its material in grey (the "
+                       "bed black), its free surface (red), the surface's band (yellow), the dynamic angle's line "
+                       "(green), the stations (magenta) and the judged circle (cyan)",
+                       lab_file.filename().string()),
+           lab});
+      summary.images.push_back(c.lab_picture);
+    }
   }
   return section;
 }

@@ -159,6 +159,7 @@ TEST(ExperimentsFake, ADrumCaseAgainstItsOwnSideViewMismatchesNowhereAndAgainstA
   const nlohmann::json same = nlohmann::json::parse(self.out);
   EXPECT_LT(same["mismatch_m2"].get<double>(), 2e-6) << self.out;  // a few pixels of 0.2 mm at most
   EXPECT_TRUE(fs::is_regular_file(tmp / "self_overlay.png"));
+  EXPECT_TRUE(fs::is_regular_file(tmp / "self_overlay_photograph.png"));  // the photograph measured on its own
   const fs::path photo = fs::path(DEMSA_SOURCE_DIR) / "examples" / "drum-mcc" / "granudrum_mcc_15rpm.bmp";
   const test::CommandResult lab = test::run_demsa({"measure", folder.string(), "--photograph", photo.string()});
   ASSERT_EQ(lab.exit_code, 0) << lab.out << lab.err;
@@ -177,6 +178,9 @@ TEST(ExperimentsFake, ADrumCaseAgainstItsOwnSideViewMismatchesNowhereAndAgainstA
   EXPECT_NE(md.find("Against the photograph `granudrum_mcc_15rpm.bmp`"), std::string::npos) << md;
   EXPECT_NE(md.find("](lab_overlay.png)"), std::string::npos) << md;
   EXPECT_TRUE(fs::is_regular_file(tmp / "r" / "lab_overlay.png"));
+  EXPECT_NE(md.find("](lab_overlay_photograph.png)"), std::string::npos) << md;
+  EXPECT_NE(md.find("measured on its own"), std::string::npos) << md;
+  EXPECT_TRUE(fs::is_regular_file(tmp / "r" / "lab_overlay_photograph.png"));
   // Not a drum case: refused, naming the file.
   test::write_file(tmp / "pile.toml", study("pile", 4, "[pile]\nparticles = 300\n"));
   ASSERT_EQ(test::run_demsa({"run", (tmp / "pile.toml").string(), "--dir", (tmp / "p").string(), "--quiet"}).exit_code,

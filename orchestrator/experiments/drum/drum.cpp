@@ -516,6 +516,12 @@ LabComparison compare_with_lab_file(const fs::path& folder, const nlohmann::json
   c.region = fmt::format("within {:g} R", r.surface.judged_radius);
   pp::write_rgb_png(picture, pp::drum_overlay(photo, simulated, r.surface.judged_radius, r.surface.threshold));
   c.picture = picture;
+  // The photograph measured on its own with its geometry file's settings, as `demsa measure IMAGE` reads it: its
+  // surface, band, fitted line and stations drawn over it, so the reader sees what the comparison stands on.
+  const PhotographMeasurement m = measure_photograph(image, s);
+  c.lab_picture = picture.parent_path() / (picture.stem().string() + "_photograph.png");
+  pp::write_rgb_png(c.lab_picture,
+                    pp::drum_surface_overlay(photograph_image(image, s, geometry), m.surface, s.surface));
   return c;
 }
 
