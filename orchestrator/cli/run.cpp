@@ -11,6 +11,7 @@
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
+#include "orchestrator/util/text.hpp"
 #include "sobol/stop.hpp"
 
 #include <fmt/core.h>
@@ -73,6 +74,17 @@ int do_run(const RunArgs& args) {
   if (!fs::exists(options.study_file)) throw UserError(fmt::format("{}: no such study file", args.study));
   StopFlag::install();
   const RunSummary summary = run_study(options);
+  if (summary.remeasured && !args.json) {
+    const exec::RemeasureSummary& m = *summary.remeasured;
+    fmt::print("{}: only how cases are measured changed ({}): ", summary.dir.string(), util::join(m.keys, "; "));
+    if (summary.dry_run)
+      fmt::print("`demsa run` measures the finished cases again from their files\n");
+    else
+      fmt::print(
+          "{} finished case(s) measured again from their files, {} of them measured now that had failed, {} "
+          "failed to measure\n",
+          m.measured, m.recovered, m.failed);
+  }
   if (summary.dry_run) {
     // The bill before the run (exec/cost.hpp): the written cases' schedules at this LIGGGHTS's rate.
     study::StudyConfig config = experiments::load_study(options.study_file);

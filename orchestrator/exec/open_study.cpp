@@ -2,6 +2,7 @@
 // a changed design refused) and `demsa extend` (the frozen study file's [design] samples rewritten, then opened).
 #include "orchestrator/exec/open_study.hpp"
 
+#include "orchestrator/exec/remeasure.hpp"
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/design_file.hpp"
@@ -46,7 +47,8 @@ ReplicateSettings stored_replicates(const Store& store) {
 
 }  // namespace
 
-Store open_study(const StudyConfig& config, const fs::path& study_file, const fs::path& dir, bool new_study) {
+Store open_study(const StudyConfig& config, const fs::path& study_file, const fs::path& dir, bool new_study,
+                 bool dry_run, std::optional<RemeasureSummary>* remeasured) {
   const fs::path db = dir / k_store_file;
   if (new_study) {
     const std::string store = k_store_file;
@@ -104,19 +106,31 @@ Store open_study(const StudyConfig& config, const fs::path& study_file, const fs
       }
     } else if (*stored != hash) {
       // The frozen copy is the last file the study accepted: it names the changed keys (when it still reads).
-      std::string changed;
+      std::optional<StudyConfig> before;
       try {
-        for (const std::string& key : config.table->changed(experiments::load_study(dir / k_frozen_study), config)) {
+        before = experiments::load_study(dir / k_frozen_study);
+      } catch (const UserError&) {
+      }
+      const std::vector<std::string> keys =
+          before ? config.table->changed(*before, config) : std::vector<std::string>{};
+      // Only how cases are measured changed (the frozen copy is the stored design, and the cases it writes are the
+      // new file's): the finished cases are measured again from their files instead of refused.
+      if (before && design_hash(*before) == *stored && cases_hash(*before) == cases_hash(config)) {
+        if (remeasured)
+          *remeasured = dry_run ? RemeasureSummary{0, 0, 0, keys} : remeasure_study(config, store, dir, keys);
+        if (dry_run) return store;  // nothing written: the store and the frozen copy stay the study's
+      } else {
+        std::string changed;
+        for (const std::string& key : keys) {
           changed += changed.empty() ? "; changed: " : ", ";
           changed += key;
         }
-      } catch (const UserError&) {
+        throw UserError(fmt::format(
+            "{}: the design-relevant settings differ from those of the study in {} (design hash {} there, {} now{}); "
+            "only [run] and [analysis] may change in an existing study. Use `demsa run --new` to discard it and start "
+            "a new study there, or choose another --dir",
+            study_file.string(), dir.string(), *stored, hash, changed));
       }
-      throw UserError(fmt::format(
-          "{}: the design-relevant settings differ from those of the study in {} (design hash {} there, {} now{}); "
-          "only [run] and [analysis] may change in an existing study. Use `demsa run --new` to discard it and start "
-          "a new study there, or choose another --dir",
-          study_file.string(), dir.string(), *stored, hash, changed));
     }
   } else {
     const std::vector<SampleRow> samples = draw_design(config);

@@ -10,6 +10,7 @@
 #include "orchestrator/exec/measure.hpp"
 #include "orchestrator/exec/open_study.hpp"
 #include "orchestrator/exec/progress.hpp"
+#include "orchestrator/exec/remeasure.hpp"
 #include "orchestrator/exec/run_queue.hpp"
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
@@ -92,24 +93,10 @@ RunOutcome outcome_from(const CaseExit& exit) {
   return o;
 }
 
-/// One case of the study: a design sample, or a replicate of one (another assembly seed).
-struct StudyCase {
-  SampleRow sample;                       ///< its id and point
-  std::optional<ReplicateRow> replicate;  ///< set for a replicate case
-};
-
 /// Removes what an earlier attempt left and writes the case anew. Returns the particle count of the case.
 long prepare_case(const StudyConfig& config, const StudyCase& study_case, const fs::path& folder) {
-  const SampleRow& sample = study_case.sample;
   clear_case_folder(folder);
-  CaseRequest request = request_from_unit_point(config, sample.sample, sample.unit);
-  request.demsa_executable = util::self_executable();
-  if (study_case.replicate) {
-    request.replicate_point = study_case.replicate->point;
-    request.replicate_repeat = study_case.replicate->repeat;
-    request.assembly_seed = study_case.replicate->seed;
-  }
-  const CaseSummary summary = write_case(config, request, folder);
+  const CaseSummary summary = write_case(config, case_request(config, study_case), folder);
   return summary.particles > 0 ? summary.particles : configured_particles(config);
 }
 
@@ -390,27 +377,20 @@ RunSummary run_study(const RunOptions& options) {
   const fs::path& dir = summary.dir;
   fs::create_directories(dir);
   const StudyLock lock(dir);
-  Store store = open_study(config, options.study_file, dir, options.new_study);
-  const std::vector<SampleRow> samples = store.samples();
-  summary.samples = static_cast<int>(samples.size());
+  Store store = open_study(config, options.study_file, dir, options.new_study, options.dry_run, &summary.remeasured);
+  summary.samples = static_cast<int>(store.samples().size());
   // Every case by its id: the design's samples, then the replicate cases (ReplicateRow), in the order they run.
-  std::map<int, StudyCase> cases;
   std::vector<int> order;
-  for (const SampleRow& s : samples) {
-    cases[s.sample] = StudyCase{s, std::nullopt};
-    order.push_back(s.sample);
-  }
-  for (const ReplicateRow& r : store.replicates()) {
-    cases[r.sample] = StudyCase{SampleRow{r.sample, r.unit, r.physical}, r};
-    order.push_back(r.sample);
-  }
-  summary.replicates = static_cast<int>(order.size() - samples.size());
+  const std::map<int, StudyCase> cases = study_cases(store, &order);
+  summary.replicates = static_cast<int>(order.size()) - summary.samples;
 
   if (options.dry_run) {
     // Validate every case by writing it (a case that breaks a LIGGGHTS limit throws UserError here).
     for (const int sample : order) {
       const fs::path folder = case_dir(dir, sample);
-      if (!fs::exists(folder / k_result_file)) prepare_case(config, cases.at(sample), folder);
+      // A case that ran keeps its files (a change of measurement settings measures them again).
+      if (!fs::exists(folder / k_result_file) && !fs::exists(folder / k_case_log))
+        prepare_case(config, cases.at(sample), folder);
     }
     const StoreCounts counts = store.counts();
     summary.done = counts.done;

@@ -36,6 +36,7 @@
 //   - collect_only (`demsa status`): the runs left `submitted` are adopted and polled once without waiting; the
 //     ones that ended are measured and committed as in a full run; nothing is submitted, nothing is cancelled.
 #include "orchestrator/exec/executor.hpp"
+#include "orchestrator/exec/remeasure.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/store.hpp"
 
@@ -43,6 +44,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -84,6 +86,8 @@ struct RunSummary {
   int left_running = 0;  ///< SLURM tasks left queued or running on the cluster (still `submitted` in the store)
   bool dry_run = false;
   double seconds = 0.0;  ///< wall time of this invocation
+  /// Set when the study file changed only how cases are measured: the finished cases measured again (remeasure.hpp).
+  std::optional<RemeasureSummary> remeasured;
 };
 
 /// Runs (or resumes) a study. Throws util::UserError for a bad study file, a changed design-relevant setting (unless

@@ -216,6 +216,9 @@ inline constexpr std::size_t k_max_study_file_bytes = 1 << 20;
 /// SettingsTable::hash_text of config.table): everything but [run] and [analysis], except run.ranks (a result
 /// depends on the rank count).
 std::string design_hash(const StudyConfig& config);
+/// The same over the settings whose effect is cases only (SettingsTable::cases_hash_text): equal for two configs
+/// whose cases are the same and differ at most in how they are measured.
+std::string cases_hash(const StudyConfig& config);
 
 /// The member of Material that holds the contact parameter `key` (a key of contact_parameters()); nullptr for any
 /// other name.

@@ -270,6 +270,14 @@ std::string SettingsTable::hash_text(const StudyConfig& config) const {
   return text;
 }
 
+std::string SettingsTable::cases_hash_text(const StudyConfig& config) const {
+  std::string text;
+  for (const Setting& s : m_rows)
+    if (s.effect == SettingEffect::cases && applies(s, config.experiment))
+      for (const auto& [key, value] : s.canonical(config)) text += key + "=" + value + "\n";
+  return text;
+}
+
 std::vector<std::string> SettingsTable::changed(const StudyConfig& before, const StudyConfig& after) const {
   std::vector<std::string> changed;
   for (const Setting& s : m_rows) {
@@ -303,6 +311,11 @@ std::string SettingsTable::markdown() const {
 std::string design_hash(const StudyConfig& config) {
   assert(config.table && "a config not read through a settings table");
   return fnv1a_64(config.table->hash_text(config));
+}
+
+std::string cases_hash(const StudyConfig& config) {
+  assert(config.table && "a config not read through a settings table");
+  return fnv1a_64(config.table->cases_hash_text(config));
 }
 
 }  // namespace demsa::study

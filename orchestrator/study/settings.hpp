@@ -161,6 +161,9 @@ class SettingsTable {
   /// an experiment's sections only for that experiment), then the lines of every measurement row whose value
   /// differs from its default.
   std::string hash_text(const StudyConfig& config) const;
+  /// The lines of hash_text() that change the cases themselves (effect cases): two configs with the same one write
+  /// the same LIGGGHTS inputs and differ at most in how their cases are measured.
+  std::string cases_hash_text(const StudyConfig& config) const;
 
   /// The rows of effect cases or measurement whose values differ between `before` and `after`, one
   /// "[section] key: BEFORE -> AFTER" each.

@@ -644,6 +644,49 @@ void Store::record_requeued(long run, const std::string& message) {
   q.exec();
 }
 
+void Store::record_remeasured(const std::string& design_hash, const std::vector<RemeasuredCase>& cases,
+                              const std::string& message) {
+  SQLite::Transaction tx(*m_db, SQLite::TransactionBehavior::IMMEDIATE);
+  SQLite::Statement find(*m_db, "SELECT sample FROM runs WHERE id = ? AND state IN ('done', 'failed')");
+  SQLite::Statement forget(*m_db, "DELETE FROM observables WHERE sample = ?");
+  SQLite::Statement done(*m_db, "UPDATE runs SET state = 'done', failure = 'none', message = ? WHERE id = ?");
+  SQLite::Statement failed(*m_db,
+                           "UPDATE runs SET state = 'failed', failure = 'measurement', message = ? WHERE id = ?");
+  SQLite::Statement insert(*m_db, "INSERT INTO observables(sample, name, value, run) VALUES (?, ?, ?, ?)");
+  for (const RemeasuredCase& c : cases) {
+    find.bind(1, static_cast<std::int64_t>(c.run));
+    if (!find.executeStep())
+      throw std::logic_error(fmt::format("record_remeasured: run {} is neither done nor failed", c.run));
+    const int sample = find.getColumn(0).getInt();
+    find.reset();
+    forget.bind(1, sample);
+    forget.exec();
+    forget.reset();
+    SQLite::Statement& update = c.observables ? done : failed;
+    update.bind(1, c.message);
+    update.bind(2, static_cast<std::int64_t>(c.run));
+    update.exec();  // the unique index throws if another run of the sample is done
+    update.reset();
+    if (!c.observables) continue;
+    for (const auto& [name, value] : *c.observables) {
+      insert.bind(1, sample);
+      insert.bind(2, name);
+      insert.bind(3, value);
+      insert.bind(4, static_cast<std::int64_t>(c.run));
+      insert.exec();
+      insert.reset();
+    }
+  }
+  SQLite::Statement meta(*m_db, "INSERT OR REPLACE INTO meta(key, value) VALUES ('design_hash', ?)");
+  meta.bind(1, design_hash);
+  meta.exec();
+  SQLite::Statement event(*m_db, "INSERT INTO events(time, kind, sample, message) VALUES (?, 'remeasured', -1, ?)");
+  event.bind(1, unix_now());
+  event.bind(2, message);
+  event.exec();
+  tx.commit();
+}
+
 std::vector<RunRow> Store::runs() const {
   std::vector<RunRow> rows;
   SQLite::Statement q(*m_db, fmt::format("SELECT {} FROM runs ORDER BY id", k_run_columns));

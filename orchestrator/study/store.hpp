@@ -157,6 +157,15 @@ struct CaseCostRow {
   double cpu_seconds = 0.0;
 };
 
+/// One finished case measured again from its files after its study changed only how cases are measured
+/// (Store::record_remeasured).
+struct RemeasuredCase {
+  long run = 0;  ///< the sample's latest run: done, or failed in its measurement
+  /// The observables measured now; nothing when the measurement failed (`message` says why).
+  std::optional<std::map<std::string, double>> observables;
+  std::string message;
+};
+
 struct EventRow {
   double time = 0.0;  ///< Unix time [s]
   std::string kind;
@@ -221,6 +230,12 @@ class Store {
   /// Marks a run failed with outcome.failure (std::logic_error when it is none).
   void record_failed(long run, const RunOutcome& outcome);
   void record_requeued(long run, const std::string& message);
+  /// The cases measured again under new measurement settings, the design hash that names those settings and an event
+  /// `remeasured` with `message`, in one transaction: each run's observables are replaced; a run measured now is
+  /// done (failure none), one whose measurement failed now is failed in its measurement, its observables removed.
+  /// std::logic_error when a run is neither done nor failed.
+  void record_remeasured(const std::string& design_hash, const std::vector<RemeasuredCase>& cases,
+                         const std::string& message);
 
   std::vector<RunRow> runs() const;
   std::vector<RunRow> runs_in_state(RunState state) const;

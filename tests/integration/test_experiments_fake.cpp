@@ -141,6 +141,62 @@ TEST(ExperimentsFake, DrumAngleIsMeasuredFromTheSnapshotsSideView) {
   EXPECT_EQ(store.observables().size(), 3u);
 }
 
+TEST(ExperimentsFake, ADrumStudyWhoseStationsChangeIsMeasuredAgainNotRunAgain) {
+  // Only how the cases are measured changes (the drum's stations): `demsa run` measures the finished cases again from
+  // their files, runs nothing, and a dry run says so without touching the store. A change of the cases is refused.
+  test::TempDir tmp;
+  const std::string drum = "[drum]\npreset = \"granudrum\"\ncoarse_grain = 3\n";
+  test::write_file(tmp / "study.toml", study("drum", 3, drum));
+  test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
+  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"})).exit_code, 0);
+  const fs::path db = tmp / "study" / "study.db";
+  const std::size_t runs = study::Store::open_read_only(db.string()).runs().size();
+  ASSERT_EQ(runs, 3u);
+  EXPECT_EQ(study::Store::open_read_only(db.string()).observables().at(0).count("surface_7"), 1u);
+
+  test::write_file(tmp / "study.toml", study("drum", 3, drum + "stations = [-0.3, 0.0, 0.3]\n"));
+  const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run"}));
+  ASSERT_EQ(dry.exit_code, 0) << dry.out << dry.err;
+  EXPECT_NE(dry.out.find("only how cases are measured changed ([drum] stations"), std::string::npos) << dry.out;
+  EXPECT_EQ(study::Store::open_read_only(db.string()).observables().at(0).count("surface_7"), 1u);  // untouched
+
+  const test::CommandResult again = test::run_demsa(test::run_args(tmp, {"--no-analyze"}));
+  ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
+  EXPECT_NE(again.out.find("3 finished case(s) measured again from their files"), std::string::npos) << again.out;
+  const study::Store store = study::Store::open_read_only(db.string());
+  EXPECT_EQ(store.runs().size(), runs);  // nothing ran again
+  std::map<int, std::vector<double>> units;
+  for (const study::SampleRow& s : store.samples()) units[s.sample] = s.unit;
+  for (const auto& [sample, values] : store.observables()) {
+    SCOPED_TRACE(fmt::format("sample {}", sample));
+    EXPECT_EQ(values.count("surface_4"), 0u);
+    const double angle = 25 + 20 * units.at(sample)[0];
+    EXPECT_NEAR(values.at("surface_1") - values.at("surface_3"), 0.6 * 0.042 * std::tan(angle * std::numbers::pi / 180),
+                1e-3);
+    const nlohmann::json doc =
+        nlohmann::json::parse(test::read_file(tmp / "study" / "cases" / fmt::format("{:06d}", sample) / "case.json"));
+    EXPECT_NE(doc.dump().find("0.3"), std::string::npos);
+  }
+  bool event = false;
+  for (const study::EventRow& e : store.events()) event = event || e.kind == "remeasured";
+  EXPECT_TRUE(event);
+
+  // A case whose files are gone cannot be measured again: refused, the store as it was.
+  fs::remove(tmp / "study" / "cases" / "000001" / "log.liggghts");
+  fs::remove(tmp / "study" / "cases" / "000001" / "drum_snapshots.dump");
+  test::write_file(tmp / "study.toml", study("drum", 3, drum + "stations = [-0.2, 0.0, 0.2]\n"));
+  const test::CommandResult gone = test::run_demsa(test::run_args(tmp, {"--no-analyze"}));
+  EXPECT_EQ(gone.exit_code, 2) << gone.out << gone.err;
+  EXPECT_NE(gone.err.find("case 1 is done but its files are gone"), std::string::npos) << gone.err;
+  EXPECT_EQ(study::Store::open_read_only(db.string()).observables().at(0).count("surface_3"), 1u);
+
+  // A change of the cases themselves (the drum's speed) is refused as before.
+  test::write_file(tmp / "study.toml", study("drum", 3, drum + "rpm = 30\nstations = [-0.3, 0.0, 0.3]\n"));
+  const test::CommandResult changed = test::run_demsa(test::run_args(tmp, {"--no-analyze"}));
+  EXPECT_EQ(changed.exit_code, 2) << changed.out << changed.err;
+  EXPECT_NE(changed.err.find("design-relevant settings differ"), std::string::npos) << changed.err;
+}
+
 TEST(ExperimentsFake, ADrumCaseAgainstItsOwnSideViewMismatchesNowhereAndAgainstAPhotographWhereTheyDiffer) {
   // `demsa measure CASE --photograph IMAGE`: the case's occupancy.png given back as a photograph (material light)
   // coincides with the case; the GranuDrum's 15 rpm photograph (a surface near 40°) differs from the fake's bed.

@@ -34,22 +34,33 @@ std::string study_text(const std::string& pile) {
       .text();
 }
 
-TEST(RunSettings, FinishedStudyWithChangedLevelsIsRefusedNamingTheKey) {
+TEST(RunSettings, FinishedStudyWithChangedLevelsIsMeasuredAgainAndChangedCasesRefusedNamingTheKey) {
   test::TempDir tmp;
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0);
   test::write_file(tmp / "study.toml", study_text("particles = 300\n"));
   const test::CommandResult first = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
   ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
-  // The angle of every finished case was measured on 10 levels; 12 would mix two measurements in one table.
+  const std::size_t runs = Store::open_read_only((tmp / "study" / "study.db").string()).runs().size();
+  // The angle of every finished case was measured on 10 levels; with 12 every case is measured again from its files
+  // (one table never mixes two measurements), and nothing runs again.
   test::write_file(tmp / "study.toml", study_text("particles = 300\nlevels = 12\n"));
+  const test::CommandResult again = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
+  EXPECT_EQ(again.exit_code, 0) << again.out << again.err;
+  EXPECT_NE(again.out.find("only how cases are measured changed ([pile] levels: 10 -> 12): 4 finished case(s) "
+                           "measured again"),
+            std::string::npos)
+      << again.out;
+  EXPECT_EQ(Store::open_read_only((tmp / "study" / "study.db").string()).runs().size(), runs);
+  // A key that changes the cases is refused, naming it.
+  test::write_file(tmp / "study.toml", study_text("particles = 400\nlevels = 12\n"));
   const test::CommandResult refused = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
   EXPECT_EQ(refused.exit_code, 2) << refused.out << refused.err;
   EXPECT_NE(refused.err.find("design-relevant settings differ"), std::string::npos) << refused.err;
-  EXPECT_NE(refused.err.find("changed: [pile] levels: 10 -> 12"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("changed: [pile] particles: 300 -> 400"), std::string::npos) << refused.err;
   // [run] may change; the study as it was resumes.
-  test::write_file(tmp / "study.toml", study_text("particles = 300\n") + "\n");
-  const test::CommandResult again = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
-  EXPECT_EQ(again.exit_code, 0) << again.out << again.err;
+  test::write_file(tmp / "study.toml", study_text("particles = 300\nlevels = 12\n") + "\n");
+  const test::CommandResult resumed = test::run_demsa(test::run_args(tmp, {"--no-analyze", "--quiet"}));
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
 }
 
 TEST(RunSettings, StoreOfThePreviousVersionResumes) {
