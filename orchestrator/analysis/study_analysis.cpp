@@ -291,7 +291,15 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     fs::remove(summary.out_dir / k_replicates_csv, ec);
   }
 
-  // metamodels.json, table_<observable>.csv, analysis.json, sobol_<model>.{csv,json}
+  // metamodels.json, table_<observable>.csv, analysis.json, sobol_<model>.{csv,json}. A table of an observable no
+  // longer measured (a study measured again with fewer stations) goes.
+  for (const fs::directory_entry& entry : fs::directory_iterator(summary.out_dir)) {
+    const std::string file = entry.path().filename().string();
+    const bool current = std::any_of(summary.observables.begin(), summary.observables.end(),
+                                     [&](const ObservableAnalysis& o) { return file == "table_" + o.name + ".csv"; });
+    if (!current && entry.is_regular_file() && file.rfind("table_", 0) == 0 && entry.path().extension() == ".csv")
+      fs::remove(entry.path());
+  }
   json metamodels_json = json::object();
   for (const ObservableAnalysis& o : summary.observables) {
     json per_model = json::object();

@@ -148,7 +148,8 @@ TEST(ExperimentsFake, ADrumStudyWhoseStationsChangeIsMeasuredAgainNotRunAgain) {
   const std::string drum = "[drum]\npreset = \"granudrum\"\ncoarse_grain = 3\n";
   test::write_file(tmp / "study.toml", study("drum", 3, drum));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
-  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--quiet", "--no-analyze"})).exit_code, 0);
+  ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--quiet"})).exit_code, 0);
+  ASSERT_TRUE(fs::is_regular_file(tmp / "study" / "analysis" / "table_surface_7.csv"));
   const fs::path db = tmp / "study" / "study.db";
   const std::size_t runs = study::Store::open_read_only(db.string()).runs().size();
   ASSERT_EQ(runs, 3u);
@@ -180,6 +181,10 @@ TEST(ExperimentsFake, ADrumStudyWhoseStationsChangeIsMeasuredAgainNotRunAgain) {
   bool event = false;
   for (const study::EventRow& e : store.events()) event = event || e.kind == "remeasured";
   EXPECT_TRUE(event);
+  // The analysis keeps no table of a station no longer measured.
+  ASSERT_EQ(test::run_demsa({"analyze", (tmp / "study").string()}).exit_code, 0);
+  EXPECT_TRUE(fs::is_regular_file(tmp / "study" / "analysis" / "table_surface_3.csv"));
+  EXPECT_FALSE(fs::exists(tmp / "study" / "analysis" / "table_surface_4.csv"));
 
   // A case whose files are gone cannot be measured again: refused, the store as it was.
   fs::remove(tmp / "study" / "cases" / "000001" / "log.liggghts");
