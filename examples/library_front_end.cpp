@@ -33,7 +33,10 @@ int main(int argc, char** argv) {
     // The calibration: the parameters whose metamodel prediction of `angle` is ANGLE.
     analysis::CalibrateOptions calibrate;
     calibrate.dir = argv[1];
-    calibrate.targets = {fmt::format("angle={}", argv[2])};
+    analysis::MeasuredTarget angle;
+    angle.name = "angle";
+    angle.value = std::stod(argv[2]);
+    calibrate.targets = {angle};
     const analysis::CalibrationOutcome calibrated = analysis::calibrate_study(calibrate);
     for (std::size_t k = 0; k < calibrated.parameters.size(); ++k)
       fmt::print("calibrated {} = {:.6g} in [{:.6g}, {:.6g}]\n", calibrated.parameters[k], calibrated.physical[k],
