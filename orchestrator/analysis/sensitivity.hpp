@@ -66,6 +66,10 @@ SaltelliSensitivity saltelli_sensitivity(const SaltelliSensitivityOptions& optio
 /// interval (one scrambled design, or none asked for) has null "lower" and "upper", as the text shows none.
 nlohmann::json saltelli_sensitivity_json(const SaltelliSensitivity& result);
 
+/// The indices of one response as `demsa sensitivity` prints them: S1 and ST of each input (`names`) with their
+/// intervals, the residual 1 - sum S1, the S2 pairs, and how the intervals were made.
+std::string sobol_indices_text(const sobol::SobolResult& result, const std::vector<std::string>& names);
+
 // ---------------------------------------------------------------- samples and responses: metamodels, then indices
 
 /// The least share of an input's bounds (on its scale) the samples must span unless

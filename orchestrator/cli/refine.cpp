@@ -84,11 +84,11 @@ int do_refine(const RefineArgs& args) {
     case analysis::RefineEnd::stopped:
       return interrupted_status();
     case analysis::RefineEnd::reached:
-      print_analysis_tables(refined.analysis);
+      fmt::print("{}", analysis::analysis_tables_text(refined.analysis));
       fmt::print("refine: every S1 and ST half-width is at most {} with {} samples\n", args.target, refined.done);
       return k_exit_ok;
     case analysis::RefineEnd::budget:
-      print_analysis_tables(refined.analysis);
+      fmt::print("{}", analysis::analysis_tables_text(refined.analysis));
       fmt::print("refine: the budget of {} samples is spent; worst half-width {} > {}\n", refined.max_samples,
                  analysis::half_width_text(refined.worst), args.target);
       return k_exit_check_failed;

@@ -72,24 +72,4 @@ std::string name_options(std::string message, const OptionNames& names) {
   return message;
 }
 
-std::string sample_list(const std::vector<int>& samples) {
-  std::string text;
-  for (int v : samples) {
-    if (!text.empty()) text += ' ';
-    text += std::to_string(v);
-  }
-  return text;
-}
-
-void print_analysis_tables(const analysis::AnalysisSummary& summary) {
-  for (const analysis::ObservableAnalysis& o : summary.observables)
-    fmt::print("\n{}", analysis::s1_table_text(summary, o));
-  if (!summary.samples_left_out.empty())
-    fmt::print("\nleft out of the analysis (not done): samples {}\n", sample_list(summary.samples_left_out));
-  if (!summary.samples_unsettled.empty())
-    fmt::print("\nunsettled, still moving at the end of settling (analysed all the same): sample {}\n",
-               summary.unsettled);
-  fmt::print("\ntables, metamodels and indices with confidence intervals: {}\n", summary.out_dir.string());
-}
-
 }  // namespace demsa::cli

@@ -16,12 +16,6 @@
 
 namespace demsa::cli {
 
-/// Sample numbers separated by spaces: "3 5 7".
-std::string sample_list(const std::vector<int>& samples);
-
-/// Prints the first-order Sobol' table of every observable, the samples left out, and where the analysis is.
-void print_analysis_tables(const analysis::AnalysisSummary& summary);
-
 /// Checks of number options with rules a user reads ("--box-side: -1: must be > 0"): CLI11's own Range,
 /// PositiveNumber and NonNegativeNumber print DBL_MAX in 309 digits and let nan through. CLI11 puts the option's name
 /// before the message and run_cli() "demsa: error:" before that.
