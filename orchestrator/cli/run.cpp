@@ -43,12 +43,6 @@ struct RunArgs {
   double progress_interval = 10.0;
 };
 
-/// 128 + N after signal N (the shell's convention), else "check failed": the study was left unfinished.
-int interrupted_status() {
-  const int sig = StopFlag::signal_number();
-  return sig > 0 ? k_exit_signal_base + sig : k_exit_check_failed;
-}
-
 int do_run(const RunArgs& args) {
   RunOptions options;
   options.study_file = args.study;

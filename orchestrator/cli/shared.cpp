@@ -1,5 +1,6 @@
 #include "orchestrator/cli/shared.hpp"
 
+#include "orchestrator/util/signals.hpp"
 #include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
@@ -30,6 +31,11 @@ CLI::Validator number_check(std::function<bool(double)> rule, const std::string&
 }
 
 }  // namespace
+
+int interrupted_status() {
+  const int sig = util::StopFlag::signal_number();
+  return sig > 0 ? util::k_exit_signal_base + sig : util::k_exit_check_failed;
+}
 
 CLI::Validator finite_number() {
   return number_check([](double) { return true; }, "");

@@ -16,6 +16,10 @@
 
 namespace demsa::cli {
 
+/// The exit status of a command a signal stopped: 128 + N after signal N (the shell's convention), else "check
+/// failed" (a study left unfinished by should_stop).
+int interrupted_status();
+
 /// Checks of number options with rules a user reads ("--box-side: -1: must be > 0"): CLI11's own Range,
 /// PositiveNumber and NonNegativeNumber print DBL_MAX in 309 digits and let nan through. CLI11 puts the option's name
 /// before the message and run_cli() "demsa: error:" before that.
