@@ -13,6 +13,7 @@
 #include <fmt/core.h>
 
 #include <cstddef>
+#include <cstdlib>
 #include <exception>
 #include <string>
 
@@ -35,7 +36,12 @@ int main(int argc, char** argv) {
     calibrate.dir = argv[1];
     analysis::MeasuredTarget angle;
     angle.name = "angle";
-    angle.value = std::stod(argv[2]);
+    char* end = nullptr;
+    angle.value = std::strtod(argv[2], &end);
+    if (end == argv[2] || *end != '\0') {
+      fmt::print(stderr, "demsa_library_example: ANGLE '{}' is not a number\n", argv[2]);
+      return 2;
+    }
     calibrate.targets = {angle};
     const analysis::CalibrationOutcome calibrated = analysis::calibrate_study(calibrate);
     for (std::size_t k = 0; k < calibrated.parameters.size(); ++k)

@@ -182,11 +182,12 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   {
     std::error_code ec;
     if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-      throw UserError(fmt::format("--out {}: exists and is not a folder", out.string()));
+      throw UserError(fmt::format("PlanOptions.out {}: exists and is not a folder", out.string()));
     fs::create_directories(out, ec);
-    if (ec) throw UserError(fmt::format("--out {}: cannot create the folder: {}", out.string(), ec.message()));
+    if (ec)
+      throw UserError(fmt::format("PlanOptions.out {}: cannot create the folder: {}", out.string(), ec.message()));
     if (::access(out.c_str(), W_OK) != 0)
-      throw UserError(fmt::format("--out {}: cannot write into the folder", out.string()));
+      throw UserError(fmt::format("PlanOptions.out {}: cannot write into the folder", out.string()));
   }
   const JointPrior prior = joint_prior(studies);
   const int d = prior.dimension();

@@ -50,7 +50,8 @@ int do_plan(PlanArgs& args) {
                                                  {"near", "--near"},
                                                  {"truths", "--truths"},
                                                  {"goal", "--goal"},
-                                                 {"model", "--model"}},
+                                                 {"model", "--model"},
+                                                 {"out", "--out"}},
                                                 [&] { return plan_experiments(args.options); });
   std::string plot_note;
   if (!args.no_plots) {
