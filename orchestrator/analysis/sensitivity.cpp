@@ -164,6 +164,8 @@ SaltelliSensitivity saltelli_sensitivity(const SaltelliSensitivityOptions& optio
     if (!out.warning.empty()) warn_with(options.warn, out.warning);
     result.outputs.push_back(std::move(out));
   }
+  if (!options.json_file.empty())
+    util::write_file_atomically(options.json_file, saltelli_sensitivity_json(result).dump(2) + "\n");
   return result;
 }
 
@@ -478,6 +480,8 @@ DataSensitivity data_sensitivity(const DataSensitivityOptions& options) {
     util::write_file_atomically(file, text);
     result.model_files.push_back(file.string());
   }
+  if (!options.json_file.empty())
+    util::write_file_atomically(options.json_file, data_sensitivity_json(result).dump(2) + "\n");
   return result;
 }
 

@@ -47,7 +47,10 @@ struct SaltelliSensitivityOptions {
   /// to the design (then at least one).
   std::vector<std::string> responses;
   sobol::SobolOptions indices;  ///< estimator, interval, bootstrap, confidence, seed and stop check
-  WarningSink warn;             ///< empty: util::log::warn
+  /// Where the result's JSON (saltelli_sensitivity_json) is written, atomically, once every response is done; "":
+  /// nowhere.
+  std::string json_file;
+  WarningSink warn;  ///< empty: util::log::warn
   /// Called with the design's parameter names and each response's indices once computed (the text output follows
   /// the computation).
   std::function<void(const std::vector<std::string>& inputs, const SaltelliResponseIndices&)> on_response;
@@ -99,6 +102,8 @@ struct DataSensitivityOptions {
   /// Where each fitted model is written (model_file.hpp): a .json file for one model, else a folder of
   /// <response>.<metamodel>.json; "": nowhere. Written once every model is fitted.
   std::string save_model;
+  /// Where the result's JSON (data_sensitivity_json) is written, atomically, once every model is done; "": nowhere.
+  std::string json_file;
   WarningSink warn;  ///< empty: util::log::warn
   /// Called with each fitted model and its indices once computed.
   std::function<void(const std::string& response, const DataModelIndices&)> on_model;

@@ -15,7 +15,6 @@
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
-#include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
@@ -101,16 +100,6 @@ void check_numeric_options(const SensitivityArgs& args) {
                     args.base, sobol::k_max_base_samples));
 }
 
-/// --json: a file written atomically, or "-" for standard output; nothing without it.
-void write_json(const std::string& target, const nlohmann::json& j) {
-  if (target.empty()) return;
-  if (target == "-") {
-    fmt::print("{}\n", j.dump(2));
-    return;
-  }
-  write_file_atomically(target, j.dump(2) + "\n");
-}
-
 // ---------------------------------------------------------------- --saltelli DESIGN.csv --responses Y.csv
 
 /// The interval method of --saltelli: --interval by name; without it the replicates', or the bootstrap when
@@ -151,8 +140,9 @@ void run_saltelli(const SensitivityArgs& args) {
                o.indices.evaluations);
     fmt::print("{}", sobol_indices_text(o.indices, inputs));
   };
+  if (args.json != "-") options.json_file = args.json;
   const SaltelliSensitivity result = with_option_names(k_option_names, [&] { return saltelli_sensitivity(options); });
-  write_json(args.json, saltelli_sensitivity_json(result));
+  if (args.json == "-") fmt::print("{}\n", saltelli_sensitivity_json(result).dump(2));
 }
 
 // ---------------------------------------------------------------- --data DATA.csv: metamodels, then indices
@@ -240,10 +230,11 @@ void run_data(const SensitivityArgs& args) {
   options.on_noise = [print](const NoiseAnalysis& noise) {
     if (print) fmt::print("{}\n", noise_text(noise));
   };
+  if (args.json != "-") options.json_file = args.json;
   const DataSensitivity result = with_option_names(k_option_names, [&] { return data_sensitivity(options); });
   if (print)
     for (const std::string& file : result.model_files) fmt::print("metamodel written to {}\n", file);
-  write_json(args.json, data_sensitivity_json(result));
+  if (args.json == "-") fmt::print("{}\n", data_sensitivity_json(result).dump(2));
 }
 
 }  // namespace
