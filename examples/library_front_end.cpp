@@ -13,6 +13,7 @@
 #include <fmt/core.h>
 
 #include <cstddef>
+#include <cstdlib>
 #include <exception>
 #include <string>
 
@@ -33,7 +34,15 @@ int main(int argc, char** argv) {
     // The calibration: the parameters whose metamodel prediction of `angle` is ANGLE.
     analysis::CalibrateOptions calibrate;
     calibrate.dir = argv[1];
-    calibrate.targets = {fmt::format("angle={}", argv[2])};
+    analysis::MeasuredTarget angle;
+    angle.name = "angle";
+    char* end = nullptr;
+    angle.value = std::strtod(argv[2], &end);
+    if (end == argv[2] || *end != '\0') {
+      fmt::print(stderr, "demsa_library_example: ANGLE '{}' is not a number\n", argv[2]);
+      return 2;
+    }
+    calibrate.targets = {angle};
     const analysis::CalibrationOutcome calibrated = analysis::calibrate_study(calibrate);
     for (std::size_t k = 0; k < calibrated.parameters.size(); ++k)
       fmt::print("calibrated {} = {:.6g} in [{:.6g}, {:.6g}]\n", calibrated.parameters[k], calibrated.physical[k],

@@ -38,27 +38,6 @@ using util::write_file_atomically;
 
 namespace {
 
-/// One number of a NAME=V1,V2,... option (blanks around it allowed).
-double parse_number(const std::string& option, const std::string& whole, const std::string& text) {
-  if (const std::optional<double> v = util::parse_number(text)) return *v;
-  throw UserError(fmt::format("{} '{}': '{}' is not a number", option, whole, trim(text)));
-}
-
-/// "NAME=V1,V2,..." -> (NAME, values).
-std::pair<std::string, std::vector<double>> parse_assignment(const std::string& option, const std::string& text) {
-  const auto eq = text.find('=');
-  if (eq == std::string::npos || trim(text.substr(0, eq)).empty())
-    throw UserError(fmt::format("{} '{}': expected NAME=VALUE", option, text));
-  const std::string list = text.substr(eq + 1);
-  if (list.empty()) throw UserError(fmt::format("{} '{}': no value after '='", option, text));
-  std::vector<double> values;
-  // A trailing comma ends the list (as std::getline did): "V1,V2," is V1, V2.
-  std::vector<std::string> items = split(list, ',');
-  if (items.back().empty()) items.pop_back();
-  for (const std::string& item : items) values.push_back(parse_number(option, text, item));
-  return {trim(text.substr(0, eq)), values};
-}
-
 struct TargetSpec {
   std::string name;
   double value = 0.0;
@@ -72,24 +51,14 @@ std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const S
   const auto known = [&](const std::string& name) {
     return std::find(available.begin(), available.end(), name) != available.end();
   };
-  for (const std::string& text : options.targets) {
-    const auto [name, values] = parse_assignment("--target", text);
-    if (!known(name) && known(fmt::format("{}_1", name))) {
-      // A curve: NAME=V1,V2,... -> NAME_1, NAME_2, ... (settlement=s1,s2,s3 -> settlement_1, settlement_2, ...)
-      for (size_t i = 0; i < values.size(); ++i) {
-        const std::string n = fmt::format("{}_{}", name, i + 1);
-        if (!known(n))
-          throw UserError(
-              fmt::format("--target '{}': the study has no observable {} (observables: {})", text, n, join(available)));
-        targets.push_back({n, values[i], 1.0});
-      }
-      continue;
-    }
-    if (!known(name))
-      throw UserError(
-          fmt::format("--target '{}': unknown observable '{}' (observables: {})", text, name, join(available)));
-    if (values.size() != 1) throw UserError(fmt::format("--target '{}': one value expected for {}", text, name));
-    targets.push_back({name, values[0], 1.0});
+  for (const MeasuredTarget& t : options.targets) {
+    if (!t.study.empty() && t.study != config.name)
+      throw UserError(fmt::format("CalibrateOptions.targets '{}': the study is named '{}', not '{}'", t.text(),
+                                  config.name, t.study));
+    if (!known(t.name))
+      throw UserError(fmt::format("CalibrateOptions.targets '{}': unknown observable '{}' (observables: {})", t.text(),
+                                  t.name, join(available)));
+    targets.push_back({t.name, t.value, 1.0});
   }
   if (options.targets.empty()) {
     for (const auto& [name, value] : experiments::of(config).default_targets(config))
@@ -101,15 +70,13 @@ std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const S
   }
   std::set<std::string> seen;
   for (const TargetSpec& t : targets)
-    if (!seen.insert(t.name).second) throw UserError(fmt::format("--target: {} is given twice", t.name));
-  for (const std::string& text : options.weights) {
-    const auto [name, values] = parse_assignment("--weight", text);
-    if (values.size() != 1 || values[0] < 0)
-      throw UserError(fmt::format("--weight '{}': one value >= 0 expected", text));
+    if (!seen.insert(t.name).second)
+      throw UserError(fmt::format("CalibrateOptions.targets: {} is given twice", t.name));
+  for (const auto& [name, weight] : options.weights) {
     const auto it =
         std::find_if(targets.begin(), targets.end(), [&name = name](const TargetSpec& t) { return t.name == name; });
-    if (it == targets.end()) throw UserError(fmt::format("--weight '{}': {} is not a target", text, name));
-    it->weight = values[0];
+    if (it == targets.end()) throw UserError(fmt::format("CalibrateOptions.weights: {} is not a target", name));
+    it->weight = weight;
   }
   return targets;
 }
@@ -118,23 +85,31 @@ std::vector<TargetSpec> resolve_targets(const CalibrateOptions& options, const S
 
 void CalibrateOptions::validate() const {
   if (dir.empty()) throw UserError("calibrate: a study folder is required");
-  if (global_evaluations < 1) throw UserError(fmt::format("--global-evaluations {}: must be >= 1", global_evaluations));
-  if (local_evaluations < 1) throw UserError(fmt::format("--local-evaluations {}: must be >= 1", local_evaluations));
+  for (const MeasuredTarget& t : targets)
+    if (!std::isfinite(t.value))
+      throw UserError(fmt::format("CalibrateOptions.targets '{}': the value must be a finite number", t.text()));
+  for (const auto& [name, weight] : weights)
+    if (!(weight >= 0) || !std::isfinite(weight))
+      throw UserError(fmt::format("CalibrateOptions.weights '{}={}': one value >= 0 expected", name, weight));
+  if (global_evaluations < 1)
+    throw UserError(fmt::format("CalibrateOptions.global_evaluations {}: must be >= 1", global_evaluations));
+  if (local_evaluations < 1)
+    throw UserError(fmt::format("CalibrateOptions.local_evaluations {}: must be >= 1", local_evaluations));
   // CalibrateOptions promises a UserError naming the option; sobol's error names the value and the valid ones.
   try {
     sobol::global_algorithm_from_string(global);
   } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--global: {}", e.what()));
+    throw UserError(fmt::format("CalibrateOptions.global: {}", e.what()));
   }
   try {
     sobol::local_algorithm_from_string(local);
   } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--local: {}", e.what()));
+    throw UserError(fmt::format("CalibrateOptions.local: {}", e.what()));
   }
   try {
     if (!model.empty()) sobol::metamodel_kind_from_string(model);
   } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--model: {}", e.what()));
+    throw UserError(fmt::format("CalibrateOptions.model: {}", e.what()));
   }
 }
 

@@ -12,6 +12,7 @@
 //   4. with verify, the case at the optimum is written (case_writer.hpp) to DIR/calibration/verify and run with
 //      the study's local executor settings, and the measured observables are set against the predictions.
 // The result goes to DIR/analysis/calibration.json (read back by the report).
+#include "orchestrator/analysis/measured_target.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/observables.hpp"
 #include "sobol/calibration.hpp"
@@ -19,6 +20,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,13 +29,14 @@ namespace demsa::analysis {
 
 struct CalibrateOptions {
   std::filesystem::path dir;  ///< study folder (study.toml and study.db)
-  /// "NAME=VALUE" per target observable (names as in DIR/analysis/observables.csv). "settlement=V1,V2,..." sets
-  /// settlement_1, settlement_2, ... in turn. Empty: the study's own targets (pile: [pile] target_angle;
-  /// oedometer: [oedometer] measured_settlements).
-  std::vector<std::string> targets;
-  std::vector<std::string> weights;  ///< "NAME=W", W >= 0; a target without one has weight 1
-  std::string model;                 ///< one metamodel for every target; empty: the best Q² per observable
-  bool verify = false;               ///< run the real case at the optimum
+  /// The values to match, one per observable (a curve: one per point, settlement_1, settlement_2, ...); their `sd`
+  /// is not used, their `study` must be empty or the study's name. Empty: the study's own targets (pile: [pile]
+  /// target_angle; oedometer: [oedometer] measured_settlements).
+  std::vector<MeasuredTarget> targets;
+  /// Weight w_k >= 0 of a target, by observable name; a target without one has weight 1.
+  std::map<std::string, double> weights;
+  std::string model;    ///< one metamodel for every target; empty: the best Q² per observable
+  bool verify = false;  ///< run the real case at the optimum
   /// How the verification case is run (the CLI passes exec::run_point): writes the case for `unit` into
   /// `folder`, runs it and measures it. Analysis never runs LIGGGHTS itself.
   std::function<study::PointRun(const study::StudyConfig& config, const std::filesystem::path& folder,
@@ -43,7 +46,7 @@ struct CalibrateOptions {
   std::string local = "bobyqa";     ///< NLopt local pass (sobol::local_algorithm_from_string)
   int global_evaluations = 4000;    ///< budget of the global pass, >= 1
   int local_evaluations = 2000;     ///< budget of the local pass, >= 1
-  /// Throws util::UserError naming the option and the value.
+  /// Throws util::UserError naming the field ("CalibrateOptions.weights") and the value.
   void validate() const;
 };
 

@@ -35,136 +35,41 @@ using nlohmann::json;
 
 namespace {
 
-double number_of(const std::string& option, const std::string& whole, const std::string& text) {
-  if (const std::optional<double> v = util::parse_number(text); v && std::isfinite(*v)) return *v;
-  throw UserError(fmt::format("{} '{}': '{}' is not a number", option, whole, trim(text)));
-}
-
-std::vector<double> numbers_of(const std::string& option, const std::string& whole, const std::string& list) {
-  std::vector<std::string> items = split(list, ',');
-  if (!items.empty() && trim(items.back()).empty()) items.pop_back();
-  if (items.empty()) throw UserError(fmt::format("{} '{}': no value", option, whole));
-  std::vector<double> out;
-  for (const std::string& item : items) out.push_back(number_of(option, whole, item));
-  return out;
-}
-
-/// NAME_k for the k-th point of a curve (settlement_k of an oedometer's settlement curve).
-std::string point_name(const std::string& name, size_t k) { return fmt::format("{}_{}", name, k); }
-
-/// d₂(n), the expected range of n standard normal values (Tippett 1925; the control-chart constants of
-/// ASTM E2587): σ ≈ range / d₂(n).
-double d2(int n) {
-  static const double table[] = {1.128, 1.693, 2.059, 2.326, 2.534, 2.704, 2.847, 2.970, 3.078, 3.173,
-                                 3.258, 3.336, 3.407, 3.472, 3.532, 3.588, 3.640, 3.689, 3.735};
-  return table[n - 2];
-}
-
-struct ResolvedTarget {
-  MeasuredValue measured;
-  double weight = 1.0;
-};
-
-}  // namespace
-
-std::vector<MeasuredValue> parse_measured(const std::string& option, const std::string& text) {
-  const auto eq = text.find('=');
-  if (eq == std::string::npos || trim(text.substr(0, eq)).empty())
-    throw UserError(fmt::format("{} '{}': expected NAME=VALUE±ERROR", option, text));
-  const std::string name = trim(text.substr(0, eq));
-  std::string rest = text.substr(eq + 1);
-  std::string values_text = rest, errors_text;
-  for (const char* sep_text : {"±", "+-"}) {
-    const std::string sep = sep_text;
-    const auto at = rest.find(sep);
-    if (at != std::string::npos) {
-      values_text = rest.substr(0, at);
-      errors_text = rest.substr(at + sep.size());
-      if (trim(errors_text).empty())
-        throw UserError(fmt::format("{} '{}': no uncertainty after '{}'", option, text, sep));
-      break;
-    }
-  }
-  const std::vector<double> values = numbers_of(option, text, values_text);
-  std::vector<double> errors(values.size(), 0.0);
-  if (!errors_text.empty()) {
-    const std::vector<double> e = numbers_of(option, text, errors_text);
-    if (e.size() != 1 && e.size() != values.size())
-      throw UserError(fmt::format("{} '{}': {} uncertainties for {} values (give one or one per value)", option, text,
-                                  e.size(), values.size()));
-    for (size_t i = 0; i < values.size(); ++i) {
-      errors[i] = e.size() == 1 ? e[0] : e[i];
-      // An explicit ± 0 claims an exact measurement: the likelihood then rests on the metamodel's error alone, which
-      // is near 0 where the metamodel interpolates, and the posterior collapses onto whatever point it picks.
-      if (!(errors[i] > 0))
-        throw UserError(
-            fmt::format("{} '{}': uncertainty {:g} must be > 0 (the measurement's standard deviation; "
-                        "without ± the value is matched by --method optimize)",
-                        option, text, errors[i]));
-    }
-  }
-  std::vector<MeasuredValue> out;
-  for (size_t i = 0; i < values.size(); ++i)
-    out.push_back({values.size() == 1 ? name : point_name(name, i + 1), values[i], errors[i]});
-  return out;
-}
-
-namespace {
-
-/// "NAME=FILE" -> the curve's points with their σ.
-std::vector<MeasuredValue> read_curve(const std::string& text) {
-  const auto eq = text.find('=');
-  if (eq == std::string::npos || trim(text.substr(0, eq)).empty() || trim(text.substr(eq + 1)).empty())
-    throw UserError(fmt::format("--target-file '{}': expected NAME=FILE.csv", text));
-  const std::string name = trim(text.substr(0, eq));
-  const fs::path file = trim(text.substr(eq + 1));
-  if (!fs::exists(file)) throw UserError(fmt::format("--target-file '{}': {} does not exist", text, file.string()));
-  const CsvTable table = read_csv(file);
-  const int mean = table.column_index("mean");
-  std::vector<MeasuredValue> out;
-  for (int r = 0; r < table.rows(); ++r) {
-    const std::string where = fmt::format("{}:{}", file.string(), table.lines[r]);
-    double sd = 0.0;
-    if (table.has_column("sd")) {
-      sd = table.values(r, table.column_index("sd"));
-    } else if (table.has_column("low") && table.has_column("high") && table.has_column("tests")) {
-      const double low = table.values(r, table.column_index("low"));
-      const double high = table.values(r, table.column_index("high"));
-      const double tests = table.values(r, table.column_index("tests"));
-      if (tests != std::floor(tests) || tests < 2 || tests > 20)
-        throw UserError(fmt::format("{}: column 'tests': {} must be a whole number in 2..20", where, tests));
-      if (high < low) throw UserError(fmt::format("{}: high {} is below low {}", where, high, low));
-      sd = (high - low) / d2(static_cast<int>(tests));
-    } else {
-      throw UserError(fmt::format("{}: needs a column 'sd', or the columns 'low', 'high' and 'tests' (columns: {})",
-                                  file.string(), join(table.columns)));
-    }
-    if (!(sd > 0))
-      throw UserError(
-          fmt::format("{}: {} {:g} must be > 0 (a measurement's spread)", where,
-                      table.has_column("sd") ? "column 'sd':" : "the spread (high - low) / d2(tests) =", sd));
-    out.push_back({table.rows() == 1 ? name : point_name(name, static_cast<size_t>(r) + 1), table.values(r, mean), sd});
-  }
-  return out;
-}
-
 std::string identified_label(double ratio) { return ratio < 0.5 ? "yes" : ratio < 0.8 ? "partly" : "no"; }
 
 }  // namespace
 
 void PosteriorOptions::validate() const {
   if (dirs.empty()) throw UserError("calibrate: a study folder is required");
-  if (targets.empty() && target_files.empty())
-    throw UserError("calibrate --method bayes: give the measured values with --target NAME=V±E or --target-file");
+  if (targets.empty()) throw UserError("PosteriorOptions.targets: no measured value given");
+  std::set<std::string> seen;
+  for (const MeasuredTarget& t : targets) {
+    if (t.name.empty()) throw UserError(fmt::format("PosteriorOptions.targets '{}': no observable named", t.text()));
+    if (!std::isfinite(t.value))
+      throw UserError(fmt::format("PosteriorOptions.targets '{}': the value must be a finite number", t.text()));
+    // sd 0 (none given): the likelihood's variance is the metamodel's alone.
+    if (!(t.sd >= 0) || !std::isfinite(t.sd))
+      throw UserError(
+          fmt::format("PosteriorOptions.targets '{}': uncertainty {:g} must be a finite number >= 0", t.label(), t.sd));
+    if (!seen.insert(t.label()).second)
+      throw UserError(fmt::format("PosteriorOptions.targets: {} is given twice", t.label()));
+  }
+  for (const auto& [label, weight] : weights) {
+    if (!(weight >= 0) || !std::isfinite(weight))
+      throw UserError(fmt::format("PosteriorOptions.weights '{}={}': one value >= 0 expected", label, weight));
+    if (!seen.count(label)) throw UserError(fmt::format("PosteriorOptions.weights: {} is not a target", label));
+  }
   if (walkers != 0 && (walkers < 4 || walkers % 2 != 0))
-    throw UserError(fmt::format("--walkers {}: must be even and >= 2 × parameters + 2", walkers));
-  if (steps != 0 && steps < 10) throw UserError(fmt::format("--steps {}: must be >= 10 (or 0: automatic)", steps));
-  if (burn_in < 0) throw UserError(fmt::format("--burn-in {}: must be >= 0", burn_in));
-  if (verify < -1 || verify > 1000) throw UserError(fmt::format("--verify {}: must be in 0..1000", verify));
+    throw UserError(fmt::format("PosteriorOptions.walkers {}: must be even and >= 2 × parameters + 2", walkers));
+  if (steps != 0 && steps < 10)
+    throw UserError(fmt::format("PosteriorOptions.steps {}: must be >= 10 (or 0: automatic)", steps));
+  if (burn_in < 0) throw UserError(fmt::format("PosteriorOptions.burn_in {}: must be >= 0", burn_in));
+  if (verify < -1 || verify > 1000)
+    throw UserError(fmt::format("PosteriorOptions.verify {}: must be in 0..1000", verify));
   try {
     if (!model.empty()) sobol::metamodel_kind_from_string(model);
   } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--model: {}", e.what()));
+    throw UserError(fmt::format("PosteriorOptions.model: {}", e.what()));
   }
 }
 
@@ -173,8 +78,8 @@ namespace {
 /// The studies a target is matched to: the one named by its STUDY: prefix, else the only study that measures its
 /// name. A bare name that several studies measure (two piles both have `angle`) is refused: the measured value of
 /// one lab test belongs to one experiment.
-std::vector<const JointStudy*> studies_measuring(const std::vector<JointStudy>& studies, const QualifiedName& target,
-                                                 const std::string& text) {
+std::vector<const JointStudy*> studies_measuring(const std::vector<JointStudy>& studies, const MeasuredTarget& target) {
+  const std::string text = target.label();
   std::vector<const JointStudy*> named, measuring;
   for (const JointStudy& s : studies) {
     if (!target.study.empty() && s.config.name != target.study) continue;
@@ -184,14 +89,14 @@ std::vector<const JointStudy*> studies_measuring(const std::vector<JointStudy>& 
   if (!target.study.empty() && named.empty()) {
     std::vector<std::string> names;
     for (const JointStudy& s : studies) names.push_back(s.config.name);
-    throw UserError(
-        fmt::format("--target {}: no study is named '{}' (the studies: {})", text, target.study, join(names)));
+    throw UserError(fmt::format("PosteriorOptions.targets {}: no study is named '{}' (the studies: {})", text,
+                                target.study, join(names)));
   }
   if (!target.study.empty() && named.size() > 1) {
     std::vector<std::string> dirs;
     for (const JointStudy* s : named) dirs.push_back(s->dir.string());
     throw UserError(
-        fmt::format("--target {}: the studies {} share the name '{}', so STUDY:NAME cannot tell them "
+        fmt::format("PosteriorOptions.targets {}: the studies {} share the name '{}', so STUDY:NAME cannot tell them "
                     "apart; give them different [study] names",
                     text, join(dirs), target.study));
   }
@@ -199,15 +104,15 @@ std::vector<const JointStudy*> studies_measuring(const std::vector<JointStudy>& 
     std::string all;
     for (const JointStudy* s : named)
       all += fmt::format("\n  {} ({}): {}", s->config.name, s->dir.string(), join(s->available));
-    throw UserError(fmt::format("--target {}: no study {}has this observable (observables:{})", text,
+    throw UserError(fmt::format("PosteriorOptions.targets {}: no study {}has this observable (observables:{})", text,
                                 target.study.empty() ? "" : "named '" + target.study + "' ", all));
   }
   if (measuring.size() > 1) {
     std::vector<std::string> names;
     for (const JointStudy* s : measuring) names.push_back(s->config.name);
     throw UserError(
-        fmt::format("--target {}: ambiguous: the studies {} all measure '{}'; say which with "
-                    "--target STUDY:{}=... (one per study)",
+        fmt::format("PosteriorOptions.targets {}: ambiguous: the studies {} all measure '{}'; say which with "
+                    "PosteriorOptions.targets STUDY:{}=... (one per study)",
                     text, join(names), target.name, target.name));
   }
   return measuring;
@@ -231,47 +136,26 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   }
   const int d = static_cast<int>(prior.size());
 
-  // Targets: the measured values, each matched to every study that has the observable.
-  std::vector<ResolvedTarget> measured;
-  for (const std::string& t : options.targets)
-    for (const MeasuredValue& m : parse_measured("--target", t)) measured.push_back({m, 1.0});
-  for (const std::string& f : options.target_files)
-    for (const MeasuredValue& m : read_curve(f)) measured.push_back({m, 1.0});
-  {
-    std::set<std::string> seen;
-    for (const ResolvedTarget& t : measured)
-      if (!seen.insert(t.measured.name).second)
-        throw UserError(fmt::format("--target: {} is given twice", t.measured.name));
-  }
-  for (const std::string& text : options.weights) {
-    const std::vector<MeasuredValue> w = parse_measured("--weight", text);
-    if (w.size() != 1 || w[0].value < 0 || w[0].sd != 0)
-      throw UserError(fmt::format("--weight '{}': one value >= 0 expected", text));
-    const auto it = std::find_if(measured.begin(), measured.end(),
-                                 [&](const ResolvedTarget& t) { return t.measured.name == w[0].name; });
-    if (it == measured.end()) throw UserError(fmt::format("--weight '{}': {} is not a target", text, w[0].name));
-    it->weight = w[0].value;
-  }
-
+  // Targets: the measured values, each matched to the study that has the observable.
   std::vector<std::unique_ptr<sobol::Metamodel>> models;
   std::vector<sobol::GaussianTarget> gaussian;
   std::set<std::pair<std::string, std::string>> matched;  // (study folder, observable): one target each
-  for (const ResolvedTarget& t : measured) {
-    const QualifiedName target = qualified_name("--target", t.measured.name);
-    for (const JointStudy* study : studies_measuring(studies, target, t.measured.name)) {
+  for (const MeasuredTarget& t : options.targets) {
+    for (const JointStudy* study : studies_measuring(studies, t)) {
       const JointStudy& s = *study;
-      if (!matched.insert({s.dir.string(), target.name}).second)
-        throw UserError(
-            fmt::format("--target {}: {} of {} is given a value twice", t.measured.name, target.name, s.dir.string()));
-      FittedObservable fit = fit_observable(s, target.name, options.model);
+      if (!matched.insert({s.dir.string(), t.name}).second)
+        throw UserError(fmt::format("PosteriorOptions.targets {}: {} of {} is given a value twice", t.label(), t.name,
+                                    s.dir.string()));
+      FittedObservable fit = fit_observable(s, t.name, options.model);
       PosteriorTarget pt;
-      pt.name = target.name;
+      pt.name = t.name;
       pt.study = s.config.name;
       pt.model = fit.model_name;
       pt.q2 = fit.q2;
-      pt.value = t.measured.value;
-      pt.sd = t.measured.sd;
-      pt.weight = t.weight;
+      pt.value = t.value;
+      pt.sd = t.sd;
+      const auto weight = options.weights.find(t.label());
+      pt.weight = weight == options.weights.end() ? 1.0 : weight->second;
       pt.observed_low = fit.observed_low;
       pt.observed_high = fit.observed_high;
       pt.samples = fit.samples;
@@ -284,7 +168,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   try {
     posterior.emplace(gaussian, d);
   } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--target: {}", e.what()));
+    throw UserError(fmt::format("PosteriorOptions.targets: {}", e.what()));
   }
 
   sobol::EnsembleOptions sampler;
@@ -296,7 +180,13 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   try {
     sampler.validate(d);
   } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--{}", e.what()));
+    // The sampler names its own fields ("burn-in 2147483548: ..."): the same fields of PosteriorOptions.
+    std::string message = e.what();
+    for (const auto& [sampler_field, field] :
+         {std::pair<std::string, std::string>{"walkers ", "walkers "}, {"steps ", "steps "}, {"burn-in ", "burn_in "}})
+      if (message.rfind(sampler_field, 0) == 0)
+        message = "PosteriorOptions." + field + message.substr(sampler_field.size());
+    throw UserError(message);
   }
   const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
   const auto start = std::chrono::steady_clock::now();

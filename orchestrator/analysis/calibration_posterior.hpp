@@ -13,12 +13,14 @@
 //   4. DIR/calibration/ (or --out): posterior_samples.csv, posterior.json; with verify K, the real cases at the MAP
 //      and at K posterior draws (run_point, handed in by the CLI), each kept as verify/<point>/<study>.json so that
 //      a rerun measures only what is missing.
+#include "orchestrator/analysis/measured_target.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/observables.hpp"
 
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,15 +30,14 @@ namespace demsa::analysis {
 struct PosteriorOptions {
   std::vector<std::filesystem::path> dirs;  ///< study folders (at least one); the first holds the output
   std::filesystem::path out;                ///< output folder; empty: dirs[0]/calibration
-  /// "NAME=V±E" or "NAME=V+-E"; "NAME=V1,V2,...±E1,E2,..." (or one E for all) sets NAME_1, NAME_2, ...
-  /// (settlement=... sets settlement_1, ...). Without ±: σ = 0 (the metamodel's error alone).
-  std::vector<std::string> targets;
-  /// "NAME=FILE": a CSV of one measured curve, one row per point (NAME_1, NAME_2, ...), columns `mean` and either
-  /// `sd`, or `low`, `high` and `tests` (min/max over that many tests: σ = (high - low) / d₂(tests)).
-  std::vector<std::string> target_files;
-  std::vector<std::string> weights;  ///< "NAME=W", W >= 0 (tempers that target's likelihood term)
-  std::string model;                 ///< one metamodel for every target; empty: the best Q² per observable
-  int walkers = 0;                   ///< 0: the sampler's default (max(32, 4d))
+  /// The measured values, each matched to the one study that measures its observable (or that its `study` names);
+  /// sd 0: the metamodel's error alone.
+  std::vector<MeasuredTarget> targets;
+  /// Weight W >= 0 of a target by its label ("NAME" or "STUDY:NAME", MeasuredTarget::label): tempers its likelihood
+  /// term. A target without one has weight 1.
+  std::map<std::string, double> weights;
+  std::string model;  ///< one metamodel for every target; empty: the best Q² per observable
+  int walkers = 0;    ///< 0: the sampler's default (max(32, 4d))
   /// Kept steps per walker; 0 (the default): automatic, 3000 and then, while the chain is not converged (shorter
   /// than 50 τ, or split R̂ >= 1.05), continue it with max(60 τ, twice as many) steps (and a burn-in of at least
   /// 5 τ), at most k_auto_max_runs runs within k_max_auto_draws values in memory.
@@ -47,7 +48,7 @@ struct PosteriorOptions {
   std::function<study::PointRun(const study::StudyConfig& config, const std::filesystem::path& folder,
                                 const std::vector<double>& unit)>
       run_point;
-  /// Throws util::UserError naming the option and the value.
+  /// Throws util::UserError naming the field ("PosteriorOptions.walkers") and the value.
   void validate() const;
 };
 
@@ -147,13 +148,5 @@ std::string posterior_to_json(const PosteriorOutcome& outcome);
 PosteriorOutcome read_posterior(const std::filesystem::path& file);
 /// The printed tables (parameters, targets, diagnostics, verification).
 std::string posterior_text(const PosteriorOutcome& outcome);
-
-/// "NAME=V±E" parsing (exposed for tests): names and per-name (value, sd). Throws util::UserError naming `option`.
-struct MeasuredValue {
-  std::string name;
-  double value = 0.0;
-  double sd = 0.0;
-};
-std::vector<MeasuredValue> parse_measured(const std::string& option, const std::string& text);
 
 }  // namespace demsa::analysis

@@ -35,35 +35,12 @@ namespace {
 
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 
+/// An observable's sd as given, and whether a measured observable took it.
 struct SdOverride {
-  QualifiedName target;
-  double sd = 0.0;
-  std::string text;
+  ObservableSd given;
   bool used = false;
+  std::string text() const { return fmt::format("{}={:.12g}", given.observable.label(), given.sd); }
 };
-
-SdOverride parse_sd(const std::string& text) {
-  const auto eq = text.rfind('=');
-  if (eq == std::string::npos) throw UserError(fmt::format("--sd '{}': expected NAME=SD or STUDY:NAME=SD", text));
-  SdOverride o;
-  o.target = qualified_name("--sd", text.substr(0, eq));
-  const std::optional<double> v = parse_number(trim(text.substr(eq + 1)));
-  if (!v || !std::isfinite(*v) || !(*v > 0))
-    throw UserError(
-        fmt::format("--sd '{}': '{}' must be a number > 0 (the observable's standard deviation, in the "
-                    "units demsa stores it: SI, angles in degrees)",
-                    text, trim(text.substr(eq + 1))));
-  // The likelihood's variance is sd² (plus the metamodel's): beyond ~1.3e154 it overflows to infinity, and every
-  // truth's posterior would be the prior without a word.
-  if (!std::isfinite(*v * *v))
-    throw UserError(
-        fmt::format("--sd '{}': {:g} squared overflows a double (the likelihood's variance): give an sd "
-                    "below 1e150",
-                    text, *v));
-  o.sd = *v;
-  o.text = text;
-  return o;
-}
 
 /// Total indices of a fitted metamodel on its study's unit cube: the QMC Saltelli estimate of sobol::metamodel_sobol at
 /// N = 2048 without intervals, enough to sort parameters at the k_plan_sensitive line.
@@ -153,12 +130,38 @@ void PlanOptions::validate() const {
   if (static_cast<int>(dirs.size()) > k_plan_max_studies)
     throw UserError(fmt::format("plan: {} studies given; at most {} ({} subsets)", dirs.size(), k_plan_max_studies,
                                 (1 << k_plan_max_studies) - 1));
-  if (truths < 2 || truths > 1000) throw UserError(fmt::format("--truths {}: must be in 2..1000", truths));
-  if (!(goal > 0 && goal < 1)) throw UserError(fmt::format("--goal {:g}: must be in (0, 1)", goal));
+  if (truths < 2 || truths > 1000) throw UserError(fmt::format("PlanOptions.truths {}: must be in 2..1000", truths));
+  if (!(goal > 0 && goal < 1)) throw UserError(fmt::format("PlanOptions.goal {:g}: must be in (0, 1)", goal));
+  for (size_t k = 0; k < sds.size(); ++k) {
+    const std::string text = fmt::format("{}={:.12g}", sds[k].observable.label(), sds[k].sd);
+    if (sds[k].observable.name.empty()) throw UserError(fmt::format("PlanOptions.sds '{}': no observable named", text));
+    if (!std::isfinite(sds[k].sd) || !(sds[k].sd > 0))
+      throw UserError(
+          fmt::format("PlanOptions.sds '{}': '{:g}' must be a number > 0 (the observable's standard "
+                      "deviation, in the units demsa stores it: SI, angles in degrees)",
+                      text, sds[k].sd));
+    // The likelihood's variance is sd² (plus the metamodel's): beyond ~1.3e154 it overflows to infinity, and every
+    // truth's posterior would be the prior without a word.
+    if (!std::isfinite(sds[k].sd * sds[k].sd))
+      throw UserError(
+          fmt::format("PlanOptions.sds '{}': {:g} squared overflows a double (the likelihood's variance): "
+                      "give an sd below 1e150",
+                      text, sds[k].sd));
+    for (size_t i = 0; i < k; ++i)
+      if (sds[i].observable.study == sds[k].observable.study && sds[i].observable.name == sds[k].observable.name)
+        throw UserError(fmt::format(
+            "PlanOptions.sds '{}={:.12g}' and PlanOptions.sds '{}': the same observable's sd given twice; give it once",
+            sds[i].observable.label(), sds[i].sd, text));
+  }
+  for (const QualifiedName& q : observe)
+    if (q.name.empty()) throw UserError(fmt::format("PlanOptions.observe '{}': no observable named", q.label()));
+  for (const MeasuredTarget& m : near)
+    if (!(m.sd > 0) || !std::isfinite(m.sd) || !std::isfinite(m.value))
+      throw UserError(fmt::format("PlanOptions.near '{}': give the value's spread, a finite sd > 0", m.text()));
   try {
     if (!model.empty()) sobol::metamodel_kind_from_string(model);
   } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--model: {}", e.what()));
+    throw UserError(fmt::format("PlanOptions.model: {}", e.what()));
   }
 }
 
@@ -179,11 +182,12 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   {
     std::error_code ec;
     if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-      throw UserError(fmt::format("--out {}: exists and is not a folder", out.string()));
+      throw UserError(fmt::format("PlanOptions.out {}: exists and is not a folder", out.string()));
     fs::create_directories(out, ec);
-    if (ec) throw UserError(fmt::format("--out {}: cannot create the folder: {}", out.string(), ec.message()));
+    if (ec)
+      throw UserError(fmt::format("PlanOptions.out {}: cannot create the folder: {}", out.string(), ec.message()));
     if (::access(out.c_str(), W_OK) != 0)
-      throw UserError(fmt::format("--out {}: cannot write into the folder", out.string()));
+      throw UserError(fmt::format("PlanOptions.out {}: cannot write into the folder", out.string()));
   }
   const JointPrior prior = joint_prior(studies);
   const int d = prior.dimension();
@@ -195,21 +199,13 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   outcome.prior_points = k_plan_prior_points;
 
   std::vector<SdOverride> sds;
-  for (const std::string& text : options.sds) {
-    sds.push_back(parse_sd(text));
-    for (size_t k = 0; k + 1 < sds.size(); ++k)
-      if (sds[k].target.study == sds.back().target.study && sds[k].target.name == sds.back().target.name)
-        throw UserError(fmt::format("--sd '{}' and --sd '{}': the same observable's sd given twice; give it once",
-                                    sds[k].text, text));
-  }
-  std::vector<QualifiedName> observe;
-  for (const std::string& text : options.observe) observe.push_back(qualified_name("--observe", text));
-  for (size_t k = 0; k < observe.size(); ++k)
-    if (std::none_of(studies.begin(), studies.end(), [&](const JointStudy& s) {
-          return observe[k].matches(s, observe[k].name) && s.measures(observe[k].name);
-        }))
-      throw UserError(fmt::format("--observe '{}': no study {}measures it", options.observe[k],
-                                  observe[k].study.empty() ? "" : "named '" + observe[k].study + "' "));
+  for (const ObservableSd& given : options.sds) sds.push_back({given});
+  const std::vector<QualifiedName>& observe = options.observe;
+  for (const QualifiedName& q : observe)
+    if (std::none_of(studies.begin(), studies.end(),
+                     [&](const JointStudy& s) { return q.matches(s, q.name) && s.measures(q.name); }))
+      throw UserError(fmt::format("PlanOptions.observe '{}': no study {}measures it", q.label(),
+                                  q.study.empty() ? "" : "named '" + q.study + "' "));
 
   // The measured observables, their metamodels (in the prior's coordinates) and their sd.
   std::vector<std::unique_ptr<sobol::Metamodel>> models;
@@ -234,11 +230,12 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
           names.push_back(q.name);
     }
     if (names.empty())
-      throw UserError(fmt::format(
-          "plan: study {} ({}) measures none of the observables {} (it has: {}); name them "
-          "with --observe STUDY:NAME",
-          s.config.name, s.dir.string(),
-          observe.empty() ? "a laboratory measures in this experiment" : "given by --observe", join(s.available)));
+      throw UserError(
+          fmt::format("plan: study {} ({}) measures none of the observables {} (it has: {}); name them "
+                      "with PlanOptions.observe STUDY:NAME",
+                      s.config.name, s.dir.string(),
+                      observe.empty() ? "a laboratory measures in this experiment" : "given by PlanOptions.observe",
+                      join(s.available)));
     for (const std::string& name : names) {
       FittedObservable fit = fit_observable(s, name, options.model);
       PlanObservable po;
@@ -255,16 +252,18 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       po.total_index.assign(static_cast<size_t>(d), k_nan);
       for (size_t j = 0; j < s.config.parameters.size(); ++j)
         po.total_index[static_cast<size_t>(prior.column_of(s.config.parameters[j].name))] = st[j];
-      const auto given =
-          std::find_if(sds.begin(), sds.end(), [&](const SdOverride& o) { return o.target.matches(s, name); });
+      const auto given = std::find_if(sds.begin(), sds.end(),
+                                      [&](const SdOverride& o) { return o.given.observable.matches(s, name); });
       if (given != sds.end())
         for (auto other = given + 1; other != sds.end(); ++other)
-          if (other->target.matches(s, name))
-            throw UserError(fmt::format("--sd '{}' and --sd '{}' both give the sd of {}:{}; give it once", given->text,
-                                        other->text, s.config.name, name));
+          if (other->given.observable.matches(s, name))
+            throw UserError(
+                fmt::format("PlanOptions.sds '{}' and PlanOptions.sds '{}' both give the sd of {}:{}; give "
+                            "it once",
+                            given->text(), other->text(), s.config.name, name));
       if (given != sds.end()) {
         given->used = true;
-        po.sd = given->sd;
+        po.sd = given->given.sd;
         po.source = "given";
       } else {
         const double spread = fit.observed_high - fit.observed_low;
@@ -274,8 +273,8 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
         po.sd = std::sqrt(po.measurement_sd * po.measurement_sd + (noise ? noise->estimate.variance : 0.0));
         po.source = noise ? "replicates + default error" : "default error (no replicates)";
         if (!(po.sd > 0))
-          throw UserError(fmt::format("plan: {}:{} is 0 on every sample: give its sd with --sd {}:{}=SD", s.config.name,
-                                      name, s.config.name, name));
+          throw UserError(fmt::format("plan: {}:{} is 0 on every sample: give its sd with PlanOptions.sds {}:{}=SD",
+                                      s.config.name, name, s.config.name, name));
       }
       outcome.observables.push_back(po);
       models.push_back(std::move(fit.model));
@@ -285,11 +284,12 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   }
   for (const SdOverride& o : sds)
     if (!o.used)
-      throw UserError(fmt::format("--sd '{}': no measured observable is named so (measured: {})", o.text, [&] {
-        std::vector<std::string> names;
-        for (const PlanObservable& p : outcome.observables) names.push_back(p.study + ":" + p.name);
-        return join(names);
-      }()));
+      throw UserError(
+          fmt::format("PlanOptions.sds '{}': no measured observable is named so (measured: {})", o.text(), [&] {
+            std::vector<std::string> names;
+            for (const PlanObservable& p : outcome.observables) names.push_back(p.study + ":" + p.name);
+            return join(names);
+          }()));
   for (int j = 0; j < d; ++j)
     for (const PlanObservable& po : outcome.observables)
       if (po.total_index[static_cast<size_t>(j)] >= k_plan_sensitive) {
@@ -324,24 +324,22 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
     double value = 0.0, sd = 1.0;
   };
   std::vector<Near> near;
-  for (const std::string& text : options.near)
-    for (const MeasuredValue& m : parse_measured("--near", text)) {
-      if (!(m.sd > 0)) throw UserError(fmt::format("--near '{}': give the value's spread, NAME=V±E", text));
-      const QualifiedName q = qualified_name("--near", m.name);
-      int found = -1;
-      for (int k = 0; k < n_targets; ++k) {
-        const PlanObservable& po = outcome.observables[static_cast<size_t>(k)];
-        if (po.name == q.name && (q.study.empty() || q.study == po.study)) {
-          if (found >= 0)
-            throw UserError(
-                fmt::format("--near '{}': several studies measure {}; say which with STUDY:{}", text, q.name, q.name));
-          found = k;
-        }
+  for (const MeasuredTarget& m : options.near) {
+    int found = -1;
+    for (int k = 0; k < n_targets; ++k) {
+      const PlanObservable& po = outcome.observables[static_cast<size_t>(k)];
+      if (po.name == m.name && (m.study.empty() || m.study == po.study)) {
+        if (found >= 0)
+          throw UserError(fmt::format("PlanOptions.near '{}': several studies measure {}; say which with STUDY:{}",
+                                      m.text(), m.name, m.name));
+        found = k;
       }
-      if (found < 0) throw UserError(fmt::format("--near '{}': {} is not a measured observable", text, m.name));
-      near.push_back({found, m.value, m.sd});
-      outcome.near.push_back(text);
     }
+    if (found < 0)
+      throw UserError(fmt::format("PlanOptions.near '{}': {} is not a measured observable", m.text(), m.label()));
+    near.push_back({found, m.value, m.sd});
+    outcome.near.push_back(m.text());
+  }
   Eigen::MatrixXd truth(options.truths, d);
   {
     constexpr long k_max_candidates = 1000000;
@@ -349,10 +347,11 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
     int accepted = 0;
     while (accepted < options.truths) {
       if (candidates >= k_max_candidates)
-        throw UserError(fmt::format(
-            "--near {}: only {} of {} parameter points drawn from the prior predict values this near; the studies "
-            "can hardly produce them (widen the ±, or check the value against the studies' ranges)",
-            join(options.near), accepted, k_max_candidates));
+        throw UserError(
+            fmt::format("PlanOptions.near {}: only {} of {} parameter points drawn from the prior predict values this "
+                        "near; the studies "
+                        "can hardly produce them (widen the ±, or check the value against the studies' ranges)",
+                        join(outcome.near), accepted, k_max_candidates));
       Eigen::MatrixXd batch(near.empty() ? options.truths - accepted : 4096, d);
       for (Eigen::Index i = 0; i < batch.rows(); ++i)
         for (int j = 0; j < d; ++j) batch(i, j) = random.uniform();

@@ -23,6 +23,8 @@
 //      samples, per study), and a recommendation: the cheapest subset that brings every parameter with a total
 //      index ST >= k_plan_sensitive for some measured observable to <= `goal` of its prior width, or else the subset
 //      of the smallest largest width among those parameters.
+#include "orchestrator/analysis/joint_studies.hpp"
+#include "orchestrator/analysis/measured_target.hpp"
 #include "orchestrator/study/config.hpp"
 
 #include <cstdint>
@@ -51,23 +53,28 @@ inline constexpr int k_plan_burn_in = 300;
 inline constexpr int k_plan_steps = 600;
 inline constexpr int k_plan_max_steps = 9600;
 
+/// The total sd of one measured observable, in the units demsa stores it (`demsa plan --sd`).
+struct ObservableSd {
+  QualifiedName observable;
+  double sd = 0.0;  ///< > 0
+};
+
 struct PlanOptions {
   std::vector<std::filesystem::path> dirs;  ///< 1..k_plan_max_studies study folders
   std::filesystem::path out;                ///< empty: dirs[0]/plan
-  /// "NAME=SD" or "STUDY:NAME=SD": the total sd of a measured observable (DEM noise and measurement together).
-  std::vector<std::string> sds;
-  /// "NAME" or "STUDY:NAME": the observables measured; empty: each experiment's laboratory observables.
-  std::vector<std::string> observe;
-  /// "NAME=V±E" or "STUDY:NAME=V±E" (also +-): a guess of what the lab will measure. The truths are then drawn
-  /// from the prior restricted to where the metamodel predicts NAME near V (accepted with probability
-  /// exp(-(m(u) - V)² / (2 E²))), so that the widths are those expected around that value rather than over the
-  /// whole prior.
-  std::vector<std::string> near;
+  /// The total sd of a measured observable (DEM noise and measurement together), overriding the default.
+  std::vector<ObservableSd> sds;
+  /// The observables measured; empty: each experiment's laboratory observables.
+  std::vector<QualifiedName> observe;
+  /// A guess of what the lab will measure (sd > 0). The truths are then drawn from the prior restricted to where the
+  /// metamodel predicts the observable near the value (accepted with probability exp(-(m(u) - V)² / (2 sd²))), so
+  /// that the widths are those expected around that value rather than over the whole prior.
+  std::vector<MeasuredTarget> near;
   int truths = 50;                    ///< M, 2..1000
   double goal = 0.5;                  ///< the width the recommendation asks of every sensitive parameter, in (0, 1)
   std::string model;                  ///< one metamodel for every observable; empty: the best Q² per observable
   std::optional<std::uint64_t> seed;  ///< empty: the first study's seed
-  /// Throws util::UserError naming the option and the value.
+  /// Throws util::UserError naming the field ("PlanOptions.sds") and the value.
   void validate() const;
 };
 
@@ -116,7 +123,8 @@ struct PlanOutcome {
   int recommended = -1;                ///< index into subsets
   std::string recommendation;          ///< in words
   int truths = 0;
-  std::vector<std::string> near;  ///< the --near conditions the truths were drawn under ("" : the whole prior)
+  std::vector<std::string>
+      near;  ///< the `near` guesses the truths were drawn under, as MeasuredTarget::text (none: the whole prior)
   double goal = 0.5;
   std::uint64_t seed = 0;
   int prior_points = 0;

@@ -27,18 +27,6 @@ bool QualifiedName::matches(const JointStudy& s, const std::string& observable) 
   return name == observable && (study.empty() || study == s.config.name);
 }
 
-QualifiedName qualified_name(const std::string& option, const std::string& text) {
-  const auto colon = text.find(':');
-  if (colon == std::string::npos) {
-    if (trim(text).empty()) throw UserError(fmt::format("{} '{}': no observable named", option, text));
-    return {"", trim(text)};
-  }
-  QualifiedName q{trim(text.substr(0, colon)), trim(text.substr(colon + 1))};
-  if (q.study.empty() || q.name.empty())
-    throw UserError(fmt::format("{} '{}': expected NAME or STUDY:NAME (STUDY: a study's [study] name)", option, text));
-  return q;
-}
-
 std::vector<JointStudy> load_joint_studies(const std::vector<fs::path>& dirs, const std::string& command) {
   // One folder given twice (or by two spellings of its path) would count its measurements twice and narrow the
   // posterior as if they had been measured twice: refused, compared by canonical path.

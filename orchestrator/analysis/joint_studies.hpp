@@ -34,16 +34,14 @@ struct JointStudy {
   bool measures(const std::string& name) const;
 };
 
-/// An observable named "NAME" or "STUDY:NAME" (STUDY: a study's `[study] name`), as --target, --sd, --observe and
-/// --near take it.
+/// An observable of one study or of any: "STUDY:NAME" or "NAME" (STUDY: a study's `[study] name`).
 struct QualifiedName {
   std::string study;  ///< empty: any study that measures `name`
   std::string name;
   /// `name` is `observable` and `study` is empty or the study's name.
   bool matches(const JointStudy& s, const std::string& observable) const;
+  std::string label() const { return study.empty() ? name : study + ":" + name; }
 };
-/// Throws util::UserError naming `option` and `text` when a part is empty.
-QualifiedName qualified_name(const std::string& option, const std::string& text);
 
 /// Reads each folder (util::UserError naming `command` and both paths when one study is given twice).
 std::vector<JointStudy> load_joint_studies(const std::vector<std::filesystem::path>& dirs, const std::string& command);

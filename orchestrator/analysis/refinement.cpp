@@ -289,4 +289,33 @@ RefineSummary refine_study(const RefineOptions& options) {
   }
 }
 
+std::string refine_step_text(const study::RefineStep& step) {
+  std::string widths;
+  for (const auto& [name, w] : step.max_half_width) widths += fmt::format("  {} {}", name, half_width_text(w));
+  return fmt::format("refine: step {:>3}  {:>5} samples  max half-width:{}  -> {}\n", step.iteration, step.samples,
+                     widths, step.decision);
+}
+
+std::string refine_end_text(const RefineSummary& refined, const RefineOptions& options) {
+  const std::string dir = options.dir.string();
+  switch (refined.end) {
+    case RefineEnd::stopped_in_runs:
+      return fmt::format("interrupted: `demsa refine {} --target-ci {}` resumes\n", dir, options.target);
+    case RefineEnd::stopped_in_analysis:
+      return fmt::format("interrupted during the analysis: `demsa refine {} --target-ci {}` resumes\n", dir,
+                         options.target);
+    case RefineEnd::stopped:
+      return "";
+    case RefineEnd::reached:
+      return analysis_tables_text(refined.analysis) +
+             fmt::format("refine: every S1 and ST half-width is at most {} with {} samples\n", options.target,
+                         refined.done);
+    case RefineEnd::budget:
+      return analysis_tables_text(refined.analysis) +
+             fmt::format("refine: the budget of {} samples is spent; worst half-width {} > {}\n", refined.max_samples,
+                         half_width_text(refined.worst), options.target);
+  }
+  return "";
+}
+
 }  // namespace demsa::analysis

@@ -104,4 +104,10 @@ struct RefineSummary {
 /// are done.
 RefineSummary refine_study(const RefineOptions& options);
 
+/// What `demsa refine` prints of each step: "refine: step   3     24 samples  max half-width:  angle 0.041  -> ...".
+std::string refine_step_text(const study::RefineStep& step);
+/// What it prints at the end: how to resume an interrupted refinement, or the analysis's tables and whether the target
+/// half-width was reached or the budget spent (nothing for RefineEnd::stopped).
+std::string refine_end_text(const RefineSummary& refined, const RefineOptions& options);
+
 }  // namespace demsa::analysis

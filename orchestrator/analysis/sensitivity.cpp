@@ -164,6 +164,8 @@ SaltelliSensitivity saltelli_sensitivity(const SaltelliSensitivityOptions& optio
     if (!out.warning.empty()) warn_with(options.warn, out.warning);
     result.outputs.push_back(std::move(out));
   }
+  if (!options.json_file.empty())
+    util::write_file_atomically(options.json_file, saltelli_sensitivity_json(result).dump(2) + "\n");
   return result;
 }
 
@@ -478,6 +480,8 @@ DataSensitivity data_sensitivity(const DataSensitivityOptions& options) {
     util::write_file_atomically(file, text);
     result.model_files.push_back(file.string());
   }
+  if (!options.json_file.empty())
+    util::write_file_atomically(options.json_file, data_sensitivity_json(result).dump(2) + "\n");
   return result;
 }
 
@@ -506,6 +510,35 @@ nlohmann::json data_sensitivity_json(const DataSensitivity& result) {
           {"inputs", result.inputs},
           {"bounds", bounds},
           {"outputs", outputs}};
+}
+
+namespace {
+
+std::string interval_text(const sobol::IndexEstimate& e) {
+  if (e.lower == e.value && e.upper == e.value) return fmt::format("{:8.4f}", e.value);
+  return fmt::format("{:8.4f} [{:7.4f}, {:7.4f}]", e.value, e.lower, e.upper);
+}
+
+}  // namespace
+
+std::string sobol_indices_text(const sobol::SobolResult& r, const std::vector<std::string>& names) {
+  std::size_t width = 5;
+  for (const std::string& n : names) width = std::max(width, n.size());
+  std::string text = fmt::format("  {:<{}}  {:<27}  {:<27}\n", "input", width, "S1", "ST");
+  for (std::size_t k = 0; k < names.size(); ++k)
+    text += fmt::format("  {:<{}}  {:<27}  {:<27}\n", names[k], width, interval_text(r.first[k]),
+                        interval_text(r.total[k]));
+  text += fmt::format("  residual 1 - sum S1: {}\n", interval_text(r.residual));
+  for (const sobol::SecondOrderIndex& s : r.second)
+    text += fmt::format("  S2 {},{}: {}\n", names[static_cast<std::size_t>(s.i)], names[static_cast<std::size_t>(s.j)],
+                        interval_text(s.s));
+  if (r.replicates > 0)
+    text += fmt::format("  ({:g}% Student-t intervals from {} independently scrambled replicates)\n",
+                        100 * r.confidence, r.replicates);
+  if (r.bootstrap > 0)
+    text += fmt::format("  ({:g}% intervals from {} bootstrap resamples)\n", 100 * r.confidence, r.bootstrap);
+  if (!r.note.empty()) text += fmt::format("  ({})\n", r.note);
+  return text;
 }
 
 }  // namespace demsa::analysis

@@ -47,7 +47,10 @@ struct SaltelliSensitivityOptions {
   /// to the design (then at least one).
   std::vector<std::string> responses;
   sobol::SobolOptions indices;  ///< estimator, interval, bootstrap, confidence, seed and stop check
-  WarningSink warn;             ///< empty: util::log::warn
+  /// Where the result's JSON (saltelli_sensitivity_json) is written, atomically, once every response is done; "":
+  /// nowhere.
+  std::string json_file;
+  WarningSink warn;  ///< empty: util::log::warn
   /// Called with the design's parameter names and each response's indices once computed (the text output follows
   /// the computation).
   std::function<void(const std::vector<std::string>& inputs, const SaltelliResponseIndices&)> on_response;
@@ -65,6 +68,10 @@ SaltelliSensitivity saltelli_sensitivity(const SaltelliSensitivityOptions& optio
 /// {"design", "responses", "inputs", "outputs": [sobol_json's result + "output" (+ "warning")]}. An index without an
 /// interval (one scrambled design, or none asked for) has null "lower" and "upper", as the text shows none.
 nlohmann::json saltelli_sensitivity_json(const SaltelliSensitivity& result);
+
+/// The indices of one response as `demsa sensitivity` prints them: S1 and ST of each input (`names`) with their
+/// intervals, the residual 1 - sum S1, the S2 pairs, and how the intervals were made.
+std::string sobol_indices_text(const sobol::SobolResult& result, const std::vector<std::string>& names);
 
 // ---------------------------------------------------------------- samples and responses: metamodels, then indices
 
@@ -95,6 +102,8 @@ struct DataSensitivityOptions {
   /// Where each fitted model is written (model_file.hpp): a .json file for one model, else a folder of
   /// <response>.<metamodel>.json; "": nowhere. Written once every model is fitted.
   std::string save_model;
+  /// Where the result's JSON (data_sensitivity_json) is written, atomically, once every model is done; "": nowhere.
+  std::string json_file;
   WarningSink warn;  ///< empty: util::log::warn
   /// Called with each fitted model and its indices once computed.
   std::function<void(const std::string& response, const DataModelIndices&)> on_model;

@@ -238,4 +238,38 @@ nlohmann::json saltelli_design_written_json(const SaltelliDesignWritten& written
   return j;
 }
 
+std::string point_design_text(const PointDesign& written) {
+  const sobol::DesignResult& r = written.design;
+  std::string text = fmt::format("{} design: {} samples x {} parameters (seed {}) written to {}\n",
+                                 sobol::to_string(r.kind), r.points.rows(), r.points.cols(), r.seed, written.output);
+  if (r.iterations > 0)
+    text += fmt::format("optimised in {} iterations (stop: {}), {:.2f} s\n", r.iterations, sobol::to_string(r.stop),
+                        r.seconds);
+  if (r.metrics.phi_p && r.metrics.centred_l2)
+    text += fmt::format("minimum distance {:.4f}, phi_{:g} {:.4f}, centred L2 discrepancy {:.5f} (on the unit cube)\n",
+                        r.metrics.min_distance, r.metrics.phi_p_power, *r.metrics.phi_p, *r.metrics.centred_l2);
+  else
+    text += fmt::format("minimum distance {:.4f} (on the unit cube)\n", r.metrics.min_distance);
+  return text;
+}
+
+std::string saltelli_design_written_text(const SaltelliDesignWritten& written) {
+  const sobol::SaltelliDesign& d = written.design;
+  std::string text =
+      fmt::format("saltelli design: base {} x {} parameters{}, {} rows (seed {}) written to {}\n", d.base, d.dimension,
+                  d.second_order ? " with second order" : "", d.rows(), d.seed, written.output);
+  if (d.replicates > 1)
+    text += fmt::format(
+        "{} independently scrambled replicates of {} base rows (column 'replicate'): `demsa sensitivity` "
+        "gives Student-t intervals from their spread\n",
+        d.replicates, d.base / d.replicates);
+  else
+    text +=
+        "one scrambled design (no replicates): `demsa sensitivity` gives its indices without intervals, or "
+        "with bootstrap ones by --interval bootstrap (conservative for QMC)\n";
+  text += fmt::format("column 'block': 0 = A, 1 = B, 1+i = AB_i, 1+{}+i = BA_i; evaluate every row, keep the order\n",
+                      d.dimension);
+  return text;
+}
+
 }  // namespace demsa::analysis

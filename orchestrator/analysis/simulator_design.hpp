@@ -51,6 +51,8 @@ PointDesign write_point_design(const PointDesignOptions& options);
 
 /// {"design", "file", "samples", "dimension", "parameters", "seed", "iterations", "stop", "seconds", "metrics"}.
 nlohmann::json point_design_json(const PointDesign& written);
+/// The design in words: its kind, size, seed and file, the optimisation and the space-filling metrics.
+std::string point_design_text(const PointDesign& written);
 
 /// A Saltelli design (blocks A, B, AB_i and BA_i) for `demsa sensitivity --saltelli`.
 struct SaltelliDesignFileOptions {
@@ -78,5 +80,7 @@ SaltelliDesignWritten write_simulator_saltelli_design(const SaltelliDesignFileOp
 /// {"design": "saltelli", "file", "base", "dimension", "second_order", "rows", "parameters", "seed", "replicates",
 /// "metrics_of_a"}.
 nlohmann::json saltelli_design_written_json(const SaltelliDesignWritten& written);
+/// The design in words: its size, seed and file, its replicates and what the column 'block' means.
+std::string saltelli_design_written_text(const SaltelliDesignWritten& written);
 
 }  // namespace demsa::analysis

@@ -12,6 +12,7 @@
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
+#include "orchestrator/util/text.hpp"
 #include "sobol/metamodel_sobol.hpp"
 #include "sobol/noise.hpp"
 #include "sobol/stop.hpp"
@@ -404,6 +405,18 @@ std::string s1_table_text(const AnalysisSummary& summary, const ObservableAnalys
   for (const ModelAnalysis& m : observable.models)
     if (m.ok && !m.indices.note.empty()) text += fmt::format("{}: {}\n", m.model, m.indices.note);
   if (observable.noise) text += noise_text(*observable.noise) + "\n";
+  return text;
+}
+
+std::string analysis_tables_text(const AnalysisSummary& summary) {
+  std::string text;
+  for (const ObservableAnalysis& o : summary.observables) text += fmt::format("\n{}", s1_table_text(summary, o));
+  if (!summary.samples_left_out.empty())
+    text += fmt::format("\nleft out of the analysis (not done): samples {}\n", util::join(summary.samples_left_out));
+  if (!summary.samples_unsettled.empty())
+    text += fmt::format("\nunsettled, still moving at the end of settling (analysed all the same): sample {}\n",
+                        summary.unsettled);
+  text += fmt::format("\ntables, metamodels and indices with confidence intervals: {}\n", summary.out_dir.string());
   return text;
 }
 

@@ -84,4 +84,8 @@ std::string noise_text(const NoiseAnalysis& noise);
 /// "Res", one row per metamodel that worked with its S1 values and residual 1 − ΣS1, and R² and Q² columns.
 std::string s1_table_text(const AnalysisSummary& summary, const ObservableAnalysis& observable);
 
+/// What `demsa run`, `analyze` and `refine` print after an analysis: the S1 table of every observable, the samples
+/// left out and unsettled, and where the analysis is.
+std::string analysis_tables_text(const AnalysisSummary& summary);
+
 }  // namespace demsa::analysis

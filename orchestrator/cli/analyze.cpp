@@ -68,7 +68,7 @@ int do_analyze(const AnalyzeArgs& args) {
   if (args.json)
     fmt::print("{}\n", read_file(summary.out_dir / study::k_analysis_json));
   else
-    print_analysis_tables(summary);
+    fmt::print("{}", analysis::analysis_tables_text(summary));
   if (const std::string failure = analysis_failure(summary); !failure.empty()) throw UserError(failure);
   return k_exit_ok;
 }

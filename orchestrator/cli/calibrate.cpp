@@ -9,6 +9,8 @@
 #include "orchestrator/analysis/calibration.hpp"
 #include "orchestrator/analysis/calibration_posterior.hpp"
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
+#include "orchestrator/cli/targets.hpp"
 #include "orchestrator/exec/point_run.hpp"
 #include "orchestrator/report/posterior_plots.hpp"
 #include "orchestrator/study/folder.hpp"
@@ -31,7 +33,7 @@ namespace {
 struct CalibrateArgs {
   CalibrateOptions options;
   PosteriorOptions posterior;
-  std::vector<std::string> dirs;
+  std::vector<std::string> dirs, targets, target_files, weights;
   std::string method = "auto";
   std::string out;
   std::uint64_t seed = 0;
@@ -40,11 +42,13 @@ struct CalibrateArgs {
   bool no_plots = false;
 };
 
-bool has_uncertainty(const std::vector<std::string>& targets) {
-  return std::any_of(targets.begin(), targets.end(), [](const std::string& t) {
-    return t.find("±") != std::string::npos || t.find("+-") != std::string::npos;
-  });
-}
+/// The library's fields as the options that set them.
+const OptionNames k_option_names{{"targets", "--target"},  {"weights", "--weight"},
+                                 {"walkers", "--walkers"}, {"steps", "--steps"},
+                                 {"burn_in", "--burn-in"}, {"verify", "--verify"},
+                                 {"model", "--model"},     {"global_evaluations", "--global-evaluations"},
+                                 {"global", "--global"},   {"local_evaluations", "--local-evaluations"},
+                                 {"local", "--local"}};
 
 int do_optimize(CalibrateArgs& args) {
   if (args.dirs.size() != 1)
@@ -53,12 +57,16 @@ int do_optimize(CalibrateArgs& args) {
   if (args.verify > 0)
     throw UserError(
         fmt::format("--verify {}: --method optimize verifies its one optimum (give --verify alone)", args.verify));
+  for (const MeasuredTarget& t : args.options.targets)
+    if (t.sd > 0)
+      throw UserError(fmt::format(
+          "--target '{}': --method optimize matches a value; an uncertainty is for --method bayes", t.text()));
   args.options.dir = args.dirs.front();
   args.options.verify = args.verify >= 0;
   args.options.run_point = exec::run_point;
   // Not while a `demsa run` holds the study: it writes analysis/calibration.json (and --verify a case) into it.
   const auto lock = study::hold_study_for_results(args.options.dir);
-  const CalibrationOutcome outcome = calibrate_study(args.options);
+  const CalibrationOutcome outcome = with_option_names(k_option_names, [&] { return calibrate_study(args.options); });
   if (args.json)
     fmt::print("{}", calibration_to_json(outcome));
   else
@@ -71,9 +79,9 @@ int do_optimize(CalibrateArgs& args) {
 
 int do_bayes(CalibrateArgs& args) {
   PosteriorOptions& p = args.posterior;
+  if (p.targets.empty())
+    throw UserError("calibrate --method bayes: give the measured values with --target NAME=V±E or --target-file");
   for (const std::string& d : args.dirs) p.dirs.emplace_back(d);
-  p.targets = args.options.targets;
-  p.weights = args.options.weights;
   p.model = args.options.model;
   p.out = args.out;
   if (args.seed != 0) p.seed = args.seed;
@@ -81,7 +89,7 @@ int do_bayes(CalibrateArgs& args) {
   p.run_point = exec::run_point;
   std::vector<std::unique_ptr<study::StudyLock>> locks;
   for (const std::filesystem::path& d : p.dirs) locks.push_back(study::hold_study_for_results(d));
-  const PosteriorOutcome outcome = calibrate_posterior(p);
+  const PosteriorOutcome outcome = with_option_names(k_option_names, [&] { return calibrate_posterior(p); });
   std::string plot_note;
   if (!args.no_plots) {
     try {
@@ -103,11 +111,20 @@ int do_bayes(CalibrateArgs& args) {
 }
 
 int do_calibrate(CalibrateArgs& args) {
+  for (const std::string& text : args.targets)
+    for (const MeasuredTarget& t : parse_measured("--target", text)) args.options.targets.push_back(t);
+  for (const std::string& text : args.weights) {
+    const auto [label, weight] = parse_weight(text);
+    args.options.weights[label] = weight;
+  }
+  args.posterior.targets = args.options.targets;
+  for (const std::string& text : args.target_files)
+    for (const MeasuredTarget& t : read_target_file(text)) args.posterior.targets.push_back(t);
+  args.posterior.weights = args.options.weights;
+  const bool uncertain = std::any_of(args.posterior.targets.begin(), args.posterior.targets.end(),
+                                     [](const MeasuredTarget& t) { return t.sd > 0; });
   std::string method = args.method;
-  if (method == "auto")
-    method = args.dirs.size() > 1 || !args.posterior.target_files.empty() || has_uncertainty(args.options.targets)
-                 ? "bayes"
-                 : "optimize";
+  if (method == "auto") method = args.dirs.size() > 1 || uncertain ? "bayes" : "optimize";
   if (method == "optimize") return do_optimize(args);
   if (method == "bayes") return do_bayes(args);
   throw UserError(fmt::format("--method '{}': expected auto, bayes or optimize", args.method));
@@ -124,12 +141,12 @@ void register_calibrate_command(CLI::App& app, CliState& state) {
   sub->add_option("--method", args->method,
                   "auto (default: bayes when a target has an uncertainty or several studies are given), bayes, "
                   "optimize");
-  sub->add_option("--target", args->options.targets,
+  sub->add_option("--target", args->targets,
                   "NAME=VALUE[±ERROR] to match (also +-), e.g. angle=33.5±1.5 or settlement=s1,s2,s3±e1,e2,e3 "
                   "(optimize default: the study's target angle or measured settlements)");
-  sub->add_option("--target-file", args->posterior.target_files,
+  sub->add_option("--target-file", args->target_files,
                   "NAME=FILE.csv: a measured curve, one row per point, columns mean and sd, or low, high and tests");
-  sub->add_option("--weight", args->options.weights, "NAME=W weight of a target (default 1)");
+  sub->add_option("--weight", args->weights, "NAME=W weight of a target (default 1)");
   sub->add_option("--model", args->options.model, "Metamodel for every target (default: the best Q² per target)");
   sub->add_option(
          "--verify", args->verify,

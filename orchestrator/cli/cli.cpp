@@ -2,7 +2,6 @@
 
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/exec/cost.hpp"
-#include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
 #include "orchestrator/version.hpp"
@@ -23,49 +22,6 @@ using namespace demsa::util;
 using namespace demsa::exec;
 
 namespace {
-
-/// "LIGGGHTS 3.8.0 (/usr/bin/liggghts); rolling models: cdt, epsd, ...": read from its `-h` (query_liggghts_at), and
-/// its rate when demsa's standard run measured it (exec/cost.hpp's cache; a cache that cannot be read is left out).
-void print_liggghts(const std::string& what, const LiggghtsInfo& info) {
-  if (info.version.empty())
-    fmt::print("{}: found at {}, but its version could not be read from `-h`\n", what, info.executable);
-  else
-    fmt::print("{} {} ({})\n", what, info.version, info.executable);
-  std::string models;
-  for (const std::string& m : info.rolling_models) models += (models.empty() ? "" : ", ") + m;
-  fmt::print("  rolling models: {}\n", models.empty() ? "unknown (not listed by `-h`)" : models);
-  try {
-    if (const std::optional<LiggghtsRate> rate = cached_rate(info.executable, rate_cache_file()))
-      fmt::print("  speed: {:.3g} atom-steps per CPU-second ({})\n", rate->atom_steps_per_cpu_second, rate->source);
-  } catch (const std::exception&) {
-  }
-}
-
-void print_version() {
-  fmt::print("demsa {}\n", k_version);
-  if (const auto info = query_liggghts()) {
-    print_liggghts("LIGGGHTS", *info);
-  } else {
-    fmt::print(
-        "LIGGGHTS: not found (no `liggghts` on PATH and DEMSA_LIGGGHTS not set); install it with "
-        "scripts/install-deps.sh\n");
-  }
-  if (const auto cached = cached_liggghts_executable()) {
-    print_liggghts("LIGGGHTS of scripts/build-liggghts.sh", query_liggghts_at(*cached));
-  } else {
-    fmt::print(
-        "LIGGGHTS of scripts/build-liggghts.sh: none in {} (needed by the viscous rolling model, and the faster "
-        "default for every other)\n",
-        liggghts_cache_dir().string());
-  }
-  // exec::resolve_liggghts is the rule; docs/explanation/benchmarks.md ("LIGGGHTS builds") measured the two builds.
-  fmt::print(
-      "which a study runs: the one its [run] liggghts names; else, but for `cdt`, $DEMSA_LIGGGHTS; else the build of "
-      "scripts/build-liggghts.sh when it is built ({}); else `liggghts` on PATH. The build is the default because it "
-      "ran the quickstart's piles 1.076 times as fast as Debian's, with the same angles to the last digit "
-      "(docs/explanation/benchmarks.md, \"LIGGGHTS builds\").\n",
-      cached_liggghts_executable() ? "here it is" : "here it is not");
-}
 
 int user_error(const std::string& message) {
   fmt::print(stderr, "demsa: error: {}\n", message);
@@ -181,7 +137,7 @@ int run_cli(int argc, char** argv) {
     return report_error(std::current_exception(), command_name(app));
   }
   if (version) {
-    print_version();
+    fmt::print("demsa {}\n{}", k_version, liggghts_text());
     return k_exit_ok;
   }
   if (app.get_subcommands().empty()) {

@@ -30,32 +30,6 @@ struct CompareArgs {
   const CLI::Option* pedestal_top = nullptr;
 };
 
-void print_text(const experiments::ComparedDumps& c) {
-  const pp::DumpComparison& r = c.result;
-  fmt::print("A {}\nB {}\n", c.a.string(), c.b.string());
-  fmt::print("  particles            {} in A, {} in B, {} common, {} missing in B, {} extra in B\n", r.particles_a,
-             r.particles_b, r.common, r.missing, r.extra);
-  fmt::print("  max displacement     {:.6g} m (id {})\n", r.max_displacement, r.max_displacement_id);
-  fmt::print("  RMS displacement     {:.6g} m\n", r.rms_displacement);
-  fmt::print("  radius mismatches    {} (largest difference {:.6g} m)\n", r.radius_mismatches, r.max_radius_difference);
-  if (r.pile) {
-    fmt::print("  angle of repose      {:.4f} deg vs {:.4f} deg (difference {:+.4f})\n", r.pile->angle_a,
-               r.pile->angle_b, r.pile->angle_difference);
-    fmt::print("  pile height h_P      {:.6g} m vs {:.6g} m (difference {:+.6g})\n", r.pile->height_a, r.pile->height_b,
-               r.pile->height_difference);
-    fmt::print("  pedestals            radius {:g} m, top {:g} m vs radius {:g} m, top {:g} m\n",
-               c.angle_a.options.pedestal_radius, c.angle_a.options.pedestal_top, c.angle_b.options.pedestal_radius,
-               c.angle_b.options.pedestal_top);
-    if (c.angle_a.base_particles > 0 || c.angle_b.base_particles > 0)
-      fmt::print("  base layers          {} vs {} particles, left out (case.json)\n", c.angle_a.base_particles,
-                 c.angle_b.base_particles);
-  }
-  if (r.within_tolerance())
-    fmt::print("  within tolerance\n");
-  else
-    for (const std::string& v : r.violations) fmt::print("  BEYOND TOLERANCE: {}\n", v);
-}
-
 int run_compare(const CompareArgs& args) {
   experiments::CaseComparisonRequest request;
   request.a = args.a;
@@ -72,7 +46,7 @@ int run_compare(const CompareArgs& args) {
   if (args.json)
     fmt::print("{}\n", experiments::case_comparison_json(comparison).dump(2));
   else
-    for (const experiments::ComparedDumps& c : comparison.pairs) print_text(c);
+    fmt::print("{}", experiments::case_comparison_text(comparison));
   return comparison.within_tolerance ? k_exit_ok : k_exit_check_failed;
 }
 

@@ -125,20 +125,8 @@ void run_point_design(const DesignArgs& args, sobol::DesignKind kind) {
   check_output_given(args.output);
   const analysis::PointDesign written =
       with_option_names(k_option_names, [&] { return analysis::write_point_design(options); });
-  const sobol::DesignResult& r = written.design;
-  if (args.json) {
-    fmt::print("{}\n", analysis::point_design_json(written).dump(2));
-    return;
-  }
-  fmt::print("{} design: {} samples x {} parameters (seed {}) written to {}\n", sobol::to_string(r.kind),
-             r.points.rows(), r.points.cols(), r.seed, args.output);
-  if (r.iterations > 0)
-    fmt::print("optimised in {} iterations (stop: {}), {:.2f} s\n", r.iterations, sobol::to_string(r.stop), r.seconds);
-  if (r.metrics.phi_p && r.metrics.centred_l2)
-    fmt::print("minimum distance {:.4f}, phi_{:g} {:.4f}, centred L2 discrepancy {:.5f} (on the unit cube)\n",
-               r.metrics.min_distance, r.metrics.phi_p_power, *r.metrics.phi_p, *r.metrics.centred_l2);
-  else
-    fmt::print("minimum distance {:.4f} (on the unit cube)\n", r.metrics.min_distance);
+  fmt::print("{}",
+             args.json ? analysis::point_design_json(written).dump(2) + "\n" : analysis::point_design_text(written));
 }
 
 void run_saltelli(const DesignArgs& args) {
@@ -154,24 +142,8 @@ void run_saltelli(const DesignArgs& args) {
   check_output_given(args.output);
   const analysis::SaltelliDesignWritten written =
       with_option_names(k_option_names, [&] { return analysis::write_simulator_saltelli_design(options); });
-  const sobol::SaltelliDesign& d = written.design;
-  if (args.json) {
-    fmt::print("{}\n", analysis::saltelli_design_written_json(written).dump(2));
-    return;
-  }
-  fmt::print("saltelli design: base {} x {} parameters{}, {} rows (seed {}) written to {}\n", d.base, d.dimension,
-             d.second_order ? " with second order" : "", d.rows(), d.seed, args.output);
-  if (d.replicates > 1)
-    fmt::print(
-        "{} independently scrambled replicates of {} base rows (column 'replicate'): `demsa sensitivity` "
-        "gives Student-t intervals from their spread\n",
-        d.replicates, d.base / d.replicates);
-  else
-    fmt::print(
-        "one scrambled design (no replicates): `demsa sensitivity` gives its indices without intervals, or "
-        "with bootstrap ones by --interval bootstrap (conservative for QMC)\n");
-  fmt::print("column 'block': 0 = A, 1 = B, 1+i = AB_i, 1+{}+i = BA_i; evaluate every row, keep the order\n",
-             d.dimension);
+  fmt::print("{}", args.json ? analysis::saltelli_design_written_json(written).dump(2) + "\n"
+                             : analysis::saltelli_design_written_text(written));
 }
 
 void add_common(CLI::App* sub, DesignArgs& args, const std::string& samples_name, const std::string& samples_help) {

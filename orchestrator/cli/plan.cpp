@@ -3,6 +3,8 @@
 // its cost, a recommendation, DIR/plan/plan.json and the figure plan_widths.
 #include "orchestrator/analysis/experiment_plan.hpp"
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
+#include "orchestrator/cli/targets.hpp"
 #include "orchestrator/report/posterior_plots.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -21,7 +23,7 @@ namespace {
 
 struct PlanArgs {
   PlanOptions options;
-  std::vector<std::string> dirs;
+  std::vector<std::string> dirs, sds, observe, near;
   std::string out;
   std::uint64_t seed = 0;
   bool json = false;
@@ -29,6 +31,13 @@ struct PlanArgs {
 };
 
 int do_plan(PlanArgs& args) {
+  for (const std::string& text : args.sds) args.options.sds.push_back(parse_observable_sd(text));
+  for (const std::string& text : args.observe) args.options.observe.push_back(parse_observable("--observe", text));
+  for (const std::string& text : args.near)
+    for (const MeasuredTarget& m : parse_measured("--near", text)) {
+      if (!(m.sd > 0)) throw UserError(fmt::format("--near '{}': give the value's spread, NAME=V±E", text));
+      args.options.near.push_back(m);
+    }
   for (const std::string& d : args.dirs) args.options.dirs.emplace_back(d);
   args.options.out = args.out;
   if (args.seed != 0) args.options.seed = args.seed;
@@ -36,7 +45,14 @@ int do_plan(PlanArgs& args) {
   // plan/ (or --out).
   std::vector<std::unique_ptr<study::StudyLock>> locks;
   for (const std::filesystem::path& d : args.options.dirs) locks.push_back(study::hold_study_for_results(d));
-  const PlanOutcome outcome = plan_experiments(args.options);
+  const PlanOutcome outcome = with_option_names({{"sds", "--sd"},
+                                                 {"observe", "--observe"},
+                                                 {"near", "--near"},
+                                                 {"truths", "--truths"},
+                                                 {"goal", "--goal"},
+                                                 {"model", "--model"},
+                                                 {"out", "--out"}},
+                                                [&] { return plan_experiments(args.options); });
   std::string plot_note;
   if (!args.no_plots) {
     try {
@@ -59,13 +75,13 @@ void register_plan_command(CLI::App& app, CliState& state) {
   CLI::App* sub = app.add_subcommand(
       "plan", "Which experiments to run: the expected posterior width of each parameter for every set of studies");
   sub->add_option("dir", args->dirs, "Study folders, one per candidate experiment (1 to 6)")->required();
-  sub->add_option("--sd", args->options.sds,
+  sub->add_option("--sd", args->sds,
                   "NAME=SD or STUDY:NAME=SD: the total sd of a measured observable (default: the study's DEM noise "
                   "from its replicates combined with a measurement error of 2 % of the observable's median)");
-  sub->add_option("--observe", args->options.observe,
+  sub->add_option("--observe", args->observe,
                   "NAME or STUDY:NAME: the observables measured (default: what a laboratory measures in each "
                   "experiment: a pile's angle, an incline's two angles, ...)");
-  sub->add_option("--near", args->options.near,
+  sub->add_option("--near", args->near,
                   "NAME=V±E or STUDY:NAME=V±E: a guess of the value the lab will measure; the truths are drawn where "
                   "the metamodel predicts it (default: the whole prior)");
   sub->add_option("--truths", args->options.truths, "Parameter points drawn from the prior, 2..1000 (default 50)");

@@ -36,19 +36,6 @@ struct RefineArgs {
   bool quiet = false;
 };
 
-int interrupted_status() {
-  const int sig = StopFlag::signal_number();
-  return sig > 0 ? k_exit_signal_base + sig : k_exit_check_failed;
-}
-
-void print_step(const RefineStep& step) {
-  std::string widths;
-  for (const auto& [name, w] : step.max_half_width)
-    widths += fmt::format("  {} {}", name, analysis::half_width_text(w));
-  fmt::print("refine: step {:>3}  {:>5} samples  max half-width:{}  -> {}\n", step.iteration, step.samples, widths,
-             step.decision);
-}
-
 int do_refine(const RefineArgs& args) {
   const fs::path dir = args.dir;
   require_study_folder(dir);
@@ -71,29 +58,17 @@ int do_refine(const RefineArgs& args) {
     fmt::print("refine {}: target half-width {}, batches of {}, at most {} samples\n", dir.string(), args.target,
                args.batch, max_samples);
   };
-  options.on_step = print_step;
+  options.on_step = [](const RefineStep& step) { fmt::print("{}", analysis::refine_step_text(step)); };
   const analysis::RefineSummary refined = analysis::refine_study(options);
+  fmt::print("{}", analysis::refine_end_text(refined, options));
   switch (refined.end) {
-    case analysis::RefineEnd::stopped_in_runs:
-      fmt::print("interrupted: `demsa refine {} --target-ci {}` resumes\n", dir.string(), args.target);
-      return interrupted_status();
-    case analysis::RefineEnd::stopped_in_analysis:
-      fmt::print("interrupted during the analysis: `demsa refine {} --target-ci {}` resumes\n", dir.string(),
-                 args.target);
-      return interrupted_status();
-    case analysis::RefineEnd::stopped:
-      return interrupted_status();
     case analysis::RefineEnd::reached:
-      print_analysis_tables(refined.analysis);
-      fmt::print("refine: every S1 and ST half-width is at most {} with {} samples\n", args.target, refined.done);
       return k_exit_ok;
     case analysis::RefineEnd::budget:
-      print_analysis_tables(refined.analysis);
-      fmt::print("refine: the budget of {} samples is spent; worst half-width {} > {}\n", refined.max_samples,
-                 analysis::half_width_text(refined.worst), args.target);
       return k_exit_check_failed;
+    default:
+      return interrupted_status();
   }
-  return k_exit_internal;
 }
 
 }  // namespace

@@ -3,11 +3,9 @@
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/exec/cost.hpp"
-#include "orchestrator/exec/liggghts_locator.hpp"
-#include "orchestrator/exec/progress.hpp"
+#include "orchestrator/exec/run_report.hpp"
 #include "orchestrator/exec/runner.hpp"
 #include "orchestrator/exec/slurm/executor.hpp"
-#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/signals.hpp"
@@ -16,7 +14,6 @@
 
 #include <fmt/core.h>
 #include <unistd.h>
-#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <iostream>
@@ -47,12 +44,6 @@ struct RunArgs {
   double progress_interval = 10.0;
 };
 
-/// 128 + N after signal N (the shell's convention), else "check failed": the study was left unfinished.
-int interrupted_status() {
-  const int sig = StopFlag::signal_number();
-  return sig > 0 ? k_exit_signal_base + sig : k_exit_check_failed;
-}
-
 int do_run(const RunArgs& args) {
   RunOptions options;
   options.study_file = args.study;
@@ -74,69 +65,17 @@ int do_run(const RunArgs& args) {
   if (!fs::exists(options.study_file)) throw UserError(fmt::format("{}: no such study file", args.study));
   StopFlag::install();
   const RunSummary summary = run_study(options);
-  if (summary.remeasured && !args.json) {
-    const exec::RemeasureSummary& m = *summary.remeasured;
-    fmt::print("{}: only how cases are measured changed ({}): ", summary.dir.string(), util::join(m.keys, "; "));
-    if (summary.dry_run)
-      fmt::print("`demsa run` measures the finished cases again from their files\n");
-    else
-      fmt::print(
-          "{} finished case(s) measured again from their files, {} of them measured now that had failed, {} "
-          "failed to measure\n",
-          m.measured, m.recovered, m.failed);
-  }
+  if (!args.json) fmt::print("{}", remeasure_text(summary));
   if (summary.dry_run) {
-    // The bill before the run (exec/cost.hpp): the written cases' schedules at this LIGGGHTS's rate.
-    study::StudyConfig config = experiments::load_study(options.study_file);
-    resolve_liggghts(config, args.probe != 0.0);
-    if (args.probe != 0.0) {
-      if (!args.json && !args.quiet)
-        fmt::print(stderr, "probing: the first case runs for at most {:g} s (LIGGGHTS on 1 case, {} rank(s))\n",
-                   args.probe, config.run.ranks);
-      probe_study(config, summary.dir, args.probe);
-    }
-    const StudyEstimate estimate = estimate_study(config, summary.dir, StudyCostOptions{});
-    if (args.json) {
-      nlohmann::ordered_json j{{"study", args.study},
-                               {"dir", summary.dir.string()},
-                               {"samples", summary.samples},
-                               {"cases", summary.samples + summary.replicates}};
-      j["estimate"] = estimate_json(estimate)["estimate"];
-      fmt::print("{}\n", j.dump(2));
-      return k_exit_ok;
-    }
-    fmt::print("{}: study valid; {} samples, design and {} cases written to {}\n", args.study, summary.samples,
-               summary.samples + summary.replicates, (summary.dir / "cases").string());
-    fmt::print("{}", estimate_text(estimate));
+    const DryRunReport report = dry_run_report(args.study, summary, args.probe, [&args](const std::string& note) {
+      if (!args.json && !args.quiet) fmt::print(stderr, "{}\n", note);
+    });
+    fmt::print("{}", args.json ? report.json : report.text);
     return k_exit_ok;
   }
-  if (args.submit_only) {
-    fmt::print(
-        "{}: {} case(s) submitted to SLURM now, {} queued or running in all; {} of {} samples done ({} "
-        "recovered)\n",
-        summary.dir.string(), summary.submitted, summary.left_running, summary.done, summary.samples,
-        summary.recovered);
-    fmt::print("`demsa status {}` or `demsa run {}` collects them as they end\n", summary.dir.string(), args.study);
-    return summary.interrupted ? interrupted_status() : k_exit_ok;
-  }
-  fmt::print("{}: {} of {} samples done ({} now, {} recovered), {} failed, {}\n", summary.dir.string(), summary.done,
-             summary.samples, summary.done_now, summary.recovered, summary.failed, format_duration(summary.seconds));
-  if (summary.replicates > 0)
-    fmt::print("  replicate cases (DEM noise): {} of {} done\n", summary.replicates_done, summary.replicates);
-  for (const auto& [cls, n] : summary.failures_by_class) fmt::print("  failed attempts: {} x {}\n", n, cls);
-  if (!summary.failed_samples.empty()) {
-    fmt::print("  failed samples (left out of the analysis; `demsa status {}` shows why): {}\n", summary.dir.string(),
-               sample_list(summary.failed_samples));
-  }
-  if (summary.interrupted) {
-    if (summary.left_running > 0)
-      fmt::print(
-          "interrupted: {} SLURM task(s) keep running (not cancelled); a later `demsa run {}` or `demsa status "
-          "{}` collects them\n",
-          summary.left_running, args.study, summary.dir.string());
-    fmt::print("interrupted: `demsa run {}` resumes the study\n", args.study);
-    return interrupted_status();
-  }
+  fmt::print("{}", run_summary_text(summary, args.study, args.submit_only));
+  if (summary.interrupted) return interrupted_status();
+  if (args.submit_only) return k_exit_ok;
   if (!args.no_analyze && summary.done >= 2) {
     AnalyzeOptions analyze;
     analyze.dir = summary.dir;
@@ -151,7 +90,7 @@ int do_run(const RunArgs& args) {
                  summary.dir.string());
       return interrupted_status();
     }
-    print_analysis_tables(analysis);
+    fmt::print("{}", analysis_tables_text(analysis));
     if (const std::string failure = analysis_failure(analysis); !failure.empty()) throw UserError(failure);
   }
   return summary.failed > 0 ? k_exit_check_failed : k_exit_ok;

@@ -15,7 +15,6 @@
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
-#include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
@@ -101,38 +100,6 @@ void check_numeric_options(const SensitivityArgs& args) {
                     args.base, sobol::k_max_base_samples));
 }
 
-std::string interval_text(const sobol::IndexEstimate& e) {
-  if (e.lower == e.value && e.upper == e.value) return fmt::format("{:8.4f}", e.value);
-  return fmt::format("{:8.4f} [{:7.4f}, {:7.4f}]", e.value, e.lower, e.upper);
-}
-
-void print_indices(const sobol::SobolResult& r, const std::vector<std::string>& names) {
-  std::size_t width = 5;
-  for (const std::string& n : names) width = std::max(width, n.size());
-  fmt::print("  {:<{}}  {:<27}  {:<27}\n", "input", width, "S1", "ST");
-  for (std::size_t k = 0; k < names.size(); ++k)
-    fmt::print("  {:<{}}  {:<27}  {:<27}\n", names[k], width, interval_text(r.first[k]), interval_text(r.total[k]));
-  fmt::print("  residual 1 - sum S1: {}\n", interval_text(r.residual));
-  for (const sobol::SecondOrderIndex& s : r.second)
-    fmt::print("  S2 {},{}: {}\n", names[static_cast<std::size_t>(s.i)], names[static_cast<std::size_t>(s.j)],
-               interval_text(s.s));
-  if (r.replicates > 0)
-    fmt::print("  ({:g}% Student-t intervals from {} independently scrambled replicates)\n", 100 * r.confidence,
-               r.replicates);
-  if (r.bootstrap > 0) fmt::print("  ({:g}% intervals from {} bootstrap resamples)\n", 100 * r.confidence, r.bootstrap);
-  if (!r.note.empty()) fmt::print("  ({})\n", r.note);
-}
-
-/// --json: a file written atomically, or "-" for standard output; nothing without it.
-void write_json(const std::string& target, const nlohmann::json& j) {
-  if (target.empty()) return;
-  if (target == "-") {
-    fmt::print("{}\n", j.dump(2));
-    return;
-  }
-  write_file_atomically(target, j.dump(2) + "\n");
-}
-
 // ---------------------------------------------------------------- --saltelli DESIGN.csv --responses Y.csv
 
 /// The interval method of --saltelli: --interval by name; without it the replicates', or the bootstrap when
@@ -171,10 +138,11 @@ void run_saltelli(const SensitivityArgs& args) {
     if (args.json == "-") return;
     fmt::print("{}: Sobol' indices from a Saltelli design, N = {}, {} evaluations\n", o.response, o.indices.base,
                o.indices.evaluations);
-    print_indices(o.indices, inputs);
+    fmt::print("{}", sobol_indices_text(o.indices, inputs));
   };
+  if (args.json != "-") options.json_file = args.json;
   const SaltelliSensitivity result = with_option_names(k_option_names, [&] { return saltelli_sensitivity(options); });
-  write_json(args.json, saltelli_sensitivity_json(result));
+  if (args.json == "-") fmt::print("{}\n", saltelli_sensitivity_json(result).dump(2));
 }
 
 // ---------------------------------------------------------------- --data DATA.csv: metamodels, then indices
@@ -257,15 +225,16 @@ void run_data(const SensitivityArgs& args) {
     if (!print) return;
     fmt::print("{} ~ {}: R2 {:.4f}, adjusted R2 {:.4f}, Q2_LOO {:.4f} ({} samples)\n", response, m.metamodel,
                m.quality.r2, m.quality.adjusted_r2, m.quality.q2, m.quality.samples);
-    print_indices(m.indices, options.inputs);
+    fmt::print("{}", sobol_indices_text(m.indices, options.inputs));
   };
   options.on_noise = [print](const NoiseAnalysis& noise) {
     if (print) fmt::print("{}\n", noise_text(noise));
   };
+  if (args.json != "-") options.json_file = args.json;
   const DataSensitivity result = with_option_names(k_option_names, [&] { return data_sensitivity(options); });
   if (print)
     for (const std::string& file : result.model_files) fmt::print("metamodel written to {}\n", file);
-  write_json(args.json, data_sensitivity_json(result));
+  if (args.json == "-") fmt::print("{}\n", data_sensitivity_json(result).dump(2));
 }
 
 }  // namespace

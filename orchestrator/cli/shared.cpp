@@ -1,5 +1,6 @@
 #include "orchestrator/cli/shared.hpp"
 
+#include "orchestrator/util/signals.hpp"
 #include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
@@ -30,6 +31,11 @@ CLI::Validator number_check(std::function<bool(double)> rule, const std::string&
 }
 
 }  // namespace
+
+int interrupted_status() {
+  const int sig = util::StopFlag::signal_number();
+  return sig > 0 ? util::k_exit_signal_base + sig : util::k_exit_check_failed;
+}
 
 CLI::Validator finite_number() {
   return number_check([](double) { return true; }, "");
@@ -70,26 +76,6 @@ std::string name_options(std::string message, const OptionNames& names) {
     }
   }
   return message;
-}
-
-std::string sample_list(const std::vector<int>& samples) {
-  std::string text;
-  for (int v : samples) {
-    if (!text.empty()) text += ' ';
-    text += std::to_string(v);
-  }
-  return text;
-}
-
-void print_analysis_tables(const analysis::AnalysisSummary& summary) {
-  for (const analysis::ObservableAnalysis& o : summary.observables)
-    fmt::print("\n{}", analysis::s1_table_text(summary, o));
-  if (!summary.samples_left_out.empty())
-    fmt::print("\nleft out of the analysis (not done): samples {}\n", sample_list(summary.samples_left_out));
-  if (!summary.samples_unsettled.empty())
-    fmt::print("\nunsettled, still moving at the end of settling (analysed all the same): sample {}\n",
-               summary.unsettled);
-  fmt::print("\ntables, metamodels and indices with confidence intervals: {}\n", summary.out_dir.string());
 }
 
 }  // namespace demsa::cli

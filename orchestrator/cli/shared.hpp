@@ -16,11 +16,9 @@
 
 namespace demsa::cli {
 
-/// Sample numbers separated by spaces: "3 5 7".
-std::string sample_list(const std::vector<int>& samples);
-
-/// Prints the first-order Sobol' table of every observable, the samples left out, and where the analysis is.
-void print_analysis_tables(const analysis::AnalysisSummary& summary);
+/// The exit status of a command a signal stopped: 128 + N after signal N (the shell's convention), else "check
+/// failed" (a study left unfinished by should_stop).
+int interrupted_status();
 
 /// Checks of number options with rules a user reads ("--box-side: -1: must be > 0"): CLI11's own Range,
 /// PositiveNumber and NonNegativeNumber print DBL_MAX in 309 digits and let nan through. CLI11 puts the option's name

@@ -641,4 +641,52 @@ std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config
   return row;
 }
 
+namespace {
+
+/// "LIGGGHTS 3.8.0 (/usr/bin/liggghts); rolling models: cdt, epsd, ...": read from its `-h` (query_liggghts_at), and
+/// its rate when demsa's standard run measured it (the rate cache; a cache that cannot be read is left out).
+std::string liggghts_info_text(const std::string& what, const LiggghtsInfo& info) {
+  std::string text =
+      info.version.empty()
+          ? fmt::format("{}: found at {}, but its version could not be read from `-h`\n", what, info.executable)
+          : fmt::format("{} {} ({})\n", what, info.version, info.executable);
+  std::string models;
+  for (const std::string& m : info.rolling_models) models += (models.empty() ? "" : ", ") + m;
+  text += fmt::format("  rolling models: {}\n", models.empty() ? "unknown (not listed by `-h`)" : models);
+  try {
+    if (const std::optional<LiggghtsRate> rate = cached_rate(info.executable, rate_cache_file()))
+      text += fmt::format("  speed: {:.3g} atom-steps per CPU-second ({})\n", rate->atom_steps_per_cpu_second,
+                          rate->source);
+  } catch (const std::exception&) {
+  }
+  return text;
+}
+
+}  // namespace
+
+std::string liggghts_text() {
+  std::string text;
+  if (const auto info = query_liggghts())
+    text += liggghts_info_text("LIGGGHTS", *info);
+  else
+    text +=
+        "LIGGGHTS: not found (no `liggghts` on PATH and DEMSA_LIGGGHTS not set); install it with "
+        "scripts/install-deps.sh\n";
+  if (const auto cached = cached_liggghts_executable())
+    text += liggghts_info_text("LIGGGHTS of scripts/build-liggghts.sh", query_liggghts_at(*cached));
+  else
+    text += fmt::format(
+        "LIGGGHTS of scripts/build-liggghts.sh: none in {} (needed by the viscous rolling model, and the faster "
+        "default for every other)\n",
+        liggghts_cache_dir().string());
+  // resolve_liggghts is the rule; docs/explanation/benchmarks.md ("LIGGGHTS builds") measured the two builds.
+  text += fmt::format(
+      "which a study runs: the one its [run] liggghts names; else, but for `cdt`, $DEMSA_LIGGGHTS; else the build of "
+      "scripts/build-liggghts.sh when it is built ({}); else `liggghts` on PATH. The build is the default because it "
+      "ran the quickstart's piles 1.076 times as fast as Debian's, with the same angles to the last digit "
+      "(docs/explanation/benchmarks.md, \"LIGGGHTS builds\").\n",
+      cached_liggghts_executable() ? "here it is" : "here it is not");
+  return text;
+}
+
 }  // namespace demsa::exec

@@ -196,4 +196,8 @@ std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config
                                                 const std::filesystem::path& case_dir, long run, int sample,
                                                 const std::vector<study::CaseCostRow>& before);
 
+/// What `demsa --version` says of LIGGGHTS: the one found (PATH, DEMSA_LIGGGHTS) and the build of
+/// scripts/build-liggghts.sh, each with its version, rolling models and measured speed, and which a study runs.
+std::string liggghts_text();
+
 }  // namespace demsa::exec

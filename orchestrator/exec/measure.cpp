@@ -8,7 +8,9 @@
 
 #include <fmt/core.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <fstream>
 
@@ -76,6 +78,92 @@ void check_overlay_path(const std::filesystem::path& picture, const std::filesys
   in.read(head.data(), head.size());
   static constexpr std::array<char, 8> k_png{'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
   if (in.gcount() != 8 || head != k_png) refuse("exists and is not a PNG: demsa replaces only a PNG there");
+}
+
+namespace {
+
+MeasureReport lab_comparison_report(const std::filesystem::path& folder, const std::filesystem::path& photograph,
+                                    const std::filesystem::path& overlay) {
+  const experiments::LabComparison c = compare_case_with_lab_file(folder, photograph, overlay);
+  nlohmann::ordered_json j;
+  j["case"] = folder.string();
+  j["photograph"] = photograph.string();
+  j["mismatch_m2"] = c.mismatch_m2;
+  j["region"] = c.region;
+  j["overlay"] = c.picture.string();
+  MeasureReport r;
+  r.json = j.dump(2) + "\n";
+  r.text = fmt::format("case {} against {}\n", folder.string(), photograph.string());
+  r.text += fmt::format("  mismatch area  {:.1f} mm² {} (where the case and the photograph disagree about material)\n",
+                        c.mismatch_m2 * 1e6, c.region);
+  r.text += fmt::format("  superimposed   {}\n", c.picture.string());
+  return r;
+}
+
+MeasureReport lab_file_report(const std::filesystem::path& file, const experiments::Experiment& e) {
+  const experiments::LabMeasurement m = e.measure_lab_file(file);
+  nlohmann::ordered_json j;
+  j["file"] = file.string();
+  j["experiment"] = std::string(e.name);
+  nlohmann::ordered_json values = nlohmann::ordered_json::object();
+  nlohmann::ordered_json units = nlohmann::ordered_json::object();
+  nlohmann::ordered_json uncertainty = nlohmann::ordered_json::object();
+  for (const experiments::LabValue& v : m.values) {
+    values[v.name] = v.value;
+    units[v.name] = experiments::describe_observable(v.name).stored_unit;
+    if (v.uncertainty) uncertainty[v.name] = *v.uncertainty;
+  }
+  j["observables"] = values;
+  j["units"] = units;
+  j["uncertainty"] = uncertainty;
+  j["notes"] = m.notes;
+  MeasureReport r;
+  r.json = j.dump(2) + "\n";
+  r.text = fmt::format("file {} ({})\n", file.string(), e.name);
+  std::size_t width = 0;
+  for (const experiments::LabValue& v : m.values) width = std::max(width, v.name.size());
+  for (const experiments::LabValue& v : m.values) {
+    const study::Observable o = experiments::describe_observable(v.name);
+    const std::string band = v.uncertainty ? fmt::format("± {:<10.3g}", *v.uncertainty) : std::string(12, ' ');
+    r.text += fmt::format("  {:<{}}  {:>14.8g} {} {:<3}  {}\n", v.name, width, v.value, band, o.stored_unit, o.label);
+  }
+  for (const std::string& note : m.notes) r.text += fmt::format("  ({})\n", note);
+  return r;
+}
+
+}  // namespace
+
+MeasureReport measure_report(const std::filesystem::path& path, const std::filesystem::path& photograph,
+                             const std::filesystem::path& overlay) {
+  if (!photograph.empty()) return lab_comparison_report(path, photograph, overlay);
+  if (std::filesystem::is_regular_file(path)) {
+    const experiments::Experiment* e = experiments::for_lab_file(path);
+    if (!e)
+      throw util::UserError(
+          fmt::format("{}: not a case folder, and no experiment measures files of this kind", path.string()));
+    return lab_file_report(path, *e);
+  }
+  const CaseMeasurement m = measure_case_described(path);
+  nlohmann::ordered_json j;
+  j["case"] = path.string();
+  j["experiment"] = m.experiment;
+  nlohmann::ordered_json values = nlohmann::ordered_json::object();
+  nlohmann::ordered_json units = nlohmann::ordered_json::object();
+  for (const MeasuredValue& v : m.values) {
+    values[v.observable.name] = v.value;
+    units[v.observable.name] = v.observable.stored_unit;
+  }
+  j["observables"] = values;
+  j["units"] = units;
+  MeasureReport r;
+  r.json = j.dump(2) + "\n";
+  r.text = fmt::format("case {} ({})\n", path.string(), m.experiment);
+  std::size_t width = 0;
+  for (const MeasuredValue& v : m.values) width = std::max(width, v.observable.name.size());
+  for (const MeasuredValue& v : m.values)
+    r.text += fmt::format("  {:<{}}  {:>14.8g} {:<3}  {}\n", v.observable.name, width, v.value,
+                          v.observable.stored_unit, v.observable.label);
+  return r;
 }
 
 }  // namespace demsa::exec

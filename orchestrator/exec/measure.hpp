@@ -45,4 +45,17 @@ experiments::LabComparison compare_case_with_lab_file(const std::filesystem::pat
 void check_overlay_path(const std::filesystem::path& picture, const std::filesystem::path& lab_file,
                         const std::filesystem::path& folder, const experiments::Experiment& experiment);
 
+/// What `demsa measure PATH` prints, as text and as JSON.
+struct MeasureReport {
+  std::string text;
+  std::string json;
+};
+
+/// `demsa measure`: a finished case folder measured (measure_case_described), a regular file measured as a laboratory
+/// file by the experiment whose files have its extension (experiments::for_lab_file), or, with `photograph`, the case
+/// folder against that laboratory file (compare_case_with_lab_file, the two superimposed in `overlay`). Throws
+/// util::UserError for a regular file that no experiment measures.
+MeasureReport measure_report(const std::filesystem::path& path, const std::filesystem::path& photograph = {},
+                             const std::filesystem::path& overlay = {});
+
 }  // namespace demsa::exec

@@ -167,4 +167,35 @@ nlohmann::json case_comparison_json(const CaseComparison& comparison) {
   return {{"within_tolerance", comparison.within_tolerance}, {"comparisons", j}};
 }
 
+std::string case_comparison_text(const CaseComparison& comparison) {
+  std::string text;
+  for (const ComparedDumps& c : comparison.pairs) {
+    const postprocess::DumpComparison& r = c.result;
+    text += fmt::format("A {}\nB {}\n", c.a.string(), c.b.string());
+    text += fmt::format("  particles            {} in A, {} in B, {} common, {} missing in B, {} extra in B\n",
+                        r.particles_a, r.particles_b, r.common, r.missing, r.extra);
+    text += fmt::format("  max displacement     {:.6g} m (id {})\n", r.max_displacement, r.max_displacement_id);
+    text += fmt::format("  RMS displacement     {:.6g} m\n", r.rms_displacement);
+    text += fmt::format("  radius mismatches    {} (largest difference {:.6g} m)\n", r.radius_mismatches,
+                        r.max_radius_difference);
+    if (r.pile) {
+      text += fmt::format("  angle of repose      {:.4f} deg vs {:.4f} deg (difference {:+.4f})\n", r.pile->angle_a,
+                          r.pile->angle_b, r.pile->angle_difference);
+      text += fmt::format("  pile height h_P      {:.6g} m vs {:.6g} m (difference {:+.6g})\n", r.pile->height_a,
+                          r.pile->height_b, r.pile->height_difference);
+      text += fmt::format("  pedestals            radius {:g} m, top {:g} m vs radius {:g} m, top {:g} m\n",
+                          c.angle_a.options.pedestal_radius, c.angle_a.options.pedestal_top,
+                          c.angle_b.options.pedestal_radius, c.angle_b.options.pedestal_top);
+      if (c.angle_a.base_particles > 0 || c.angle_b.base_particles > 0)
+        text += fmt::format("  base layers          {} vs {} particles, left out (case.json)\n",
+                            c.angle_a.base_particles, c.angle_b.base_particles);
+    }
+    if (r.within_tolerance())
+      text += "  within tolerance\n";
+    else
+      for (const std::string& v : r.violations) text += fmt::format("  BEYOND TOLERANCE: {}\n", v);
+  }
+  return text;
+}
+
 }  // namespace demsa::experiments

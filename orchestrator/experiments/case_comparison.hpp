@@ -41,5 +41,8 @@ CaseComparison compare_cases(const CaseComparisonRequest& request);
 
 /// {"within_tolerance", "comparisons": [{"a", "b", "particles_a", ..., "pile": {...} or null}]}.
 nlohmann::json case_comparison_json(const CaseComparison& comparison);
+/// The comparison in words, pair by pair: particles, displacements, radius mismatches, the piles' angles, heights,
+/// pedestals and base layers, and what lies beyond the tolerances.
+std::string case_comparison_text(const CaseComparison& comparison);
 
 }  // namespace demsa::experiments

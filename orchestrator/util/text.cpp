@@ -26,6 +26,15 @@ std::string join(const std::vector<std::string>& items, std::string_view separat
   return out;
 }
 
+std::string join(const std::vector<int>& items, std::string_view separator) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out += separator;
+    out += std::to_string(items[i]);
+  }
+  return out;
+}
+
 std::optional<double> parse_number(std::string_view text) {
   const std::string t = trim(text);
   if (t.empty()) return std::nullopt;

@@ -13,6 +13,8 @@ std::string trim(std::string_view text);
 
 /// The items joined by `separator` ("a, b, c" by default).
 std::string join(const std::vector<std::string>& items, std::string_view separator = ", ");
+/// Whole numbers joined by `separator` ("3 5 7" by default: sample numbers).
+std::string join(const std::vector<int>& items, std::string_view separator = " ");
 
 /// The whole of `text` (blanks around it allowed) as a finite double; nullopt when it is empty, has trailing
 /// characters, or is infinite or NaN.

@@ -292,7 +292,7 @@ TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
   refused({study}, "are the same study");
   // issue 45: an sd whose square overflows made every posterior the prior, silently; one sd given twice kept the
   // first without a word.
-  refused({"--sd", "angle=1e200"}, "--sd 'angle=1e200': 1e+200 squared overflows a double");
+  refused({"--sd", "angle=1e200"}, "--sd 'angle=1e+200': 1e+200 squared overflows a double");
   refused({"--sd", "angle=1", "--sd", "angle=2"},
           "--sd 'angle=1' and --sd 'angle=2': the same observable's sd given twice");
   refused({"--sd", "angle=1", "--sd", "line:angle=2"},

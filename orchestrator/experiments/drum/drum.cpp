@@ -471,8 +471,9 @@ PhotographSettings photograph_settings(const fs::path& image) {
 }
 
 LabMeasurement measure_lab_file(const fs::path& image) {
-  const fs::path file = *photograph_geometry_file(image);
+  // photograph_settings refuses a photograph without a geometry file: only then is there one to name.
   const PhotographSettings s = photograph_settings(image);
+  const fs::path file = *photograph_geometry_file(image);
   const PhotographMeasurement m = measure_photograph(image, s);
   LabMeasurement lab;
   const auto add = [&](std::string name, std::optional<double> uncertainty) {

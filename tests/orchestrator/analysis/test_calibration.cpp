@@ -1,6 +1,7 @@
 // Calibration of a study on its metamodels (orchestrator/calibration_cmd.hpp): a synthetic study whose observables
 // are known functions of the parameters, so that the parameters matching given targets are known exactly.
 #include "orchestrator/analysis/calibration.hpp"
+#include "orchestrator/analysis/calibration_posterior.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -57,8 +58,7 @@ TEST(Calibration, RecoversKnownOptimumWithinTwoPercentOfRange) {
   CalibrateOptions options = synthetic_study_options(dir);
   const double u1 = 0.35;
   const double u2 = 0.62;
-  options.targets = {fmt::format("angle={:.12g}", angle_of(u1, u2)),
-                     fmt::format("pile_height={:.12g}", height_of(u1, u2))};
+  options.targets = {{.name = "angle", .value = angle_of(u1, u2)}, {.name = "pile_height", .value = height_of(u1, u2)}};
   const CalibrationOutcome o = calibrate_study(options);
   ASSERT_EQ(o.unit.size(), 2u);
   EXPECT_NEAR(o.unit[0], u1, 0.02);  // 2% of each parameter's range
@@ -79,8 +79,8 @@ TEST(Calibration, RecoversKnownOptimumWithinTwoPercentOfRange) {
 TEST(Calibration, WritesCalibrationJsonThatReadsBack) {
   TempDir dir;
   CalibrateOptions options = synthetic_study_options(dir);
-  options.targets = {"angle=30"};
-  options.weights = {"angle=2"};
+  options.targets = {{.name = "angle", .value = 30}};
+  options.weights = {{"angle", 2.0}};
   const CalibrationOutcome o = calibrate_study(options);
   const CalibrationOutcome back = read_calibration(dir / "analysis/calibration.json");
   EXPECT_EQ(back.parameters, o.parameters);
@@ -109,7 +109,7 @@ TEST(Calibration, ForcedModelIsUsed) {
   TempDir dir;
   CalibrateOptions options = synthetic_study_options(dir);
   options.model = "rbf-cubic";
-  options.targets = {"angle=28"};
+  options.targets = {{.name = "angle", .value = 28}};
   const CalibrationOutcome o = calibrate_study(options);
   EXPECT_EQ(o.targets[0].model, "rbf-cubic");
   EXPECT_LT(o.targets[0].q2, 1.0);
@@ -128,29 +128,59 @@ std::string error_of(const CalibrateOptions& options) {
 TEST(Calibration, UnknownObservableListsTheValidOnes) {
   TempDir dir;
   CalibrateOptions options = synthetic_study_options(dir);
-  options.targets = {"angel=33"};
+  options.targets = {{.name = "angel", .value = 33}};
   const std::string e = error_of(options);
   EXPECT_NE(e.find("unknown observable 'angel'"), std::string::npos) << e;
   EXPECT_NE(e.find("angle, pile_height"), std::string::npos) << e;
 }
 
-TEST(Calibration, MalformedTargetsAndWeightsAreUserErrors) {
+TEST(Calibration, BadTargetsAndWeightsNameTheField) {
   TempDir dir;
   CalibrateOptions options = synthetic_study_options(dir);
-  options.targets = {"angle"};
-  EXPECT_NE(error_of(options).find("expected NAME=VALUE"), std::string::npos) << error_of(options);
-  options.targets = {"angle=abc"};
-  EXPECT_NE(error_of(options).find("'abc' is not a number"), std::string::npos) << error_of(options);
-  options.targets = {"angle=30", "angle=31"};
-  EXPECT_NE(error_of(options).find("given twice"), std::string::npos) << error_of(options);
-  options.targets = {"angle=30"};
-  options.weights = {"pile_height=2"};
-  EXPECT_NE(error_of(options).find("is not a target"), std::string::npos) << error_of(options);
-  options.weights = {"angle=-1"};
-  EXPECT_NE(error_of(options).find(">= 0"), std::string::npos) << error_of(options);
+  options.targets = {{.name = "angle", .value = std::nan("")}};
+  EXPECT_EQ(error_of(options), "CalibrateOptions.targets 'angle=nan': the value must be a finite number");
+  options.targets = {{.name = "angle", .value = 30}, {.name = "angle", .value = 31}};
+  EXPECT_EQ(error_of(options), "CalibrateOptions.targets: angle is given twice");
+  options.targets = {{.study = "other", .name = "angle", .value = 30}};
+  EXPECT_EQ(error_of(options),
+            "CalibrateOptions.targets 'other:angle=30': the study is named 'synthetic', not 'other'");
+  options.targets = {{.name = "angle", .value = 30}};
+  options.weights = {{"pile_height", 2.0}};
+  EXPECT_EQ(error_of(options), "CalibrateOptions.weights: pile_height is not a target");
+  options.weights = {{"angle", -1.0}};
+  EXPECT_EQ(error_of(options), "CalibrateOptions.weights 'angle=-1': one value >= 0 expected");
   options.weights = {};
   options.model = "rsm9";
+  EXPECT_NE(error_of(options).find("CalibrateOptions.model: "), std::string::npos) << error_of(options);
   EXPECT_NE(error_of(options).find("rsm9"), std::string::npos) << error_of(options);
+}
+
+TEST(CalibrationPosterior, OptionsNameTheFieldAndTheValue) {
+  const auto error_of = [](const PosteriorOptions& options) -> std::string {
+    try {
+      options.validate();
+    } catch (const UserError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  PosteriorOptions options;
+  options.dirs = {"study"};
+  EXPECT_EQ(error_of(options), "PosteriorOptions.targets: no measured value given");
+  options.targets = {{.name = "angle", .value = 30, .sd = 0.5}};
+  EXPECT_EQ(error_of(options), "no error");
+  options.walkers = 7;
+  EXPECT_EQ(error_of(options), "PosteriorOptions.walkers 7: must be even and >= 2 × parameters + 2");
+  options.walkers = 0;
+  options.targets.push_back({.study = "pile", .name = "angle", .value = 31, .sd = -1});
+  EXPECT_EQ(error_of(options), "PosteriorOptions.targets 'pile:angle': uncertainty -1 must be a finite number >= 0");
+  options.targets.back().sd = 0;  // none given: the metamodel's error alone
+  options.weights = {{"angel", 2.0}};
+  EXPECT_EQ(error_of(options), "PosteriorOptions.weights: angel is not a target");
+  options.weights = {{"pile:angle", 2.0}};
+  EXPECT_EQ(error_of(options), "no error");
+  options.targets.push_back({.name = "angle", .value = 32, .sd = 1});
+  EXPECT_EQ(error_of(options), "PosteriorOptions.targets: angle is given twice");
 }
 
 TEST(Calibration, NotAStudyFolder) {

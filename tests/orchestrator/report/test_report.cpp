@@ -244,7 +244,7 @@ TEST(Report, PileStudyWithFigureFourAndCalibration) {
   write_cone_dump(dir / "cases" / "000003" / "pile_final.dump");
   CalibrateOptions calibrate;
   calibrate.dir = dir.path();
-  calibrate.targets = {"angle=33.5"};
+  calibrate.targets = {{.name = "angle", .value = 33.5}};
   calibrate_study(calibrate);
 
   ReportOptions options;
