@@ -415,6 +415,7 @@ StudyEstimate estimate(const EstimateInput& input) {
                                                                                  : input.expected_source)
                                      : std::string("the schedule's cap");
   double early_expected = 0.0, early_actual = 0.0, atom_steps = 0.0, cpu = 0.0;
+  int early_finished = 0;
   for (const CaseCostInput& c : input.cases) {
     if (!c.actual) continue;
     ++e.finished;
@@ -423,13 +424,23 @@ StudyEstimate estimate(const EstimateInput& input) {
     if (c.may_end_early && expected(c) > 0.0) {
       early_expected += expected(c);
       early_actual += c.actual->atom_steps;
+      ++early_finished;
     }
   }
   const std::optional<ProbeResult>& probe = input.probe;
   if (early_expected > 0.0) {
-    e.early_ratio = early_actual / early_expected;
+    const double observed = early_actual / early_expected;
+    // Bühlmann's credibility: n finished cases weigh n / (n + k) against the model's ratio of 1.
+    const double k = modelled ? std::max(0.0, input.expected_weight) : 0.0;
+    const double weight = early_finished / (early_finished + k);
+    e.early_ratio = weight * observed + (1.0 - weight);
     e.atom_step_source =
-        fmt::format("{} x {:.3f}, the ratio actual / expected of the study's finished cases", basis, e.early_ratio);
+        k > 0.0 ? fmt::format(
+                      "{} x {:.3f}: the ratio actual / expected of the study's {} finished case(s), {:.3f}, "
+                      "weighed {}/({} + {:g}) against the model's 1",
+                      basis, e.early_ratio, early_finished, observed, early_finished, early_finished, k)
+                : fmt::format("{} x {:.3f}, the ratio actual / expected of the study's finished cases", basis,
+                              e.early_ratio);
   } else if (modelled) {
     // A probe's one case measures the rate, not the model's error: one servo oedometer case's actual / expected ranged
     // from 0.37 to 2.36 in 31 cases, while the model's total held a study it was not fitted on to 0.93 of its
@@ -545,6 +556,7 @@ StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& d
       input.rate_factor = cost->rate_factor;
       input.rate_factor_source = cost->rate_factor_source;
       input.expected_source = cost->expected;
+      input.expected_weight = cost->expected_weight;
     }
     if (done.count(sample) != 0) {
       if (const auto it = recorded.find(sample); it != recorded.end())
@@ -648,6 +660,7 @@ std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config
   input.rate_factor = cost->rate_factor;
   input.rate_factor_source = cost->rate_factor_source;
   input.expected_source = cost->expected;
+  input.expected_weight = cost->expected_weight;
   for (const study::CaseCostRow& r : before) {
     // The model's expectation of a case done before, from its folder (the store keeps its cap, not its expectation).
     std::optional<experiments::CaseCost> earlier;

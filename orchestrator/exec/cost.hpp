@@ -134,6 +134,7 @@ struct EstimateInput {
   double rate_factor = 1.0;
   std::string rate_factor_source;  ///< CaseCost::rate_factor_source
   std::string expected_source;     ///< CaseCost::expected of the cases' model, when they have one
+  double expected_weight = 0.0;    ///< CaseCost::expected_weight: the model's weight in finished cases
 };
 
 struct CaseEstimate {
@@ -167,8 +168,10 @@ struct StudyEstimate {
 
 /// The estimate (docs/how-to/cost.md): a finished case counts its actual atom-steps and CPU; any other case its
 /// expected atom-steps (the experiment's model, else its cap), times the ratio actual / expected of the study's
-/// finished cases when it may end early and some have finished (else, for a case without a model, of the probe, when it
-/// ran its case to the end: one case's ratio to a model scatters more than the model errs over a study). The rate is
+/// finished cases when it may end early and some have finished (against a model, n finished cases weigh n / (n + k),
+/// the model the rest: Bühlmann, "Experience rating and credibility", ASTIN Bulletin 4 (1967) 199-207; k =
+/// expected_weight), else, for a case without a model, of the probe, when it
+/// ran its case to the end (one case's ratio to a model scatters more than the model errs over a study). The rate is
 /// the study's own (its finished cases' atom-steps over their CPU) when it has any, else the probe's when it ran its
 /// case to the end, else `input.rate` times `input.rate_factor`. The wall time schedules the cases in order on `slots`
 /// slots, each case on the first slot to free (Graham's list scheduling, "Bounds on multiprocessing timing anomalies",

@@ -79,6 +79,10 @@ struct CaseCost {
   /// study's finished cases then correct it by their ratio of actual to expected.
   double expected_atom_steps = 0.0;
   std::string expected;  ///< one line: how `expected_atom_steps` was counted and where its constants were measured
+  /// How many finished cases the model weighs as against the study's own (Bühlmann's credibility k: one case's
+  /// variance of actual / expected over the model's variance from study to study): the finished cases' ratio counts
+  /// n / (n + k).
+  double expected_weight = 0.0;
   /// The experiment's atom-steps per CPU-second over the standard run's (exec/cost.hpp) with the same LIGGGHTS on the
   /// same machine, measured (1: none measured): the bill's rate before the study has one of its own.
   double rate_factor = 1.0;

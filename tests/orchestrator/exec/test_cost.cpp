@@ -138,6 +138,13 @@ TEST(CostEstimate, AModelOfTheCaseReplacesTheCapAndAProbeGivesItOnlyItsRate) {
   EXPECT_DOUBLE_EQ(done.early_ratio, 1.5);
   EXPECT_DOUBLE_EQ(done.cases[1].atom_steps, 6e7);
   EXPECT_NE(done.atom_step_source.find("actual / expected"), std::string::npos) << done.atom_step_source;
+  // Weighed as 2 cases, the model keeps 2/3 of the bill: one finished case at 1.5 moves the ratio to 1 + 0.5 / 3.
+  in.expected_weight = 2.0;
+  const StudyEstimate weighed = estimate(in);
+  EXPECT_DOUBLE_EQ(weighed.early_ratio, 1.0 + 0.5 / 3.0);
+  EXPECT_DOUBLE_EQ(weighed.cases[1].atom_steps, 4e7 * (1.0 + 0.5 / 3.0));
+  EXPECT_NE(weighed.atom_step_source.find("1/(1 + 2)"), std::string::npos) << weighed.atom_step_source;
+  in.expected_weight = 0.0;
 
   // A model above the cap is held to it.
   in.cases = {{0, 1e8, true, std::nullopt, 5e8}};
@@ -256,6 +263,7 @@ TEST(CostEstimate, TheServoOedometerExpectsAFixedSimulatedTimeALoad) {
   EXPECT_NEAR(c.expected_atom_steps, 1000.0 * (15000 + 3 * 80500), 1e-3);
   EXPECT_DOUBLE_EQ(c.atom_steps, 1000.0 * (15000 + 3 * 400000));
   EXPECT_LT(c.rate_factor, 1.0);
+  EXPECT_GT(c.expected_weight, 0.0);
   EXPECT_FALSE(c.rate_factor_source.empty());
   // A very long dt is held to the cap; a stricter criterion or other gains are not what was measured: no model.
   doc["dt"] = 1e-7;
