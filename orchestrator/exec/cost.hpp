@@ -119,6 +119,8 @@ struct CaseCostInput {
   double cap_atom_steps = 0.0;
   bool may_end_early = false;
   std::optional<CaseActual> actual;  ///< set for a finished case
+  /// The experiment's model of what it costs (CaseCost::expected_atom_steps; 0: none, the cap stands for it).
+  double expected_atom_steps = 0.0;
 };
 
 struct EstimateInput {
@@ -128,6 +130,11 @@ struct EstimateInput {
   std::optional<ProbeResult> probe;  ///< the study's probe: its rate and, when it finished, its actual / cap
   int ranks = 1;                     ///< MPI ranks per case: a case's wall time is its CPU time / ranks
   int slots = 1;                     ///< cases at once (local: [run] parallel or cores / ranks; SLURM: the throttle)
+  /// The experiment's rate over the standard run's (CaseCost::rate_factor): applied to `rate`, the standard run's.
+  double rate_factor = 1.0;
+  std::string rate_factor_source;  ///< CaseCost::rate_factor_source
+  std::string expected_source;     ///< CaseCost::expected of the cases' model, when they have one
+  double expected_weight = 0.0;    ///< CaseCost::expected_weight: the model's weight in finished cases
 };
 
 struct CaseEstimate {
@@ -147,8 +154,10 @@ struct StudyEstimate {
   double remaining_atom_steps = 0.0;
   double remaining_cpu_seconds = 0.0;
   double remaining_wall_seconds = 0.0;
-  int finished = 0;              ///< cases with an actual cost
-  double early_ratio = 1.0;      ///< actual / cap over the finished cases that may end early (1 when none)
+  int finished = 0;  ///< cases with an actual cost
+  /// actual / expected over the finished cases that may end early (1 when none); expected is the experiment's model
+  /// when it has one, else the cap
+  double early_ratio = 1.0;
   double rate = 0.0;             ///< atom-steps per CPU-second used; 0 when none is known
   std::string rate_source;       ///< where it came from
   std::string atom_step_source;  ///< where the expected atom-steps came from
@@ -157,13 +166,16 @@ struct StudyEstimate {
   std::optional<ProbeResult> probe;  ///< the study's probe, when it has one that still holds
 };
 
-/// The estimate (docs/how-to/cost.md): a finished case counts its actual atom-steps and CPU; any other case its cap,
-/// times the ratio actual / cap of the study's finished cases when it may end early and some have finished (else of the
-/// probe, when it ran its case to the end). The rate is the study's own (its finished cases' atom-steps over their CPU)
-/// when it has any, else the probe's when it ran its case to the end, else `input.rate`. The wall time
-/// schedules the cases in order on `slots` slots, each case on the first slot to free (Graham's list scheduling,
-/// "Bounds on multiprocessing timing anomalies", SIAM J. Appl. Math. 17 (1969) 416-429), as the local executor starts
-/// them.
+/// The estimate (docs/how-to/cost.md): a finished case counts its actual atom-steps and CPU; any other case its
+/// expected atom-steps (the experiment's model, else its cap), times the ratio actual / expected of the study's
+/// finished cases when it may end early and some have finished (against a model, n finished cases weigh n / (n + k),
+/// the model the rest: Bühlmann, "Experience rating and credibility", ASTIN Bulletin 4 (1967) 199-207; k =
+/// expected_weight), else, for a case without a model, of the probe, when it
+/// ran its case to the end (one case's ratio to a model scatters more than the model errs over a study). The rate is
+/// the study's own (its finished cases' atom-steps over their CPU) when it has any, else the probe's when it ran its
+/// case to the end, else `input.rate` times `input.rate_factor`. The wall time schedules the cases in order on `slots`
+/// slots, each case on the first slot to free (Graham's list scheduling, "Bounds on multiprocessing timing anomalies",
+/// SIAM J. Appl. Math. 17 (1969) 416-429), as the local executor starts them.
 StudyEstimate estimate(const EstimateInput& input);
 
 // ---------------------------------------------------------------- a study folder

@@ -74,6 +74,19 @@ struct CaseCost {
   /// the estimate then takes the ratio of actual to cap from the study's finished cases.
   bool may_end_early = false;
   std::string schedule;  ///< one line: how the cap was counted ("9 discs of 953 atoms, then 14 appended...")
+  /// What the case is expected to cost when its experiment has a measured model of when it ends (0: none, the bill
+  /// takes the cap): the servo oedometer's simulated time per load (oedometer/cost.cpp). At most `atom_steps`. The
+  /// study's finished cases then correct it by their ratio of actual to expected.
+  double expected_atom_steps = 0.0;
+  std::string expected;  ///< one line: how `expected_atom_steps` was counted and where its constants were measured
+  /// How many finished cases the model weighs as against the study's own (Bühlmann's credibility k: one case's
+  /// variance of actual / expected over the model's variance from study to study): the finished cases' ratio counts
+  /// n / (n + k).
+  double expected_weight = 0.0;
+  /// The experiment's atom-steps per CPU-second over the standard run's (exec/cost.hpp) with the same LIGGGHTS on the
+  /// same machine, measured (1: none measured): the bill's rate before the study has one of its own.
+  double rate_factor = 1.0;
+  std::string rate_factor_source;  ///< one line: the studies and the standard run it was measured from
 };
 
 /// A figure of one case in the report: its caption, the file stem of its plot, and the plot's data.

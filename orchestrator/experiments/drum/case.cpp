@@ -374,6 +374,18 @@ CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, c
   cost.may_end_early = false;
   cost.schedule = fmt::format("{} atoms for {} settling, {} spin-up and {} window steps ({} snapshots)", atoms,
                               t.settle, t.spin_up, t.window, t.snapshots());
+  // A turning drum runs slower than the standard run (docs/how-to/cost.md, "The drum's rate"): its moving mesh wall
+  // takes 35 % of its loop time (`Other` in its log) against 13 % of the standard run's, and its flowing bed rebuilds
+  // the neighbour lists every ~90 steps (1453 builds in a 130,500-step window) against 16 builds in the standard run's
+  // 4000 steps. Measured: the 8 cases of the coarse 45 rpm study ran 4.65e9 atom-steps
+  // in 910.6 CPU-s (wait4's rusage), 5.11e6 a CPU-second, against the standard run's 8.68e6 with the same LIGGGHTS on
+  // the same machine the same day (8.64e6-9.00e6 measured again three times).
+  constexpr double k_drum_rate_factor = 0.588;
+  cost.rate_factor = k_drum_rate_factor;
+  cost.rate_factor_source = fmt::format(
+      "x {:.3f}, the drum's atom-steps per CPU-second over the standard run's (the coarse 45 rpm study, 5.11e6 "
+      "against 8.68e6, 2026-12-04; docs/how-to/cost.md)",
+      k_drum_rate_factor);
   return cost;
 }
 

@@ -1,18 +1,67 @@
 // The oedometer's schedule in atom-steps (Experiment::case_cost): every atom for the pour (fill_steps), then, for each
 // load, the servo plate's checks up to servo_max_steps (liggghts_templates/oedometer.liggghts), or the trial-step
 // plate's trials up to max_trials, each of n_s trial steps and at most n_L relaxation steps (driver.cpp, paper §4).
-// Both plates stop a load once it is reached: the cap is the estimate's bound, and the study's finished cases (or
-// its probe) give the ratio actual / cap.
+// Both plates stop a load once it is reached: the cap is the estimate's bound.
+//
+// The servo plate's expected cost (docs/how-to/cost.md, "The servo oedometer's model"): a load ends when the plate
+// force is within load_tolerance and the packing's creep under it has slowed below the plate's rest speed. Its
+// simulated time follows E much less than its step count does (steps = time / dt, and dt ~ E^-1/2): over the 31
+// finished cases of the calibration example and its noise study (2026-12-04: 1000 particles, loads 100/400/1100 N,
+// tolerance 1 N, rest 1e-4 m/s, vel_max 0.05 m/s, kp 0.5), the logarithm of a load's simulated time correlates with
+// log E by 0.24, 0.13 and -0.61 (loads 1-3), that of its step count by 0.67, 0.68 and -0.29; a load took 0.4-8.4 s.
+// A load's steps are T / dt, at most the cap, with T = 1.61 s fitted on the noise study alone (4 points x 3 packings,
+// 36 loads): their steps over their 1 / dt, the ratio estimator of a study's total, which the bill is (their plain
+// mean time is 1.82 s: the long loads are those of soft cases, with a longer dt). Stricter criteria and other gains
+// are not measured and keep the cap.
 #include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/experiments/oedometer/oedometer.hpp"
 #include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace demsa::experiments::oedometer {
+
+namespace {
+
+/// The simulated time of a servo load [s] (this file's header): the 36 loads of the calibration example's noise
+/// study, 4 points x 3 packings over its ranges: 3.36e6 steps over 2.09e6 s^-1 of their 1 / dt.
+constexpr double k_servo_seconds_per_load = 1.61;
+/// The criterion and the gains those loads were measured with.
+constexpr double k_measured_tolerance_n = 1.0;
+constexpr double k_measured_rest_velocity = 1e-4;
+constexpr double k_measured_free_speed = 0.025;  // vel_max x kp [m/s]
+/// Bühlmann's credibility k of the model (exec/cost.hpp): one case's actual / expected has a variance of 0.33-0.42
+/// (the example's 19 cases, the noise study's 12), and the model's error from study to study is taken as a standard
+/// deviation of 0.2 (variance 0.04): wider than the 0.93-1.07 of its two hold-out checks, for the packings, sizes and
+/// machines not measured. 0.37 / 0.04 ~ 10: the first finished cases move the bill a little, ten of them halfway.
+constexpr double k_model_weight_cases = 10.0;
+/// Atom-steps per CPU-second of those 12 cases (3.57e9 in 557.5 CPU-s, wait4's rusage) over the standard run's of the
+/// same LIGGGHTS on the same machine (8.68e6, 8.64e6-9.00e6 measured again three times the same day).
+constexpr double k_rate_factor = 0.738;
+
+/// Whether the servo's criterion and gains are those the model was measured with, or laxer (a larger tolerance or
+/// rest speed ends a load sooner): a stricter criterion creeps for longer (a tolerance of 0.03 N and a rest speed of
+/// 1e-3 m/s took 3.07 s a load in 20 cases, 7 of them to their cap).
+bool servo_model_holds(const nlohmann::json& case_json, const std::filesystem::path& file) {
+  const std::optional<double> tolerance = case_number(case_json, file, "oedometer.load_tolerance_N", 0.0, 1e12);
+  const std::optional<double> rest = case_number(case_json, file, "oedometer.servo.rest_velocity_m_s", 0.0, 1e12);
+  const std::optional<double> vel_max = case_number(case_json, file, "oedometer.servo.vel_max_m_s", 0.0, 1e12);
+  const std::optional<double> kp = case_number(case_json, file, "oedometer.servo.kp", 0.0, 1e12);
+  const std::optional<double> ki = case_number(case_json, file, "oedometer.servo.ki", 0.0, 1e12);
+  const std::optional<double> kd = case_number(case_json, file, "oedometer.servo.kd", 0.0, 1e12);
+  if (!tolerance || !rest || !vel_max || !kp) return false;
+  if (ki.value_or(0.0) != 0.0 || kd.value_or(0.0) != 0.0) return false;
+  return *tolerance >= k_measured_tolerance_n && *rest >= k_measured_rest_velocity &&
+         std::abs(*vel_max * *kp - k_measured_free_speed) <= 1e-9;
+}
+
+}  // namespace
 
 CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, const std::filesystem::path& file) {
   constexpr long k_big = std::numeric_limits<int>::max();
@@ -29,6 +78,7 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
 
   long per_load = 0;
   std::string plate;
+  std::optional<double> expected_per_load;  // the servo model's steps a load
   if (trial) {
     const long trial_steps = integer("oedometer.trial_step.trial_steps");
     const long relax_steps = integer("oedometer.trial_step.relax_steps");
@@ -42,6 +92,9 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
     if (check_steps <= 0) throw util::UserError(fmt::format("{}: oedometer.servo.check_steps is 0", file.string()));
     per_load = (max_steps + check_steps - 1) / check_steps * check_steps;
     plate = fmt::format("at most {} servo steps in checks of {}", per_load, check_steps);
+    const std::optional<double> dt = case_number(case_json, file, "dt", 0.0, 1.0);
+    if (dt && *dt > 0.0 && servo_model_holds(case_json, file))
+      expected_per_load = std::min(static_cast<double>(per_load), k_servo_seconds_per_load / *dt);
   }
   CaseCost cost;
   cost.steps = fill_steps + loads * per_load;
@@ -50,6 +103,22 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
   cost.may_end_early = true;  // a load ends once it is reached
   cost.schedule = fmt::format("{} atoms: {} pouring steps, then {} load(s) of {} (the cap: a load ends once reached)",
                               particles, fill_steps, loads, plate);
+  if (expected_per_load) {
+    cost.expected_atom_steps = (static_cast<double>(fill_steps) + static_cast<double>(loads) * *expected_per_load) *
+                               static_cast<double>(particles);
+    cost.expected = fmt::format(
+        "the servo oedometer's model: {:.3g} s of simulated time a load over each case's dt, measured on 36 loads of "
+        "12 quickstart-size cases with the same criterion; docs/how-to/cost.md",
+        k_servo_seconds_per_load);
+    cost.expected_weight = k_model_weight_cases;
+  }
+  if (!trial) {
+    cost.rate_factor = k_rate_factor;
+    cost.rate_factor_source = fmt::format(
+        "x {:.3f}, the servo oedometer's atom-steps per CPU-second over the standard run's (12 quickstart-size cases, "
+        "6.41e6 against 8.68e6, 2026-12-04; docs/how-to/cost.md)",
+        k_rate_factor);
+  }
   return cost;
 }
 

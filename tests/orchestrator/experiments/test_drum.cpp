@@ -258,6 +258,11 @@ TEST(DrumCase, TheFilesTurnTheDrumAsTheCameraSeesItWithTheSameParticlesEverySamp
   const long steps = doc["drum"]["settle_steps"].get<long>() + doc["drum"]["spin_up_steps"].get<long>() + window;
   EXPECT_EQ(cost.steps, steps);
   EXPECT_DOUBLE_EQ(cost.atom_steps, static_cast<double>(steps) * static_cast<double>(a.particles));
+  EXPECT_FALSE(cost.may_end_early);
+  // A turning drum is billed below the standard run's rate, by its measured share of it (docs/how-to/cost.md).
+  EXPECT_GT(cost.rate_factor, 0.0);
+  EXPECT_LT(cost.rate_factor, 1.0);
+  EXPECT_NE(cost.rate_factor_source.find("coarse 45 rpm"), std::string::npos) << cost.rate_factor_source;
   EXPECT_DOUBLE_EQ(b.dt, a.dt);
   // ParaView's wall: the mesh turned as far as the drum turned by the end, clockwise (+z towards +x) here.
   const std::vector<CaseSurface> surfaces = drum::experiment().vtk_surfaces(tmp / "a", doc, postprocess::DumpFrame{});
