@@ -17,7 +17,10 @@
 namespace demsa::exec {
 
 std::map<std::string, double> measure_case(const std::filesystem::path& folder) {
-  const nlohmann::json doc = experiments::read_case_json(folder);
+  return measure_case(folder, experiments::read_case_json(folder));
+}
+
+std::map<std::string, double> measure_case(const std::filesystem::path& folder, const nlohmann::json& doc) {
   return experiments::of_case(doc, folder / study::k_case_json).measure(folder, doc);
 }
 

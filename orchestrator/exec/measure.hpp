@@ -16,6 +16,9 @@ namespace demsa::exec {
 /// files. Throws util::UserError on a missing or malformed case.json, and postprocess::ParseError / InputError on a
 /// dump or plate file that cannot be measured.
 std::map<std::string, double> measure_case(const std::filesystem::path& folder);
+/// The same under the case.json `doc` instead of the folder's (a study measured again under new measurement
+/// settings, remeasure.hpp); messages name the folder's case.json.
+std::map<std::string, double> measure_case(const std::filesystem::path& folder, const nlohmann::json& doc);
 
 /// One observable of a measured case, as the study stores it.
 struct MeasuredValue {

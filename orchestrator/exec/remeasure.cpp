@@ -2,8 +2,8 @@
 // (remeasure.hpp).
 #include "orchestrator/exec/remeasure.hpp"
 
+#include "orchestrator/exec/measure.hpp"
 #include "orchestrator/experiments/case_record.hpp"
-#include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -122,7 +122,7 @@ RemeasureSummary remeasure_study(const StudyConfig& config, Store& store, const 
     // The case's own files, measured under the case.json the new settings write (the folder's is replaced below).
     const nlohmann::json doc = experiments::read_case_json(written);
     try {
-      p.result.observables = experiments::of_case(doc, written / k_case_json).measure(folder, doc);
+      p.result.observables = measure_case(folder, doc);
       p.result.message = "measured again under the study file's new measurement settings";
       if (!done) ++summary.recovered;
     } catch (const std::exception& e) {

@@ -256,17 +256,12 @@ std::string SettingsTable::hash_text(const StudyConfig& config) const {
   // study keeps its hash. The measurement rows came later: a value at its default adds nothing, so studies that
   // never changed them keep their hash too; a study made before, with a non-default measurement value, is refused
   // once as changed (`demsa run --new` starts it again).
-  std::string text;
-  const auto add = [&](const Setting& s) {
-    for (const auto& [key, value] : s.canonical(config)) text += key + "=" + value + "\n";
-  };
-  for (const Setting& s : m_rows)
-    if (s.effect == SettingEffect::cases && applies(s, config.experiment)) add(s);
+  std::string text = cases_hash_text(config);
   const StudyConfig defaults;
   for (const Setting& s : m_rows)
     if (s.effect == SettingEffect::measurement && applies(s, config.experiment) &&
         s.canonical(config) != s.canonical(defaults))
-      add(s);
+      for (const auto& [key, value] : s.canonical(config)) text += key + "=" + value + "\n";
   return text;
 }
 

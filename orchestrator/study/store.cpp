@@ -248,6 +248,20 @@ constexpr const char* k_update_outcome =
     "message = :message, wall_seconds = :wall, cpu_seconds = :cpu, host = :host, log_tail = :tail, "
     "finished_at = :finished WHERE id = :id AND state = 'submitted'";
 
+/// The observables of `run` of `sample`, each replacing the sample's value of that name (record_done and
+/// record_remeasured).
+void insert_observables(SQLite::Database& db, int sample, long run, const std::map<std::string, double>& observables) {
+  SQLite::Statement insert(db, "INSERT OR REPLACE INTO observables(sample, name, value, run) VALUES (?, ?, ?, ?)");
+  for (const auto& [name, value] : observables) {
+    insert.bind(1, sample);
+    insert.bind(2, name);
+    insert.bind(3, value);
+    insert.bind(4, static_cast<std::int64_t>(run));
+    insert.exec();
+    insert.reset();
+  }
+}
+
 }  // namespace
 
 std::string to_string(RunState state) {
@@ -598,15 +612,7 @@ void Store::record_done(long run, const RunOutcome& outcome, const std::map<std:
   bind_outcome(update, outcome);
   update.bind(":id", static_cast<std::int64_t>(run));
   update.exec();  // the unique index throws if the sample is already done
-  SQLite::Statement insert(*m_db, "INSERT OR REPLACE INTO observables(sample, name, value, run) VALUES (?, ?, ?, ?)");
-  for (const auto& [name, value] : observables) {
-    insert.bind(1, sample);
-    insert.bind(2, name);
-    insert.bind(3, value);
-    insert.bind(4, static_cast<std::int64_t>(run));
-    insert.exec();
-    insert.reset();
-  }
+  insert_observables(*m_db, sample, run, observables);
   SQLite::Statement event(*m_db, "INSERT INTO events(time, kind, sample, message) VALUES (?, 'done', ?, ?)");
   event.bind(1, unix_now());
   event.bind(2, sample);
@@ -652,7 +658,6 @@ void Store::record_remeasured(const std::string& design_hash, const std::vector<
   SQLite::Statement done(*m_db, "UPDATE runs SET state = 'done', failure = 'none', message = ? WHERE id = ?");
   SQLite::Statement failed(*m_db,
                            "UPDATE runs SET state = 'failed', failure = 'measurement', message = ? WHERE id = ?");
-  SQLite::Statement insert(*m_db, "INSERT INTO observables(sample, name, value, run) VALUES (?, ?, ?, ?)");
   for (const RemeasuredCase& c : cases) {
     find.bind(1, static_cast<std::int64_t>(c.run));
     if (!find.executeStep())
@@ -667,15 +672,7 @@ void Store::record_remeasured(const std::string& design_hash, const std::vector<
     update.bind(2, static_cast<std::int64_t>(c.run));
     update.exec();  // the unique index throws if another run of the sample is done
     update.reset();
-    if (!c.observables) continue;
-    for (const auto& [name, value] : *c.observables) {
-      insert.bind(1, sample);
-      insert.bind(2, name);
-      insert.bind(3, value);
-      insert.bind(4, static_cast<std::int64_t>(c.run));
-      insert.exec();
-      insert.reset();
-    }
+    if (c.observables) insert_observables(*m_db, sample, c.run, *c.observables);
   }
   SQLite::Statement meta(*m_db, "INSERT OR REPLACE INTO meta(key, value) VALUES ('design_hash', ?)");
   meta.bind(1, design_hash);

@@ -436,11 +436,11 @@ pp::DrumImage photograph_image(const fs::path& image, const PhotographSettings& 
   return naming(image, [&] { return pp::drum_image_from_photograph(photo, m.geometry, s.dark_material); });
 }
 
-}  // namespace
-
-PhotographMeasurement measure_photograph(const fs::path& image, const PhotographSettings& s) {
+/// The photograph `image`, already read into `drum` (its geometry `geometry`), measured.
+PhotographMeasurement measured_photograph(const fs::path& image, const PhotographSettings& s, const pp::DrumImage& drum,
+                                          const pp::DrumGeometry& geometry) {
   PhotographMeasurement m;
-  const pp::DrumImage drum = photograph_image(image, s, m.geometry);
+  m.geometry = geometry;
   m.surface = naming(image, [&] { return pp::measure_drum_surface(drum, s.surface); });
   // The angle is positive when the surface rises towards the wall that carries the powder up, which the rotation
   // names; a turning drum's surface always does. One that falls there by more than three times its uncertainty was
@@ -455,6 +455,14 @@ PhotographMeasurement measure_photograph(const fs::path& image, const Photograph
         s.rotation == pp::DrumRotation::clockwise ? "counterclockwise" : "clockwise"));
   m.values = observable_values(m.surface);
   return m;
+}
+
+}  // namespace
+
+PhotographMeasurement measure_photograph(const fs::path& image, const PhotographSettings& s) {
+  pp::DrumGeometry geometry;
+  const pp::DrumImage drum = photograph_image(image, s, geometry);
+  return measured_photograph(image, s, drum, geometry);
 }
 
 namespace {
@@ -519,10 +527,9 @@ LabComparison compare_with_lab_file(const fs::path& folder, const nlohmann::json
   c.picture = picture;
   // The photograph measured on its own with its geometry file's settings, as `demsa measure IMAGE` reads it: its
   // surface, band, fitted line and stations drawn over it, so the reader sees what the comparison stands on.
-  const PhotographMeasurement m = measure_photograph(image, s);
+  const PhotographMeasurement m = measured_photograph(image, s, photo, geometry);
   c.lab_picture = picture.parent_path() / (picture.stem().string() + "_photograph.png");
-  pp::write_rgb_png(c.lab_picture,
-                    pp::drum_surface_overlay(photograph_image(image, s, geometry), m.surface, s.surface));
+  pp::write_rgb_png(c.lab_picture, pp::drum_surface_overlay(photo, m.surface, s.surface));
   return c;
 }
 
