@@ -283,7 +283,8 @@ CaptureResult run_capture(const std::vector<std::string>& argv, const CaptureOpt
       break;
     }
     if (limited) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+      // Rounded up: a truncated 0.4 ms left would kill the program before its time is up.
+      const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()).count();
       if (left <= 0) {
         result.timed_out = true;
         ::kill(options.new_process_group ? -pid : pid, SIGKILL);

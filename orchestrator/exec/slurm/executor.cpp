@@ -533,7 +533,7 @@ std::vector<FinishedCase> SlurmExecutor::poll(milliseconds wait) {
     const auto now = Clock::now();
     if (!out.empty() || m_tasks.empty() || now >= deadline) return out;
     std::this_thread::sleep_for(
-        std::min<milliseconds>(m_options.sentinel_interval, std::chrono::duration_cast<milliseconds>(deadline - now)));
+        std::min<milliseconds>(m_options.sentinel_interval, std::chrono::ceil<milliseconds>(deadline - now)));
   }
 }
 
