@@ -279,7 +279,12 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
   quality.header = {"metamodel", "terms", "R²", "adj. R²", "Q²", "RMSE_LOO"};
   for (const ModelAnalysis& m : models) {
     if (!m.ok) {
-      quality.rows.push_back({model_title(m.model), "", "", "", "", "not fitted: " + m.error});
+      // Fitted without indices (Q² not computable): its R² beside the reason, in the RMSE_LOO column it lacks.
+      quality.rows.push_back(
+          m.fitted
+              ? std::vector<std::string>{model_title(m.model), std::to_string(m.quality.terms), fixed4(m.quality.r2),
+                                         fixed4(m.quality.adjusted_r2), fixed4(m.quality.q2), m.error}
+              : std::vector<std::string>{model_title(m.model), "", "", "", "", "not fitted: " + m.error});
       continue;
     }
     quality.rows.push_back({model_title(m.model), std::to_string(m.quality.terms), fixed4(m.quality.r2),
