@@ -42,9 +42,9 @@ std::vector<sobol::MetamodelKind> metamodel_kinds(const std::vector<std::string>
 std::optional<std::size_t> best_by_q2(const std::vector<FittedMetamodel>& fits);
 
 /// Why the leave-one-out error of a fitted model cannot be measured ("" when its Q² and RMSE_LOO are finite): a model
-/// with as many terms as samples passes through every sample, each leave-one-out residual is 0/0 (the hat matrix's
-/// diagonal is 1: Myers, Montgomery & Anderson-Cook, Response Surface Methodology, 3rd ed., §2.7); a sample of
-/// leverage 1 does the same among more samples. Such a model cannot be judged, ranked or weighed against another.
+/// with as many terms as samples passes through every sample, and each leave-one-out residual e_i / (1 − h_ii) (the
+/// PRESS residual, Allen 1974, Technometrics 16(1)) is 0/0, its leverage h_ii being 1; a sample of leverage 1 does the
+/// same among more samples. Such a model cannot be judged, ranked or weighed against another.
 std::string unmeasurable_error(const sobol::MetamodelSummary& quality);
 
 /// The fit a calibration or a plan weighs its targets with: the best by Q² among those whose leave-one-out error

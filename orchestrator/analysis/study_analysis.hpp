@@ -12,9 +12,8 @@
 //                                   `demsa predict`
 //   replicates.csv                  with [design] replicates: point, repeat (0: the design case), sample, assembly
 //                                   seed, one column per observable
-//   table_<observable>.csv          the paper's Tables 4–7 layout: one row per metamodel with indices, S1 per parameter
-//   and
-//                                   the residual 1 − ΣS1
+//   table_<observable>.csv          the paper's Tables 4–7 layout: one row per metamodel with indices, S1 per
+//                                   parameter and the residual 1 − ΣS1
 //   analysis.json                   everything above in one document (samples used, failed samples, settings;
 //                                   analysis_json.hpp)
 //
