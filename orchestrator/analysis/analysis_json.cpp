@@ -41,6 +41,7 @@ std::string analysis_to_json(const AnalysisSummary& summary) {
         entry["sobol"] = sobol_result_json(m.indices, summary.parameters);
       } else {
         entry["error"] = m.error;
+        if (m.fitted) entry["quality"] = metamodel_summary_json(m.quality);
       }
       models.push_back(entry);
     }
@@ -123,12 +124,12 @@ AnalysisSummary read_analysis(const std::filesystem::path& file) {
         ModelAnalysis model;
         model.model = m.at("model").get<std::string>();
         model.ok = m.at("ok").get<bool>();
-        if (model.ok) {
-          model.quality = metamodel_summary_from_json(m.at("quality"));
+        model.fitted = model.ok || m.contains("quality");
+        if (model.fitted) model.quality = metamodel_summary_from_json(m.at("quality"));
+        if (model.ok)
           model.indices = sobol_result_from_json(m.at("sobol"), summary.parameters);
-        } else {
+        else
           model.error = m.value("error", std::string());
-        }
         observable.models.push_back(std::move(model));
       }
       summary.observables.push_back(std::move(observable));

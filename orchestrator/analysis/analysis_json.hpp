@@ -6,8 +6,11 @@
 //    "seed", "bootstrap", "base_samples", "second_order", "confidence",
 //    "observables": [{"name", "samples", "mean", "sd", ["error",]
 //                     "models": [{"model", "ok": true, "quality": metamodel, "sobol": Sobol' result}
-//                                or {"model", "ok": false, "error"}, ...]}, ...]}
+//                                or {"model", "ok": false, "error"[, "quality"]}, ...]}, ...]}
 //
+// A model with "ok" false has no indices: its fit failed ("error" says why), or it was fitted ("quality" present) and
+// its indices were not computed: a model whose leave-one-out Q² is not finite ("Q² not computable: ...") cannot be
+// judged, so it ranks no parameter (study_analysis.hpp).
 // "error" is present when the observable itself could not be analysed (a constant observable); "models" is then
 // empty. "noise" is present when the study's replicate cases measured the observable ([design] replicates):
 //   {"variance", "lower", "upper", "confidence", "points", "values", "dof", "share", "share_lower", "share_upper",
@@ -32,7 +35,8 @@ namespace demsa::analysis {
 /// One metamodel fitted to one observable.
 struct ModelAnalysis {
   std::string model;                ///< "rsm2", "rbf-cubic", ...
-  bool ok = false;                  ///< false: the fit or the indices failed, see `error`
+  bool ok = false;                  ///< false: no indices (the fit failed, or Q² is not computable), see `error`
+  bool fitted = false;              ///< the fit succeeded: `quality` holds its R², Q², ... (also when not ok)
   std::string error;                ///< why (too few samples for the model, singular system, ...)
   sobol::MetamodelSummary quality;  ///< R², adjusted R², Q², ...
   sobol::SobolResult indices;       ///< S1, ST, S2, residual with intervals

@@ -157,7 +157,7 @@ CalibrationOutcome calibrate_study(const CalibrateOptions& options) {
         measured_noise(store.replicates(), observables, spec.name, config.analysis.confidence, sd);
     std::vector<FittedMetamodel> fits = fit_metamodels(
         kinds, with_measured_noise(config.analysis.metamodel_options(), noise, data.y), data.unit, data.y);
-    const std::size_t best_index = best_measurable(fits, dir.string(), spec.name, data.size());
+    const std::size_t best_index = best_measurable(fits, dir.string(), spec.name);
     std::unique_ptr<sobol::Metamodel> best = std::move(fits[best_index].model);
     const sobol::MetamodelSummary& best_summary = fits[best_index].quality;
     CalibratedTarget t;

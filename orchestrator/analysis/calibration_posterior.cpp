@@ -242,6 +242,9 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
   outcome.acceptance = diag.acceptance;
   outcome.converged = diag.converged;
   outcome.advice = diag.advice;
+  // An unfinished chain fails the check, as an unconverged truth fails the plan's: its quantiles and widths are its
+  // starting spread or a part of the posterior, not what the measurements say. Everything is still written.
+  if (!diag.converged) outcome.problems.push_back(unconverged_problem(diag.advice));
   for (int j = 0; j < d; ++j) {
     PosteriorParameter& p = outcome.parameters[static_cast<size_t>(j)];
     const sobol::Bounds& b = prior[static_cast<size_t>(j)];

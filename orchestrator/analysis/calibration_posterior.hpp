@@ -9,7 +9,8 @@
 //   2. per target observable and study: the candidate metamodel with the best leave-one-out Q² (as the point
 //      calibration); the likelihood is Gaussian with variance σ² (measurement) + the metamodel's variance (GP:
 //      predictive; RSM/RBF: mean squared leave-one-out residual), sobol/posterior.hpp;
-//   3. the affine-invariant ensemble sampler (sobol/ensemble_sampler.hpp), seeded, with τ, split R̂ and ESS;
+//   3. the affine-invariant ensemble sampler (sobol/ensemble_sampler.hpp), seeded, with τ, split R̂ and ESS; a chain
+//      that has not converged fails the check (an "UNCONVERGED: ..." problem), its results written all the same;
 //   4. DIR/calibration/ (or --out): posterior_samples.csv, posterior.json; with verify K, the real cases at the MAP
 //      and at K posterior draws (run_point, handed in by the CLI), each kept as verify/<point>/<study>.json so that
 //      a rerun measures only what is missing.
@@ -67,6 +68,10 @@ inline constexpr int k_start_points = 16384;
 inline constexpr double k_predictive_tail = 1e-3;
 inline constexpr double k_bound_band = 0.02;
 inline constexpr double k_bound_share = 0.5;
+/// The verdict of a chain that has not converged (sobol::diagnose: fewer steps than 50 τ, or a split R̂ >= 1.05): it
+/// opens the problem calibrate_posterior adds to PosteriorOutcome::problems, so the check fails (`demsa calibrate`
+/// exits 1), as an unconverged truth fails the plan's (experiment_plan.hpp).
+inline const std::string k_unconverged = "UNCONVERGED";
 /// The printed posterior lists the pairs of parameters with |correlation| at least this (posterior.json all).
 inline constexpr double k_print_correlation = 0.3;
 
@@ -135,7 +140,8 @@ struct PosteriorOutcome {
   double seconds = 0.0;  ///< sampling wall time, every run
   std::vector<VerifyPoint> verification;
   std::filesystem::path out;
-  /// Failed checks, in words (a measured value the posterior cannot produce): `demsa calibrate` exits 1.
+  /// Failed checks, in words (a chain that has not converged: unconverged_problem; a measured value the posterior
+  /// cannot produce): `demsa calibrate` exits 1. Everything computed is written all the same, for inspection.
   std::vector<std::string> problems;
   /// Warnings that do not fail the calibration (draws piled on a bound of the prior).
   std::vector<std::string> warnings;
@@ -146,7 +152,12 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options);
 std::string posterior_to_json(const PosteriorOutcome& outcome);
 /// Reads <out>/posterior.json back; throws util::UserError naming the file.
 PosteriorOutcome read_posterior(const std::filesystem::path& file);
-/// The printed tables (parameters, targets, diagnostics, verification).
+/// The printed tables (parameters, targets, diagnostics, verification) and, when a check failed, its problems.
 std::string posterior_text(const PosteriorOutcome& outcome);
+/// The problem of an unconverged chain: "UNCONVERGED: ..." with the convergence rule and `advice`
+/// (sobol::ChainDiagnostics::advice: each diagnostic that failed, its value, its threshold and what to raise).
+std::string unconverged_problem(const std::string& advice);
+/// What failed, for the heading of the problems ("the chain has not converged; this posterior is not an answer").
+std::string posterior_check_headline(const PosteriorOutcome& outcome);
 
 }  // namespace demsa::analysis

@@ -53,11 +53,27 @@ std::optional<std::size_t> best_by_q2(const std::vector<FittedMetamodel>& fits) 
   return best;
 }
 
+std::string unmeasurable_error(const sobol::MetamodelSummary& quality) {
+  if (std::isfinite(quality.q2) && std::isfinite(quality.rmse_loo)) return "";
+  if (quality.terms == quality.samples)
+    return fmt::format(
+        "leave-one-out Q² is not finite on {} samples: as many as its terms, so its error cannot be "
+        "measured",
+        quality.samples);
+  if (quality.name.rfind("rsm", 0) == 0 && quality.terms < quality.samples)
+    return fmt::format(
+        "leave-one-out Q² is not finite on {} samples for its {} terms: a sample of leverage 1 (the "
+        "only one that determines some term) is passed through whatever its value, so its error cannot be "
+        "measured",
+        quality.samples, quality.terms);
+  return fmt::format("leave-one-out Q² is not finite on {} samples, so its error cannot be measured", quality.samples);
+}
+
 std::size_t best_measurable(const std::vector<FittedMetamodel>& fits, const std::string& where,
-                            const std::string& observable, std::size_t samples) {
+                            const std::string& observable) {
   std::optional<std::size_t> best;
   for (std::size_t i = 0; i < fits.size(); ++i) {
-    if (!fits[i].ok() || !std::isfinite(fits[i].quality.q2) || !std::isfinite(fits[i].quality.rmse_loo)) continue;
+    if (!fits[i].ok() || !unmeasurable_error(fits[i].quality).empty()) continue;
     if (!best || fits[i].quality.q2 > fits[*best].quality.q2) best = i;
   }
   if (best) return *best;
@@ -65,11 +81,7 @@ std::size_t best_measurable(const std::vector<FittedMetamodel>& fits, const std:
   bool fewest = false;  // rsm1, the metamodel of fewest terms, was among them: naming it would not help
   for (const FittedMetamodel& f : fits) {
     fewest = fewest || f.name() == "rsm1";
-    reasons += fmt::format("\n  {}: {}", f.name(),
-                           f.ok() ? fmt::format("leave-one-out Q² is not finite on {} samples: as many as its terms, "
-                                                "so its error cannot be measured",
-                                                samples)
-                                  : f.error);
+    reasons += fmt::format("\n  {}: {}", f.name(), f.ok() ? unmeasurable_error(f.quality) : f.error);
   }
   throw util::UserError(
       fmt::format("{}: no metamodel of {} whose error can be measured:{}\nrun more cases of the "

@@ -41,12 +41,18 @@ std::vector<sobol::MetamodelKind> metamodel_kinds(const std::vector<std::string>
 /// leave-one-out) ranks below every finite one, and the first of equals wins. nullopt when none was fitted.
 std::optional<std::size_t> best_by_q2(const std::vector<FittedMetamodel>& fits);
 
+/// Why the leave-one-out error of a fitted model cannot be measured ("" when its Q² and RMSE_LOO are finite): a model
+/// with as many terms as samples passes through every sample, and each leave-one-out residual e_i / (1 − h_ii) (the
+/// PRESS residual, Allen 1974, Technometrics 16(1)) is 0/0, its leverage h_ii being 1; a sample of leverage 1 does the
+/// same among more samples. Such a model cannot be judged, ranked or weighed against another.
+std::string unmeasurable_error(const sobol::MetamodelSummary& quality);
+
 /// The fit a calibration or a plan weighs its targets with: the best by Q² among those whose leave-one-out error
 /// can be measured (finite Q²). A model fitted on as many samples as it has terms passes through every sample and
 /// leaves none out (each leave-one-out residual is 0/0): its error, the variance the likelihood adds for it, would be
 /// taken as 0. Throws util::UserError naming the study folder `where`, the observable and each candidate's reason
 /// when no fit is left.
 std::size_t best_measurable(const std::vector<FittedMetamodel>& fits, const std::string& where,
-                            const std::string& observable, std::size_t samples);
+                            const std::string& observable);
 
 }  // namespace demsa::analysis

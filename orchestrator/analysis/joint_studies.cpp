@@ -152,7 +152,7 @@ FittedObservable fit_observable(const JointStudy& s, const std::string& observab
       model.empty() ? s.config.analysis.metamodels : std::vector<std::string>{model};
   std::vector<FittedMetamodel> fits =
       fit_metamodels(metamodel_kinds(candidates), s.config.analysis.metamodel_options(), data.unit, data.y);
-  const std::size_t best = best_measurable(fits, s.dir.string(), observable, data.size());
+  const std::size_t best = best_measurable(fits, s.dir.string(), observable);
   FittedObservable f;
   f.name = observable;
   f.model_name = fits[best].name();

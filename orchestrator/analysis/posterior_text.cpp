@@ -5,11 +5,31 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace demsa::analysis {
 
 using namespace demsa::util;
+
+std::string unconverged_problem(const std::string& advice) {
+  return fmt::format(
+      "{}: the sampler's chain has not converged (converged: steps >= 50 τ and every split R̂ < 1.05); its quantiles "
+      "and widths are those of an unfinished chain, not of the measurements: {}",
+      k_unconverged, advice);
+}
+
+std::string posterior_check_headline(const PosteriorOutcome& o) {
+  const bool contradicted =
+      std::any_of(o.targets.begin(), o.targets.end(), [](const PosteriorTarget& t) { return t.contradicted; });
+  const std::string what = contradicted && !o.converged
+                               ? "the measurements contradict what the studies can produce, and the chain has not "
+                                 "converged"
+                           : contradicted ? "the measurements contradict what the studies can produce"
+                           : !o.converged ? "the chain has not converged"
+                                          : "a check of the posterior failed";
+  return what + "; this posterior is not an answer";
+}
 
 std::string posterior_text(const PosteriorOutcome& o) {
   std::string text = fmt::format("posterior of {} ({} walkers × {} steps after {} burn-in, seed {}, {:.1f} s)\n",
@@ -52,7 +72,7 @@ std::string posterior_text(const PosteriorOutcome& o) {
                     t.name, t.study, t.model, t.value, t.sd, t.predicted_map, t.predictive_q05, t.predictive_q95,
                     t.model_sd, t.tail_probability, t.contradicted ? "  CONTRADICTED" : "");
   text += fmt::format("diagnostics: acceptance {:.2f}; {}\n", o.acceptance,
-                      o.converged ? "converged (steps >= 50 τ, every R̂ < 1.05)" : "NOT CONVERGED: " + o.advice);
+                      o.converged ? "converged (steps >= 50 τ, every R̂ < 1.05)" : k_unconverged + (": " + o.advice));
   for (const VerifyPoint& v : o.verification) {
     text += fmt::format("verification at {}:\n", v.label);
     for (const VerifyPoint::Measured& m : v.measured)
@@ -63,8 +83,7 @@ std::string posterior_text(const PosteriorOutcome& o) {
   }
   for (const std::string& w : o.warnings) text += fmt::format("warning: {}\n", w);
   if (!o.problems.empty()) {
-    text +=
-        "CHECK FAILED: the measurements contradict what the studies can produce; this posterior is not an answer:\n";
+    text += fmt::format("CHECK FAILED: {}:\n", posterior_check_headline(o));
     for (const std::string& p : o.problems) text += fmt::format("  {}\n", p);
   }
   text += fmt::format("written to {}\n", o.out.string());

@@ -51,6 +51,16 @@ double sd_of(const Eigen::VectorXd& y) {
 
 }  // namespace
 
+std::string unmeasurable_text(const sobol::MetamodelSummary& quality) {
+  const std::string why = unmeasurable_error(quality);
+  if (why.empty()) return "";
+  // rsm1 has the fewest terms of all: naming a smaller model would not help (as best_measurable's advice).
+  return fmt::format(
+      "Q² not computable: {}; no Sobol' index from a fit that cannot be judged: run more cases of the "
+      "study{}",
+      why, quality.name == "rsm1" ? "" : ", or use a metamodel with fewer terms");
+}
+
 std::optional<NoiseAnalysis> measured_noise(const std::vector<ReplicateRow>& replicates,
                                             const std::map<int, std::map<std::string, double>>& observables,
                                             const std::string& name, double confidence, double design_sd) {
@@ -197,14 +207,23 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
         saved.model = std::move(fit.model);
         model_files.emplace_back(model_file_name(name, model.model), model_to_json(saved));
         fit.model = std::move(saved.model);
-        try {
-          model.quality = fit.quality;
-          model.indices = sobol::metamodel_sobol(*fit.model, sobol_options);
-          model.ok = true;
-        } catch (const sobol::Stopped&) {
-          throw;
-        } catch (const std::exception& e) {
-          model.error = e.what();
+        model.fitted = true;
+        model.quality = fit.quality;
+        if (std::string unmeasurable = unmeasurable_text(fit.quality); !unmeasurable.empty()) {
+          // A model whose prediction error cannot be measured cannot be judged against the others: its indices would
+          // rank the parameters on a fit that may be anything between the samples. It gets none, and so is never
+          // the best metamodel of the report, the refinement or `demsa predict`.
+          model.error = std::move(unmeasurable);
+          log::warn("{}: observable '{}', metamodel {}: {}", dir.string(), name, model.model, model.error);
+        } else {
+          try {
+            model.indices = sobol::metamodel_sobol(*fit.model, sobol_options);
+            model.ok = true;
+          } catch (const sobol::Stopped&) {
+            throw;
+          } catch (const std::exception& e) {
+            model.error = e.what();
+          }
         }
       }
       analysis.models.push_back(std::move(model));
@@ -304,8 +323,12 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   json metamodels_json = json::object();
   for (const ObservableAnalysis& o : summary.observables) {
     json per_model = json::object();
-    for (const ModelAnalysis& m : o.models)
-      per_model[m.model] = m.ok ? metamodel_summary_json(m.quality) : json{{"error", m.error}};
+    for (const ModelAnalysis& m : o.models) {
+      // A fitted model without indices keeps its quality beside the reason (its Q² is null).
+      json entry = m.fitted ? metamodel_summary_json(m.quality) : json::object();
+      if (!m.ok) entry["error"] = m.error;
+      per_model[m.model] = entry;
+    }
     metamodels_json[o.name] = per_model;
 
     std::string table = "model";
@@ -396,7 +419,9 @@ std::string s1_table_text(const AnalysisSummary& summary, const ObservableAnalys
   for (const ModelAnalysis& m : observable.models) {
     text += fmt::format("{:<10}", m.model);
     if (!m.ok) {
-      text += fmt::format(" not fitted: {}\n", m.error);
+      // A fitted model without indices (Q² not computable) shows its R² beside the reason; its row has no index.
+      text +=
+          m.fitted ? fmt::format(" R2 {:.3f}; {}\n", m.quality.r2, m.error) : fmt::format(" not fitted: {}\n", m.error);
       continue;
     }
     for (const sobol::IndexEstimate& e : m.indices.first) text += fmt::format(" {:>8.3f}", e.value);

@@ -12,8 +12,8 @@
 //                                   `demsa predict`
 //   replicates.csv                  with [design] replicates: point, repeat (0: the design case), sample, assembly
 //                                   seed, one column per observable
-//   table_<observable>.csv          the paper's Tables 4–7 layout: one row per metamodel, S1 per parameter and
-//                                   the residual 1 − ΣS1
+//   table_<observable>.csv          the paper's Tables 4–7 layout: one row per metamodel with indices, S1 per
+//                                   parameter and the residual 1 − ΣS1
 //   analysis.json                   everything above in one document (samples used, failed samples, settings;
 //                                   analysis_json.hpp)
 //
@@ -22,6 +22,12 @@
 // printed tables and a warning on standard error) and the other observables are analysed. When no observable gets
 // indices from any metamodel, nothing was analysed: analysis_failure() says why, and the commands exit with an
 // error after writing the files that record it.
+//
+// A metamodel whose leave-one-out Q² is not finite (an RSM fitted on as many samples as its terms: it passes through
+// every sample and each leave-one-out residual is 0/0; analysis/fit.hpp unmeasurable_error) cannot be judged: it gets
+// no Sobol' index (ModelAnalysis::ok false, `fitted` true, its quality kept) and its error, its row of the printed
+// table, says "Q² not computable: ..." with a warning on standard error; it is never the best metamodel. When it
+// was the only metamodel, analysis_failure() names it.
 //
 // DEM noise: with [design] replicates, each observable's noise variance is pooled from the replicated points (their
 // design case and replicate cases: measured_noise), the GP's nugget is set from it (with_measured_noise), and its
@@ -67,6 +73,10 @@ std::optional<NoiseAnalysis> measured_noise(const std::vector<study::ReplicateRo
 /// the population variance of `y`, the training outputs); `options` as they are without a noise.
 sobol::MetamodelOptions with_measured_noise(sobol::MetamodelOptions options, const std::optional<NoiseAnalysis>& noise,
                                             const Eigen::VectorXd& y);
+
+/// The error of a fitted metamodel whose leave-one-out Q² is not computable ("" when it is): "Q² not computable: "
+/// with analysis/fit.hpp unmeasurable_error's reason and what to do.
+std::string unmeasurable_text(const sobol::MetamodelSummary& quality);
 
 /// Runs the analysis and writes DIR/analysis/. Throws util::UserError when the folder is not a study or fewer than two
 /// samples are done.

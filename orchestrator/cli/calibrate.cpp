@@ -102,9 +102,9 @@ int do_bayes(CalibrateArgs& args) {
     fmt::print("{}", posterior_to_json(outcome));
   else
     fmt::print("{}{}", posterior_text(outcome), plot_note.empty() ? "" : plot_note + "\n");
-  if (!outcome.converged) log::warn("the chains have not converged: {}", outcome.advice);
   for (const std::string& problem : outcome.problems) log::warn("check failed: {}", problem);
-  // A measurement the posterior cannot produce, or a verification run that failed, is a failed check.
+  // A chain that has not converged, a measurement the posterior cannot produce, or a verification run that failed,
+  // is a failed check.
   bool failed = !outcome.problems.empty();
   for (const VerifyPoint& v : outcome.verification) failed = failed || !v.errors.empty();
   return failed ? k_exit_check_failed : k_exit_ok;

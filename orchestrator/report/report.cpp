@@ -279,7 +279,12 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
   quality.header = {"metamodel", "terms", "R²", "adj. R²", "Q²", "RMSE_LOO"};
   for (const ModelAnalysis& m : models) {
     if (!m.ok) {
-      quality.rows.push_back({model_title(m.model), "", "", "", "", "not fitted: " + m.error});
+      // Fitted without indices (Q² not computable): its R² beside the reason, in the RMSE_LOO column it lacks.
+      quality.rows.push_back(
+          m.fitted
+              ? std::vector<std::string>{model_title(m.model), std::to_string(m.quality.terms), fixed4(m.quality.r2),
+                                         fixed4(m.quality.adjusted_r2), fixed4(m.quality.q2), m.error}
+              : std::vector<std::string>{model_title(m.model), "", "", "", "", "not fitted: " + m.error});
       continue;
     }
     quality.rows.push_back({model_title(m.model), std::to_string(m.quality.terms), fixed4(m.quality.r2),
@@ -730,7 +735,7 @@ ReportSection posterior_section(const PosteriorOutcome& p, const fs::path& sampl
       "{:.2f}; {}. Width: 90 % posterior width over the prior's width on the design scale (about 0.9: the "
       "measurements do not determine the parameter).",
       join(p.studies), p.walkers, p.steps, p.burn_in, p.seed, p.acceptance,
-      p.converged ? "converged (steps ≥ 50 τ, every split R̂ < 1.05)" : "NOT converged: " + p.advice));
+      p.converged ? "converged (steps ≥ 50 τ, every split R̂ < 1.05)" : k_unconverged + ": " + p.advice));
   ReportTable parameters;
   parameters.caption = "Posterior per parameter";
   parameters.header = {"parameter", "mean", "MAP", "5 %", "50 %", "95 %", "width", "identified", "τ", "R̂", "ESS"};
@@ -752,9 +757,7 @@ ReportSection posterior_section(const PosteriorOutcome& p, const fs::path& sampl
                             fmt::format("{:.2g}{}", t.tail_probability, t.contradicted ? " (contradicted)" : ""),
                             t.samples > 0 ? fmt::format("{:.5g} to {:.5g}", t.observed_low, t.observed_high) : ""});
   section.tables.push_back(targets);
-  if (!p.problems.empty())
-    section.paragraphs.push_back(check_failed(
-        "the measurements contradict what the studies can produce; this posterior is not an answer", p.problems));
+  if (!p.problems.empty()) section.paragraphs.push_back(check_failed(posterior_check_headline(p), p.problems));
   for (const std::string& warning : p.warnings) section.paragraphs.push_back("Warning: " + warning + ".");
   for (const VerifyPoint& v : p.verification)
     for (const VerifyPoint::Measured& m : v.measured)

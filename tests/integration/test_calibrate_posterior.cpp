@@ -111,23 +111,34 @@ TEST(CalibratePosteriorCli, ATargetTheStudyCannotProduceFailsTheCheckInsteadOfBe
   ASSERT_EQ(run_demsa({"report", (dir / "study").string()}).exit_code, 0);
   EXPECT_NE(read_file(dir / "study" / "report" / "report.md").find("Check failed: the measurements contradict"),
             std::string::npos);
-  // A target inside the study's range passes.
-  const CommandResult fine = run_demsa(
-      {"calibrate", (dir / "study").string(), "--target", "angle=30±0.5", "--steps", "300", "--json", "--no-plots"});
+  // A target inside the study's range passes (with the automatic length: a chain of 300 steps has not converged).
+  const CommandResult fine =
+      run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=30±0.5", "--json", "--no-plots"});
   EXPECT_EQ(fine.exit_code, 0) << fine.err;
   EXPECT_TRUE(nlohmann::json::parse(fine.out).at("checks").at("passed").get<bool>());
 }
 
-TEST(CalibratePosteriorCli, TextOutputPrintsTheTableAndAShortChainIsReportedUnconverged) {
+TEST(CalibratePosteriorCli, TextOutputPrintsTheTableAndAShortChainFailsTheCheckUnconverged) {
   TempDir dir;
   write_pile(dir / "study", k_ranges);
   const CommandResult r = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=30+-0.5", "--steps",
                                      "20", "--burn-in", "0", "--no-plots"});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Printed and written all the same, with the verdict; exit 1, as `demsa plan` with an unconverged truth (it was 0).
+  EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.out.find("identified"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("NOT CONVERGED"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("UNCONVERGED: 20 steps per walker are fewer than 50 τ"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("raise --steps"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("CHECK FAILED: the chain has not converged; this posterior is not an answer"), std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("correlations with |r| >= 0.3"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("check failed: UNCONVERGED: "), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read_file(dir / "study" / "calibration" / "posterior.json"));
+  EXPECT_FALSE(j.at("checks").at("passed").get<bool>());
+  EXPECT_EQ(j.at("checks").at("problems").at(0).get<std::string>().rfind("UNCONVERGED: ", 0), 0u) << j.dump();
+  // The report says it too.
+  ASSERT_EQ(run_demsa({"report", (dir / "study").string()}).exit_code, 0);
+  EXPECT_NE(read_file(dir / "study" / "report" / "report.md").find("Check failed: the chain has not converged"),
+            std::string::npos);
 }
 
 /// The angle on a circle's arc: a target of it leaves a thin curved ridge, which the stretch move crosses slowly.
@@ -148,14 +159,15 @@ TEST(CalibratePosteriorCli, TheDefaultLengthGrowsUntilTheChainHoldsFiftyAutocorr
   for (const auto& p : j.at("parameters")) max_tau = std::max(max_tau, p.at("tau").get<double>());
   EXPECT_GE(runs.back(), 50.0 * max_tau);
   EXPECT_TRUE(j.at("diagnostics").at("converged").get<bool>()) << j.at("diagnostics").dump();
-  // A fixed length is kept as given, and the same target then reports the short chain.
+  // A fixed length is kept as given, and the same target then reports the short chain: a failed check (exit 1).
   const CommandResult fixed = run_demsa({"calibrate", (dir / "study").string(), "--target", "angle=27±0.2", "--model",
                                          "rsm2", "--steps", "3000", "--json", "--no-plots"});
-  ASSERT_EQ(fixed.exit_code, 0) << fixed.err;
+  ASSERT_EQ(fixed.exit_code, 1) << fixed.err;
   const nlohmann::json k = nlohmann::json::parse(fixed.out);
   EXPECT_EQ(k.at("sampler").at("steps").get<int>(), 3000);
   EXPECT_TRUE(k.at("sampler").at("auto_steps").empty());
   EXPECT_FALSE(k.at("diagnostics").at("converged").get<bool>()) << k.at("diagnostics").dump();
+  EXPECT_FALSE(k.at("checks").at("passed").get<bool>()) << k.at("checks").dump();
 }
 
 TEST(CalibratePosteriorCli, TwoStudiesShareTheIntersectionOfTheirRanges) {
@@ -165,7 +177,7 @@ TEST(CalibratePosteriorCli, TwoStudiesShareTheIntersectionOfTheirRanges) {
   // settlement_k = k (1 + u) mm with u on [1.0, 2.5]: u = 0.3 is mu_pw = 1.45, which gives the angle 21 + 12·0.7.
   const CommandResult r =
       run_demsa({"calibrate", (dir / "pile").string(), (dir / "oedometer").string(), "--target", "angle=29.4±0.5",
-                 "--target", "settlement=1.3e-3,2.6e-3,3.9e-3±0.05e-3", "--steps", "800", "--json", "--no-plots"});
+                 "--target", "settlement=1.3e-3,2.6e-3,3.9e-3±0.05e-3", "--json", "--no-plots"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const nlohmann::json& mu = j.at("parameters").at(0);
@@ -204,7 +216,7 @@ TEST(CalibratePosteriorCli, TwoStudiesMeasuringOneNameTakeATargetEach) {
   // One target per study: angle 30 on the wall pins u1 = 0.75 (mu_pw 1.525), angle 30 on the rough base u2 = 0.5
   // (mu_r_pw 0.3); either alone leaves the other parameter free.
   const CommandResult r = run_demsa({"calibrate", wall, rough, "--target", "pile-wall:angle=29.1±0.3", "--target",
-                                     "pile-rough:angle=30.2±0.3", "--steps", "800", "--json", "--no-plots"});
+                                     "pile-rough:angle=30.2±0.3", "--json", "--no-plots"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   ASSERT_EQ(j.at("targets").size(), 2u);
@@ -353,9 +365,8 @@ TEST(CalibratePosteriorCli, AMeasuredCurveFromACsvFile) {
   write_file(dir / "curve.csv",
              "mean,low,high,tests\n1.3e-3,1.2e-3,1.4e-3,6\n2.6e-3,2.4e-3,2.8e-3,6\n"
              "3.9e-3,3.7e-3,4.1e-3,6\n");
-  const CommandResult r =
-      run_demsa({"calibrate", (dir / "oedometer").string(), "--target-file",
-                 "settlement=" + (dir / "curve.csv").string(), "--steps", "500", "--json", "--no-plots"});
+  const CommandResult r = run_demsa({"calibrate", (dir / "oedometer").string(), "--target-file",
+                                     "settlement=" + (dir / "curve.csv").string(), "--json", "--no-plots"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   ASSERT_EQ(j.at("targets").size(), 3u);
@@ -416,9 +427,12 @@ TEST(CalibratePosteriorCli, JointFakeRunsVerifyTheMapAndDrawsAndResume) {
                                       "2",
                                       "--json",
                                       "--no-plots"};
+  // 200 steps have not converged: a failed check (exit 1), and the verification is run and written all the same.
   const CommandResult r = run_demsa(args);
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("checks").at("problems").size(), 1u) << j.at("checks").dump();
+  EXPECT_EQ(j.at("checks").at("problems").at(0).get<std::string>().rfind("UNCONVERGED: ", 0), 0u);
   ASSERT_EQ(j.at("verification").size(), 3u);
   EXPECT_EQ(j.at("verification").at(0).at("label").get<std::string>(), "map");
   for (const nlohmann::json& v : j.at("verification")) {
@@ -435,7 +449,7 @@ TEST(CalibratePosteriorCli, JointFakeRunsVerifyTheMapAndDrawsAndResume) {
   // A second call measures nothing again: every point is read back from its record.
   const std::string starts = read_file(tmp / "starts.log");
   const CommandResult again = run_demsa(args);
-  ASSERT_EQ(again.exit_code, 0) << again.err;
+  ASSERT_EQ(again.exit_code, 1) << again.err;
   EXPECT_EQ(read_file(tmp / "starts.log"), starts);
   EXPECT_EQ(nlohmann::json::parse(again.out).at("verification"), j.at("verification"));
 }

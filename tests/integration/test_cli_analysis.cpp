@@ -1,6 +1,7 @@
 // `demsa analyze` through the real binary on synthetic studies: SIGINT and SIGTERM stop a long analysis at once
-// (exit 128 + N, nothing written), a constant observable is reported while the others are analysed, and an analysis
-// in which nothing could be analysed exits 2; a --base that is not a power of two is rounded up.
+// (exit 128 + N, nothing written), a constant observable is reported while the others are analysed, a metamodel whose
+// Q² is not computable says why instead of giving indices, and an analysis in which nothing could be analysed exits 2;
+// a --base that is not a power of two is rounded up.
 #include "orchestrator/study/store.hpp"
 #include "support/process.hpp"
 #include "support/synthetic_study.hpp"
@@ -105,6 +106,27 @@ TEST(CliAnalyze, NothingAnalysedExits2NamingEachObservable) {
   EXPECT_NE(r.err.find("angle: constant observable: every one of its 30 samples is 31.5"), std::string::npos) << r.err;
   // The files record why, for the report.
   EXPECT_TRUE(fs::exists(tmp / "study" / "analysis" / "analysis.json"));
+}
+
+TEST(CliAnalyze, AMetamodelWhoseQ2IsNotComputablePrintsWhyAndAloneExits2) {
+  // rsm2 in two parameters has 6 terms: on 6 samples its Q² is NaN. Its S1 row used to be printed with exit 0.
+  TempDir tmp;
+  SyntheticStudy study = start_synthetic_study(tmp / "study", StudyToml{.samples = 6}.text(), 3);
+  record_every_sample_done(study, [](const SampleRow& row) -> std::map<std::string, double> {
+    return {{"angle", angle_of(row.unit[0], row.unit[1])}, {"pile_height", 0.02 + 0.01 * row.unit[0]}};
+  });
+  const CommandResult r = run_demsa({"analyze", (tmp / "study").string(), "--bootstrap", "0", "--base", "64"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;  // rbf-cubic gave indices
+  EXPECT_NE(r.out.find("rsm2       R2 1.000; Q² not computable: leave-one-out Q² is not finite on 6 samples"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("observable 'angle', metamodel rsm2: Q² not computable"), std::string::npos) << r.err;
+  const CommandResult alone =
+      run_demsa({"analyze", (tmp / "study").string(), "--models", "rsm2", "--bootstrap", "0", "--base", "64"});
+  EXPECT_EQ(alone.exit_code, 2) << alone.out << alone.err;
+  EXPECT_NE(alone.err.find("no observable could be analysed:\n  angle ~ rsm2: Q² not computable"), std::string::npos)
+      << alone.err;
 }
 
 TEST(CliRun, SigintDuringTheAnalysisAtTheEndStopsIt) {

@@ -146,16 +146,17 @@ TEST(ExperimentsFake, ADrumStudyWhoseStationsChangeIsMeasuredAgainNotRunAgain) {
   // their files, runs nothing, and a dry run says so without touching the store. A change of the cases is refused.
   test::TempDir tmp;
   const std::string drum = "[drum]\npreset = \"granudrum\"\ncoarse_grain = 3\n";
-  test::write_file(tmp / "study.toml", study("drum", 3, drum));
+  // 4 samples: rsm1 in two parameters has 3 terms, and on 3 samples its Q² is not computable.
+  test::write_file(tmp / "study.toml", study("drum", 4, drum));
   test::FakeLiggghtsEnvironment env("", tmp.path(), 0.0);
   ASSERT_EQ(test::run_demsa(test::run_args(tmp, {"--quiet"})).exit_code, 0);
   ASSERT_TRUE(fs::is_regular_file(tmp / "study" / "analysis" / "table_surface_7.csv"));
   const fs::path db = tmp / "study" / "study.db";
   const std::size_t runs = study::Store::open_read_only(db.string()).runs().size();
-  ASSERT_EQ(runs, 3u);
+  ASSERT_EQ(runs, 4u);
   EXPECT_EQ(study::Store::open_read_only(db.string()).observables().at(0).count("surface_7"), 1u);
 
-  test::write_file(tmp / "study.toml", study("drum", 3, drum + "stations = [-0.3, 0.0, 0.3]\n"));
+  test::write_file(tmp / "study.toml", study("drum", 4, drum + "stations = [-0.3, 0.0, 0.3]\n"));
   const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run"}));
   ASSERT_EQ(dry.exit_code, 0) << dry.out << dry.err;
   EXPECT_NE(dry.out.find("only how cases are measured changed ([drum] stations"), std::string::npos) << dry.out;
@@ -163,7 +164,7 @@ TEST(ExperimentsFake, ADrumStudyWhoseStationsChangeIsMeasuredAgainNotRunAgain) {
 
   const test::CommandResult again = test::run_demsa(test::run_args(tmp, {"--no-analyze"}));
   ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
-  EXPECT_NE(again.out.find("3 finished case(s) measured again from their files"), std::string::npos) << again.out;
+  EXPECT_NE(again.out.find("4 finished case(s) measured again from their files"), std::string::npos) << again.out;
   const study::Store store = study::Store::open_read_only(db.string());
   EXPECT_EQ(store.runs().size(), runs);  // nothing ran again
   std::map<int, std::vector<double>> units;
@@ -189,14 +190,14 @@ TEST(ExperimentsFake, ADrumStudyWhoseStationsChangeIsMeasuredAgainNotRunAgain) {
   // A case whose files are gone cannot be measured again: refused, the store as it was.
   fs::remove(tmp / "study" / "cases" / "000001" / "log.liggghts");
   fs::remove(tmp / "study" / "cases" / "000001" / "drum_snapshots.dump");
-  test::write_file(tmp / "study.toml", study("drum", 3, drum + "stations = [-0.2, 0.0, 0.2]\n"));
+  test::write_file(tmp / "study.toml", study("drum", 4, drum + "stations = [-0.2, 0.0, 0.2]\n"));
   const test::CommandResult gone = test::run_demsa(test::run_args(tmp, {"--no-analyze"}));
   EXPECT_EQ(gone.exit_code, 2) << gone.out << gone.err;
   EXPECT_NE(gone.err.find("case 1 is done but its files are gone"), std::string::npos) << gone.err;
   EXPECT_EQ(study::Store::open_read_only(db.string()).observables().at(0).count("surface_3"), 1u);
 
   // A change of the cases themselves (the drum's speed) is refused as before.
-  test::write_file(tmp / "study.toml", study("drum", 3, drum + "rpm = 30\nstations = [-0.3, 0.0, 0.3]\n"));
+  test::write_file(tmp / "study.toml", study("drum", 4, drum + "rpm = 30\nstations = [-0.3, 0.0, 0.3]\n"));
   const test::CommandResult changed = test::run_demsa(test::run_args(tmp, {"--no-analyze"}));
   EXPECT_EQ(changed.exit_code, 2) << changed.out << changed.err;
   EXPECT_NE(changed.err.find("design-relevant settings differ"), std::string::npos) << changed.err;

@@ -44,8 +44,8 @@ TEST(LabTargets, EveryExampleTargetFileCalibratesAStudy) {
     const double mean = std::stod(row.substr(0, row.find(',')));
     const double sd = std::stod(row.substr(row.find(',') + 1));
     const CommandResult r =
-        run_demsa({"calibrate", (dir / "pile").string(), "--target-file", "angle=" + entry.path().string(), "--steps",
-                   "500", "--no-plots", "--json", "--out", (dir / entry.path().stem()).string()});
+        run_demsa({"calibrate", (dir / "pile").string(), "--target-file", "angle=" + entry.path().string(),
+                   "--no-plots", "--json", "--out", (dir / entry.path().stem()).string()});
     ASSERT_EQ(r.exit_code, 0) << entry.path() << "\n" << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j.at("targets").size(), 1u) << entry.path();

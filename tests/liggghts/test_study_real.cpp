@@ -61,9 +61,11 @@ TEST(StudyReal, TinyPileStudyRunsEndToEndWithAnalysis) {
   }
   const nlohmann::json analysis = nlohmann::json::parse(test::read_file(dir / "analysis" / "analysis.json"));
   EXPECT_EQ(analysis.at("samples_used").size(), 6u);
-  // rsm2 in 2 inputs has 6 terms: fitted exactly through 6 points, it still gives indices; the table lists it.
+  // rsm2 in 2 inputs has 6 terms: fitted exactly through 6 points, its Q² is not computable and it gives no index;
+  // the table lists rbf-cubic alone.
   const std::string table = test::read_file(dir / "analysis" / "table_angle.csv");
   EXPECT_NE(table.find("rbf-cubic,"), std::string::npos) << table;
+  EXPECT_EQ(table.find("rsm2,"), std::string::npos) << table;
 }
 
 }  // namespace

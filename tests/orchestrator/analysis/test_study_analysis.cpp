@@ -1,6 +1,6 @@
 // The study analysis (orchestrator/analysis/study_analysis.hpp) on synthetic studies: a constant observable is an
-// error of its own while the others are analysed, an analysis in which nothing could be analysed says why, and a stop
-// request ends it before any file is written.
+// error of its own while the others are analysed, a metamodel whose Q² is not computable gives no index, an analysis
+// in which nothing could be analysed says why, and a stop request ends it before any file is written.
 #include "orchestrator/analysis/analysis_json.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/study/store.hpp"
@@ -9,6 +9,7 @@
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <functional>
@@ -21,10 +22,12 @@ namespace demsa::test {
 namespace {
 namespace fs = std::filesystem;
 
-/// DIR/study.toml and DIR/study.db with 20 done samples whose angle and pile height are the given functions.
+/// DIR/study.toml and DIR/study.db with `samples` (20) done samples whose angle and pile height are the given
+/// functions.
 void write_study(const fs::path& dir, const std::function<double(double, double)>& angle,
-                 const std::function<double(double, double)>& height, const std::string& analysis = "") {
-  StudyToml toml{.name = "synthetic", .seed = 7, .samples = 20};
+                 const std::function<double(double, double)>& height, const std::string& analysis = "",
+                 int samples = 20) {
+  StudyToml toml{.name = "synthetic", .seed = 7, .samples = samples};
   if (!analysis.empty()) toml.analysis = analysis;
   SyntheticStudy study = start_synthetic_study(dir, toml.text(), 5);
   for (const SampleRow& row : study.samples) {
@@ -108,6 +111,59 @@ TEST(StudyAnalysis, NothingAnalysedNamesEveryObservable) {
   EXPECT_NE(failure.find("angle: constant observable: every one of its 20 samples is 30"), std::string::npos)
       << failure;
   EXPECT_NE(failure.find("pile_height: constant observable"), std::string::npos) << failure;
+}
+
+TEST(StudyAnalysis, MetamodelWhoseQ2IsNotComputableRanksNoParameter) {
+  // rsm2 in two inputs has 6 terms: on 6 samples it passes through every one, each leave-one-out residual is 0/0
+  // and Q² is NaN. Its S1 used to be printed (and written) as any other row's, with exit 0.
+  TempDir dir;
+  write_study(
+      dir.path(), [](double u1, double u2) { return 22.0 + 14.0 * u2 + 5.0 * u1 * u1; },
+      [](double u1, double u2) { return 0.02 + 0.01 * u1 + 0.004 * u2 * u2; },
+      "metamodels = [\"rsm2\", \"rbf-cubic\"]\n", 6);
+  AnalyzeOptions options;
+  options.dir = dir.path();
+  options.bootstrap = 0;
+  options.base_samples = 256;
+  const AnalysisSummary summary = analyze_study(options);
+  const ObservableAnalysis& angle = observable(summary, "angle");
+  ASSERT_EQ(angle.models.size(), 2u);
+  const ModelAnalysis& rsm2 = angle.models[0];
+  ASSERT_EQ(rsm2.model, "rsm2");
+  EXPECT_TRUE(std::isnan(rsm2.quality.q2));
+  EXPECT_FALSE(rsm2.ok);
+  EXPECT_TRUE(rsm2.fitted);
+  EXPECT_TRUE(rsm2.indices.first.empty());
+  EXPECT_NE(rsm2.error.find("Q² not computable: leave-one-out Q² is not finite on 6 samples: as many as its terms"),
+            std::string::npos)
+      << rsm2.error;
+  EXPECT_TRUE(angle.models[1].ok) << angle.models[1].error;
+  EXPECT_EQ(analysis_failure(summary), "");
+  // The printed row gives the reason, not numbers.
+  const std::string table = s1_table_text(summary, angle);
+  const std::size_t row = table.find("\nrsm2 ");
+  ASSERT_NE(row, std::string::npos) << table;
+  const std::string rsm2_row = table.substr(row + 1, table.find('\n', row + 1) - row - 1);
+  EXPECT_NE(rsm2_row.find("Q² not computable"), std::string::npos) << table;
+  EXPECT_EQ(rsm2_row.find("nan"), std::string::npos) << table;
+  // The files say the same: no rsm2 row or index, its quality (Q² null) and the reason kept.
+  const fs::path out = dir / "analysis";
+  EXPECT_EQ(read_file(out / "table_angle.csv").find("rsm2"), std::string::npos) << read_file(out / "table_angle.csv");
+  EXPECT_EQ(read_file(out / "sobol_rsm2.csv").find("angle"), std::string::npos) << read_file(out / "sobol_rsm2.csv");
+  const nlohmann::json metamodels = nlohmann::json::parse(read_file(out / "metamodels.json"));
+  EXPECT_TRUE(metamodels["angle"]["rsm2"]["q2"].is_null()) << metamodels.dump(2);
+  EXPECT_EQ(metamodels["angle"]["rsm2"]["error"], rsm2.error);
+  const AnalysisSummary back = read_analysis(out / "analysis.json");
+  const ModelAnalysis& rsm2_back = observable(back, "angle").models[0];
+  EXPECT_FALSE(rsm2_back.ok);
+  EXPECT_TRUE(rsm2_back.fitted);
+  EXPECT_EQ(rsm2_back.error, rsm2.error);
+  EXPECT_DOUBLE_EQ(rsm2_back.quality.r2, rsm2.quality.r2);
+
+  // Alone, it leaves nothing analysed: the analysis fails naming it.
+  options.metamodels = {"rsm2"};
+  const std::string failure = analysis_failure(analyze_study(options));
+  EXPECT_NE(failure.find("angle ~ rsm2: Q² not computable"), std::string::npos) << failure;
 }
 
 TEST(StudyAnalysis, StopRequestEndsItBeforeAnyFileIsWritten) {
