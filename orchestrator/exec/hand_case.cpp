@@ -84,7 +84,11 @@ HandCase write_hand_case(const HandCaseOptions& o) {
   if (o.sample)
     request = request_for_sample(config, *o.sample, o.dir.empty() ? default_study_dir(o.study) : o.dir);
   else
-    request = request_from_values(config, o.values);
+    try {
+      request = request_from_values(config, o.values);
+    } catch (const util::UserError& e) {
+      throw util::UserError(fmt::format("HandCaseOptions.values: {}", e.what()));
+    }
   request.demsa_executable = util::self_executable();
   if (find_on_path(config.run.liggghts)) request.liggghts_version = query_liggghts_at(config.run.liggghts).version;
   const std::filesystem::path dir =
