@@ -48,7 +48,7 @@ struct SensitivityArgs {
   std::string bounds;
   std::string metamodels = "rsm2,rsm3,rbf-cubic,rbf-tps,gp";
   bool second_order = false;
-  int bootstrap = k_mode_default;  ///< k_mode_default: 200 resamples for --saltelli, 100 refits for --data
+  int bootstrap = k_mode_default;  ///< k_mode_default: the path's default (analysis/sensitivity_choices.hpp)
   std::string interval;            ///< --saltelli: sobol::SaltelliInterval by name ("": replicates, or bootstrap when
                                    ///< --bootstrap is given)
   double confidence = 0.95;
