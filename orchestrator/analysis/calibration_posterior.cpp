@@ -227,7 +227,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
     if (!diag.converged && r.steps >= cap)
       diag.advice += fmt::format(
           " (automatic steps stopped at {}, the most {} walkers × {} parameters keep in "
-          "memory: give --steps to go further)",
+          "memory: give the steps per walker to go further)",
           cap, walkers, d);
   }
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -157,7 +157,8 @@ void PlanOptions::validate() const {
     if (q.name.empty()) throw UserError(fmt::format("PlanOptions.observe '{}': no observable named", q.label()));
   for (const MeasuredTarget& m : near)
     if (!(m.sd > 0) || !std::isfinite(m.sd) || !std::isfinite(m.value))
-      throw UserError(fmt::format("PlanOptions.near '{}': give the value's spread, a finite sd > 0", m.text()));
+      throw UserError(
+          fmt::format("PlanOptions.near '{}': give the value's spread, NAME=V±E with a finite sd > 0", m.text()));
   try {
     if (!model.empty()) sobol::metamodel_kind_from_string(model);
   } catch (const sobol::InputError& e) {

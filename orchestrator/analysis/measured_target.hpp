@@ -1,6 +1,6 @@
 #pragma once
 // A measured value of one observable, with its uncertainty: what `demsa calibrate` matches (its targets) and what
-// `demsa plan` draws its truths near. Typed: the command line's "NAME=V±E" syntax is cli/'s to parse.
+// `demsa plan` draws its truths near. Typed: its text syntax "NAME=V±E" is target_syntax.hpp's.
 #include <filesystem>
 #include <string>
 #include <vector>

@@ -160,6 +160,11 @@ Prediction predict(const PredictOptions& args) {
   return prediction;
 }
 
+std::string prediction_written_text(const Prediction& p, const std::string& file) {
+  return fmt::format("{} predictions of '{}' by {} ({}) written to {}\n", p.physical.rows(), p.output, p.metamodel,
+                     p.model_file.string(), file);
+}
+
 std::string prediction_csv(const Prediction& p) {
   const Eigen::Index d = p.physical.cols();
   const bool with_sd = p.sd.size() > 0;

@@ -41,4 +41,7 @@ Prediction predict(const PredictOptions& options);
 /// The output CSV: the inputs, the prediction in a column named after the output, and `<output>_sd` when asked.
 std::string prediction_csv(const Prediction& prediction);
 
+/// "N predictions of 'OUTPUT' by METAMODEL (MODEL FILE) written to FILE": the CSV written to `file`.
+std::string prediction_written_text(const Prediction& prediction, const std::string& file);
+
 }  // namespace demsa::analysis

@@ -289,6 +289,11 @@ RefineSummary refine_study(const RefineOptions& options) {
   }
 }
 
+std::string refine_start_text(const RefineOptions& options, long max_samples) {
+  return fmt::format("refine {}: target half-width {}, batches of {}, at most {} samples\n", options.dir.string(),
+                     options.target, options.batch, max_samples);
+}
+
 std::string refine_step_text(const study::RefineStep& step) {
   std::string widths;
   for (const auto& [name, w] : step.max_half_width) widths += fmt::format("  {} {}", name, half_width_text(w));

@@ -105,6 +105,9 @@ struct RefineSummary {
 RefineSummary refine_study(const RefineOptions& options);
 
 /// What `demsa refine` prints of each step: "refine: step   3     24 samples  max half-width:  angle 0.041  -> ...".
+/// "refine DIR: target half-width W, batches of B, at most M samples": the loop about to start (`on_start`).
+std::string refine_start_text(const RefineOptions& options, long max_samples);
+
 std::string refine_step_text(const study::RefineStep& step);
 /// What it prints at the end: how to resume an interrupted refinement, or the analysis's tables and whether the target
 /// half-width was reached or the budget spent (nothing for RefineEnd::stopped).

@@ -541,4 +541,17 @@ std::string sobol_indices_text(const sobol::SobolResult& r, const std::vector<st
   return text;
 }
 
+std::string saltelli_response_text(const SaltelliResponseIndices& response, const std::vector<std::string>& inputs) {
+  return fmt::format("{}: Sobol' indices from a Saltelli design, N = {}, {} evaluations\n", response.response,
+                     response.indices.base, response.indices.evaluations) +
+         sobol_indices_text(response.indices, inputs);
+}
+
+std::string data_model_text(const std::string& response, const DataModelIndices& model,
+                            const std::vector<std::string>& inputs) {
+  return fmt::format("{} ~ {}: R2 {:.4f}, adjusted R2 {:.4f}, Q2_LOO {:.4f} ({} samples)\n", response, model.metamodel,
+                     model.quality.r2, model.quality.adjusted_r2, model.quality.q2, model.quality.samples) +
+         sobol_indices_text(model.indices, inputs);
+}
+
 }  // namespace demsa::analysis

@@ -73,6 +73,10 @@ nlohmann::json saltelli_sensitivity_json(const SaltelliSensitivity& result);
 /// intervals, the residual 1 - sum S1, the S2 pairs, and how the intervals were made.
 std::string sobol_indices_text(const sobol::SobolResult& result, const std::vector<std::string>& names);
 
+/// One response of a Saltelli design in words: "NAME: Sobol' indices from a Saltelli design, N = ..., K evaluations"
+/// and its indices (sobol_indices_text).
+std::string saltelli_response_text(const SaltelliResponseIndices& response, const std::vector<std::string>& inputs);
+
 // ---------------------------------------------------------------- samples and responses: metamodels, then indices
 
 /// The least share of an input's bounds (on its scale) the samples must span unless
@@ -128,6 +132,10 @@ struct DataSensitivity {
 };
 
 DataSensitivity data_sensitivity(const DataSensitivityOptions& options);
+
+/// One fitted model in words: "RESPONSE ~ METAMODEL: R2 ..., adjusted R2 ..., Q2_LOO ... (N samples)" and its indices.
+std::string data_model_text(const std::string& response, const DataModelIndices& model,
+                            const std::vector<std::string>& inputs);
 
 /// {"data", "samples", "inputs", "bounds": [{"input", "low", "high", "scale", "coverage", "extrapolated"}],
 /// "outputs": [{"output", "metamodels": [{"metamodel", "quality", "sobol"}], "noise"?}]}.

@@ -4,6 +4,8 @@
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
+#include "orchestrator/util/text.hpp"
+#include "sobol/error.hpp"
 
 #include <fmt/core.h>
 
@@ -164,6 +166,71 @@ void check_saltelli(const SaltelliDesignFileOptions& o, int base, int replicates
 }
 
 }  // namespace
+
+DesignParameters parse_design_parameters(const DesignParameterOptions& options) {
+  DesignParameters p;
+  if (!options.parameters.empty() && options.dimension)
+    throw UserError(
+        "give either DesignParameterOptions.dimension or DesignParameterOptions.parameters, not both "
+        "(DesignParameterOptions.parameters fixes the dimension)");
+  if (options.parameters.empty()) {
+    if (!options.dimension)
+      throw UserError(
+          "give the dimension with DesignParameterOptions.dimension D or the parameters with "
+          "DesignParameterOptions.parameters");
+    const int dimension = *options.dimension;
+    if (dimension < 1)
+      throw UserError(fmt::format(
+          "DesignParameterOptions.dimension {}: not a valid dimension, the number of parameters must be at least 1",
+          dimension));
+    for (int k = 0; k < dimension; ++k) p.names.push_back(fmt::format("x{}", k + 1));
+    p.bounds.assign(static_cast<std::size_t>(dimension), sobol::Bounds{});
+    return p;
+  }
+  for (const std::string& spec : options.parameters) {
+    const std::vector<std::string> parts = util::split(spec, ':');
+    if (parts.size() < 3 || parts.size() > 4 || parts[0].empty())
+      throw UserError(
+          fmt::format("DesignParameterOptions.parameters '{}': expected NAME:LOW:HIGH or NAME:LOW:HIGH:log", spec));
+    const auto number = [&spec](const std::string& text, const char* what) {
+      if (const std::optional<double> v = util::parse_number(text)) return *v;
+      throw UserError(
+          fmt::format("DesignParameterOptions.parameters '{}': {}: '{}' is not a number", spec, what, text));
+    };
+    sobol::Bounds b;
+    b.low = number(parts[1], "low");
+    b.high = number(parts[2], "high");
+    if (parts.size() == 4) {
+      try {
+        b.scale = sobol::scale_from_string(parts[3]);
+      } catch (const sobol::InputError& e) {
+        throw UserError(fmt::format("DesignParameterOptions.parameters '{}': {}", spec, e.what()));
+      }
+    }
+    for (const std::string& n : p.names)
+      if (n == parts[0])
+        throw UserError(fmt::format("DesignParameterOptions.parameters '{}': parameter '{}' given twice", spec, n));
+    p.names.push_back(parts[0]);
+    p.bounds.push_back(b);
+  }
+  try {
+    sobol::validate_bounds(p.bounds, p.names);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("DesignParameterOptions.parameters: {}", e.what()));
+  }
+  p.named = true;
+  return p;
+}
+
+sobol::DesignKind lhs_kind(const LhsKindOptions& options) {
+  if (options.criterion.empty()) return options.centred ? sobol::DesignKind::lhs_centred : sobol::DesignKind::lhs;
+  if (options.centred) throw UserError("LhsKindOptions.centred and LhsKindOptions.criterion cannot be combined");
+  try {
+    return sobol::lhs_criterion_from_string(options.criterion);
+  } catch (const sobol::InputError& e) {
+    throw UserError(fmt::format("LhsKindOptions.criterion: {}", e.what()));
+  }
+}
 
 PointDesign write_point_design(const PointDesignOptions& o) {
   check_point_design(o);

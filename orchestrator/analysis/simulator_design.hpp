@@ -26,6 +26,27 @@ struct DesignParameters {
   bool named = false;                 ///< given by name with bounds; false: x1..xD on the unit cube
 };
 
+/// How a front end names the parameters of a design: by spec, "NAME:LOW:HIGH" or "NAME:LOW:HIGH:log|uniform" (one
+/// per parameter), or by a dimension D alone (x1..xD on the unit cube); exactly one of the two.
+struct DesignParameterOptions {
+  std::vector<std::string> parameters;
+  std::optional<int> dimension;
+};
+
+/// The parameters the options name, checked (sobol::validate_bounds). A mistake is a util::UserError naming the field
+/// and the spec ("DesignParameterOptions.parameters 'a:0:x': high: 'x' is not a number").
+DesignParameters parse_design_parameters(const DesignParameterOptions& options);
+
+/// The kind of a Latin hypercube: plain, `centred`, or optimised for `criterion` (sobol::lhs_criterion_from_string;
+/// "": none). Not both.
+struct LhsKindOptions {
+  bool centred = false;
+  std::string criterion;
+};
+
+/// The kind the options ask for; a util::UserError naming the fields ("LhsKindOptions.criterion: unknown ...").
+sobol::DesignKind lhs_kind(const LhsKindOptions& options);
+
 /// A Latin hypercube (plain, centred, optimised) or a scrambled Sobol' sequence.
 struct PointDesignOptions {
   sobol::DesignKind kind = sobol::DesignKind::lhs;

@@ -276,7 +276,7 @@ CaseRequest request_from_values(const StudyConfig& config, const std::vector<std
     if (std::find(names.begin(), names.end(), name) == names.end()) {
       std::string valid;
       for (const std::string& n : names) valid += (valid.empty() ? "" : ", ") + n;
-      throw UserError(fmt::format("--set: unknown parameter '{}' (valid: {})", name, valid));
+      throw UserError(fmt::format("unknown parameter '{}' (valid: {})", name, valid));
     }
     bool varied = false;
     for (std::size_t i = 0; i < config.parameters.size(); ++i) {
@@ -284,16 +284,16 @@ CaseRequest request_from_values(const StudyConfig& config, const std::vector<std
       if (p.name != name) continue;
       varied = true;
       if (value < p.bounds.low || value > p.bounds.high)
-        throw UserError(fmt::format("--set: {} = {} lies outside its range [{}, {}] in {}", name, value, p.bounds.low,
+        throw UserError(fmt::format("{} = {} lies outside its range [{}, {}] in {}", name, value, p.bounds.low,
                                     p.bounds.high, config.file.filename().string()));
       unit[i] = sobol::to_unit(value, p.bounds);
     }
     if (const ParameterTie* tie = find_tie(config.ties, name); !varied && tie)
-      throw UserError(fmt::format("--set: {} is tied to {} in {} (same_as): set {}", name, tie->partner,
+      throw UserError(fmt::format("{} is tied to {} in {} (same_as): set {}", name, tie->partner,
                                   config.file.filename().string(), tie->partner));
     if (!varied)
-      throw UserError(fmt::format("--set: {} is not varied in {}; set it in [material] instead", name,
-                                  config.file.filename().string()));
+      throw UserError(
+          fmt::format("{} is not varied in {}; set it in [material] instead", name, config.file.filename().string()));
   }
   CaseRequest r = request_from_unit_point(config, -1, unit);
   // Exact values as typed (to_unit/to_physical round trip may differ in the last bit).

@@ -10,11 +10,8 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include <cmath>
-#include <cstdlib>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace demsa::cli {
@@ -33,51 +30,19 @@ struct CaseOptions {
   bool json = false;
 };
 
-/// `name=value` items (comma separated, possibly over several --set options).
-std::vector<std::pair<std::string, double>> parse_sets(const std::vector<std::string>& sets) {
-  std::vector<std::pair<std::string, double>> out;
-  for (const std::string& arg : sets) {
-    std::size_t start = 0;
-    while (start <= arg.size()) {
-      const std::size_t comma = arg.find(',', start);
-      const std::string item = arg.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-      start = comma == std::string::npos ? arg.size() + 1 : comma + 1;
-      if (item.empty()) continue;
-      const std::size_t eq = item.find('=');
-      if (eq == std::string::npos || eq == 0) throw UserError(fmt::format("--set: '{}' is not name=value", item));
-      const std::string name = item.substr(0, eq), text = item.substr(eq + 1);
-      char* end = nullptr;
-      const double value = std::strtod(text.c_str(), &end);
-      if (text.empty() || *end != '\0' || !std::isfinite(value))
-        throw UserError(fmt::format("--set: {}: '{}' is not a number", name, text));
-      // A name given twice would silently take its last value.
-      for (const auto& [given, first] : out)
-        if (given == name)
-          throw UserError(fmt::format("--set: {} is given twice ({}={} and {}={}); give each parameter once", name,
-                                      name, first, name, text));
-      out.emplace_back(name, value);
-    }
-  }
-  return out;
-}
-
 void run_case(const CaseOptions& o, CliState& state) {
   exec::HandCaseOptions options;
   options.study = o.study;
   if (o.sample >= 0) options.sample = o.sample;
   options.dir = o.dir;
-  if (o.sample < 0) options.values = parse_sets(o.sets);
   options.output = o.output;
   options.overwrite = o.overwrite;
-  const exec::HandCase written =
-      with_option_names({{"sample", "--sample"}}, [&] { return exec::write_hand_case(options); });
-  const cases::CaseSummary& summary = written.summary;
-  if (o.json)
-    fmt::print("{}\n", exec::hand_case_json(written).dump(2));
-  else
-    fmt::print("wrote {} ({} particles, dt = {:.4g} s = {:.3f} T_R); run it with: cd {} && ./run.sh\n",
-               summary.dir.string(), summary.particles, summary.dt, summary.dt / summary.rayleigh_time,
-               summary.dir.string());
+  const OptionNames names{{"sample", "--sample"}, {"values", "--set"}};
+  const exec::HandCase written = with_option_names(names, [&] {
+    if (o.sample < 0) options.values = exec::parse_parameter_values(o.sets);
+    return exec::write_hand_case(options);
+  });
+  fmt::print("{}", o.json ? exec::hand_case_json(written).dump(2) + "\n" : exec::hand_case_text(written));
   state.exit_code = k_exit_ok;
 }
 

@@ -9,15 +9,11 @@
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
-#include "orchestrator/util/text.hpp"
-#include "sobol/error.hpp"
 #include "sobol/saltelli.hpp"
-#include "sobol/scaling.hpp"
 
 #include <fmt/core.h>
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,54 +43,8 @@ struct DesignArgs {
   int replicates = 0;
 };
 
-double parse_number(const std::string& text, const std::string& what) {
-  if (const std::optional<double> v = util::parse_number(text)) return *v;
-  throw UserError(fmt::format("{}: '{}' is not a number", what, text));
-}
-
-/// --param NAME:LOW:HIGH[:log|uniform] (repeatable) or --dim D (names x1..xD on the unit cube).
-analysis::DesignParameters parse_parameters(const DesignArgs& args) {
-  analysis::DesignParameters p;
-  if (!args.params.empty() && args.dimension_given)
-    throw UserError("give either --dim or --param, not both (--param fixes the dimension)");
-  if (args.params.empty()) {
-    if (!args.dimension_given) throw UserError("give the dimension with --dim D or the parameters with --param");
-    if (args.dimension < 1)
-      throw UserError(
-          fmt::format("--dim {}: not a valid dimension, the number of parameters must be at least 1", args.dimension));
-    for (int k = 0; k < args.dimension; ++k) p.names.push_back(fmt::format("x{}", k + 1));
-    p.bounds.assign(static_cast<std::size_t>(args.dimension), sobol::Bounds{});
-    return p;
-  }
-  for (const std::string& spec : args.params) {
-    const std::vector<std::string> parts = split(spec, ':');
-    if (parts.size() < 3 || parts.size() > 4 || parts[0].empty())
-      throw UserError(fmt::format("--param '{}': expected NAME:LOW:HIGH or NAME:LOW:HIGH:log", spec));
-    sobol::Bounds b;
-    b.low = parse_number(parts[1], fmt::format("--param '{}': low", spec));
-    b.high = parse_number(parts[2], fmt::format("--param '{}': high", spec));
-    if (parts.size() == 4) {
-      try {
-        b.scale = sobol::scale_from_string(parts[3]);
-      } catch (const sobol::InputError& e) {
-        throw UserError(fmt::format("--param '{}': {}", spec, e.what()));
-      }
-    }
-    for (const std::string& n : p.names)
-      if (n == parts[0]) throw UserError(fmt::format("--param '{}': parameter '{}' given twice", spec, n));
-    p.names.push_back(parts[0]);
-    p.bounds.push_back(b);
-  }
-  try {
-    sobol::validate_bounds(p.bounds, p.names);
-  } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--param: {}", e.what()));
-  }
-  p.named = true;
-  return p;
-}
-
-/// The option of each field of analysis::PointDesignOptions and SaltelliDesignFileOptions. CLI11 does not tell which
+/// The option of each field of analysis::PointDesignOptions, SaltelliDesignFileOptions, DesignParameterOptions and
+/// LhsKindOptions. CLI11 does not tell which
 /// spelling of an option was typed, so the sample size is named "-n" (for -n/--samples) and "--base" (for -N/--base).
 const OptionNames k_option_names{{"samples", "-n"},
                                  {"base", "--base"},
@@ -104,7 +54,17 @@ const OptionNames k_option_names{{"samples", "-n"},
                                  {"iterations", "--iterations"},
                                  {"phi_p", "--phi-p"},
                                  {"replicates", "--replicates"},
-                                 {"output", "-o"}};
+                                 {"output", "-o"},
+                                 {"centred", "--centred"},
+                                 {"criterion", "--criterion"}};
+
+/// --param NAME:LOW:HIGH[:log|uniform] (repeatable) or --dim D (names x1..xD on the unit cube).
+analysis::DesignParameters parse_parameters(const DesignArgs& args) {
+  analysis::DesignParameterOptions options;
+  options.parameters = args.params;
+  if (args.dimension_given) options.dimension = args.dimension;
+  return with_option_names(k_option_names, [&] { return analysis::parse_design_parameters(options); });
+}
 
 /// -o is checked before the library sees it: the file is the user's to name.
 void check_output_given(const std::string& output) {
@@ -187,15 +147,9 @@ void register_design_command(CLI::App& app, CliState& state) {
       ->capture_default_str();
   lhs->add_option("--phi-p", args->phi_p, "p of the phi_p criterion")->capture_default_str();
   lhs->callback([args, &state] {
-    sobol::DesignKind kind = args->centred ? sobol::DesignKind::lhs_centred : sobol::DesignKind::lhs;
-    if (!args->criterion.empty()) {
-      if (args->centred) throw UserError("--centred and --criterion cannot be combined");
-      try {
-        kind = sobol::lhs_criterion_from_string(args->criterion);
-      } catch (const sobol::InputError& e) {
-        throw UserError(fmt::format("--criterion: {}", e.what()));
-      }
-    }
+    const sobol::DesignKind kind = with_option_names(k_option_names, [&] {
+      return analysis::lhs_kind({args->centred, args->criterion});
+    });
     run_point_design(*args, kind);
     state.exit_code = k_exit_ok;
   });

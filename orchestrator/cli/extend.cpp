@@ -3,12 +3,9 @@
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
 #include "orchestrator/exec/runner.hpp"
-#include "orchestrator/study/folder.hpp"
-#include "orchestrator/study/store.hpp"
 
 #include <fmt/core.h>
 
-#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -22,15 +19,10 @@ struct ExtendArgs {
 };
 
 int do_extend(const ExtendArgs& args) {
-  const std::filesystem::path dir = args.dir;
-  const int added = exec::extend_study(dir, static_cast<int>(args.samples));
-  const study::Store store = study::Store::open_read_only((dir / study::k_store_file).string());
-  if (added == 0)
-    fmt::print("{}: the design has {} samples already; nothing added\n", dir.string(), store.design_samples());
-  else
-    fmt::print("{}: {} design samples added (now {} design samples, {} in all); `demsa run {} --dir {}` runs them\n",
-               dir.string(), added, store.design_samples(), store.samples().size(),
-               (dir / study::k_frozen_study).string(), dir.string());
+  const exec::Extension extension = with_option_names({{"samples", "--samples"}}, [&] {
+    return exec::extend_study({args.dir, static_cast<int>(args.samples)});
+  });
+  fmt::print("{}", exec::extension_text(extension));
   return 0;
 }
 

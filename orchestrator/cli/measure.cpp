@@ -4,6 +4,7 @@
 // by the experiment whose laboratory files have its extension (Experiment::measure_lab_file).
 #include "orchestrator/exec/measure.hpp"
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
 
 #include <fmt/core.h>
 
@@ -42,7 +43,9 @@ void register_measure_command(CLI::App& app, CliState& state) {
                   "With --photograph: the PNG of the two superimposed (default CASE/lab_overlay.png)")
       ->needs("--photograph");
   sub->callback([args, &state] {
-    const exec::MeasureReport report = exec::measure_report(args->folder, args->photograph, args->overlay);
+    const exec::MeasureReport report = with_option_names({{"overlay", "--overlay"}}, [&] {
+      return exec::measure_report({args->folder, args->photograph, args->overlay});
+    });
     fmt::print("{}", args->json ? report.json : report.text);
     state.exit_code = 0;
   });

@@ -34,19 +34,14 @@ struct PredictArgs {
 };
 
 void run_predict(const PredictArgs& args) {
-  Prediction p;
-  try {
-    p = predict(args.options);
-  } catch (const UserError& e) {
-    throw UserError(name_options(
-        e.what(), {{"model", "--model"}, {"observable", "--observable"}, {"standard_deviation", "--std"}}));
-  }
+  const Prediction p =
+      with_option_names({{"model", "--model"}, {"observable", "--observable"}, {"standard_deviation", "--std"}},
+                        [&] { return predict(args.options); });
   if (args.out.empty() || args.out == "-") {
     fmt::print("{}", prediction_csv(p));
   } else {
     write_file_atomically(args.out, prediction_csv(p));
-    fmt::print("{} predictions of '{}' by {} ({}) written to {}\n", p.physical.rows(), p.output, p.metamodel,
-               p.model_file.string(), args.out);
+    fmt::print("{}", prediction_written_text(p, args.out));
   }
 }
 

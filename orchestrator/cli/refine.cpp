@@ -54,9 +54,8 @@ int do_refine(const RefineArgs& args) {
     const exec::RunSummary ran = exec::run_study(run);
     return analysis::RefineRun{ran.interrupted, ran.done, ran.samples};
   };
-  options.on_start = [&args, &dir](long max_samples) {
-    fmt::print("refine {}: target half-width {}, batches of {}, at most {} samples\n", dir.string(), args.target,
-               args.batch, max_samples);
+  options.on_start = [&options](long max_samples) {
+    fmt::print("{}", analysis::refine_start_text(options, max_samples));
   };
   options.on_step = [](const RefineStep& step) { fmt::print("{}", analysis::refine_step_text(step)); };
   const analysis::RefineSummary refined = analysis::refine_study(options);

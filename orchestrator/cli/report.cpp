@@ -1,11 +1,11 @@
 // `demsa report` (docs/reference/command-line.md): plots and report.md / report.html for a study.
 #include "orchestrator/report/report.hpp"
 #include "orchestrator/cli/commands.hpp"
+#include "orchestrator/cli/shared.hpp"
 #include "orchestrator/study/folder.hpp"
 #include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
-#include <nlohmann/json.hpp>
 
 #include <memory>
 #include <string>
@@ -41,24 +41,9 @@ int do_report(const ReportArgs& args) {
   options.plot.font_size = args.font_size;
   // Not while a `demsa run` holds the study: the report would describe the samples done so far as the study.
   const auto lock = study::hold_study_for_results(options.dir);
-  const ReportSummary summary = write_study_report(options);
-  if (args.json) {
-    nlohmann::json j{{"dir", summary.out_dir.string()},
-                     {"markdown", summary.markdown.string()},
-                     {"html", summary.html.string()},
-                     {"sample_shown", summary.sample_shown},
-                     {"notes", summary.notes}};
-    nlohmann::json images = nlohmann::json::array();
-    for (const auto& p : summary.images) images.push_back(p.string());
-    j["images"] = images;
-    fmt::print("{}\n", j.dump(2));
-    return k_exit_ok;
-  }
-  fmt::print("report: {}\n", summary.markdown.string());
-  if (!summary.html.empty()) fmt::print("report: {}\n", summary.html.string());
-  fmt::print("{} plots (PNG and SVG, each with its gnuplot script) in {}\n", summary.images.size(),
-             summary.out_dir.string());
-  for (const std::string& note : summary.notes) fmt::print("note: {}\n", note);
+  const ReportSummary summary = with_option_names({{"sample", "--sample"}, {"lab_file", "--photograph"}},
+                                                  [&] { return write_study_report(options); });
+  fmt::print("{}", args.json ? report_summary_json(summary).dump(2) + "\n" : report_summary_text(summary));
   return k_exit_ok;
 }
 

@@ -64,7 +64,7 @@ int do_run(const RunArgs& args) {
     options.ask_cancel = [](int in_flight) { return ask_cancel_on_interrupt(in_flight, std::cin, std::cerr); };
   if (!fs::exists(options.study_file)) throw UserError(fmt::format("{}: no such study file", args.study));
   StopFlag::install();
-  const RunSummary summary = run_study(options);
+  const RunSummary summary = with_option_names({{"submit_only", "--submit-only"}}, [&] { return run_study(options); });
   if (!args.json) fmt::print("{}", remeasure_text(summary));
   if (summary.dry_run) {
     const DryRunReport report = dry_run_report(args.study, summary, args.probe, [&args](const std::string& note) {

@@ -12,6 +12,7 @@
 // on both paths. SIGINT/SIGTERM stop the long loops (bootstrap, refits, QMC) within a step: exit 128 + N, and the
 // --json file is not written.
 #include "orchestrator/analysis/sensitivity.hpp"
+#include "orchestrator/analysis/sensitivity_choices.hpp"
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
@@ -19,20 +20,13 @@
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
 #include "orchestrator/util/signals.hpp"
-#include "sobol/error.hpp"
-#include "sobol/metamodel.hpp"
-#include "sobol/saltelli.hpp"
-#include "sobol/scaling.hpp"
 #include "sobol/stop.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <limits>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -54,7 +48,7 @@ struct SensitivityArgs {
   std::string bounds;
   std::string metamodels = "rsm2,rsm3,rbf-cubic,rbf-tps,gp";
   bool second_order = false;
-  int bootstrap = k_mode_default;  ///< k_mode_default: 200 resamples for --saltelli, 100 refits for --data
+  int bootstrap = k_mode_default;  ///< k_mode_default: the path's default (analysis/sensitivity_choices.hpp)
   std::string interval;            ///< --saltelli: sobol::SaltelliInterval by name ("": replicates, or bootstrap when
                                    ///< --bootstrap is given)
   double confidence = 0.95;
@@ -69,8 +63,8 @@ struct SensitivityArgs {
   bool allow_extrapolation = false;  ///< --data: proceed when the data cover less than k_min_coverage of --bounds
 };
 
-/// The option of each field of analysis::SaltelliSensitivityOptions and DataSensitivityOptions, for the library's
-/// messages.
+/// The option of each field of analysis::SaltelliSensitivityOptions, DataSensitivityOptions,
+/// SensitivityChoiceOptions and GpChoiceOptions, for the library's messages.
 const OptionNames k_option_names{{"design", "--saltelli"},
                                  {"responses_file", "--responses"},
                                  {"responses", "--response"},
@@ -82,63 +76,41 @@ const OptionNames k_option_names{{"design", "--saltelli"},
                                  {"metamodels", "--metamodels"},
                                  {"save_model", "--save-model"},
                                  {"base", "--base"},
-                                 {"repeats", "--repeats"}};
+                                 {"repeats", "--repeats"},
+                                 {"bootstrap", "--bootstrap"},
+                                 {"confidence", "--confidence"},
+                                 {"kernel", "--gp-kernel"},
+                                 {"trend", "--gp-trend"}};
 
-/// The numeric options, checked here so that a message names the option as the user typed it.
-void check_numeric_options(const SensitivityArgs& args) {
-  if (args.bootstrap != k_mode_default && args.bootstrap < 0)
-    throw UserError(fmt::format("--bootstrap {}: must be >= 0 (0: no intervals)", args.bootstrap));
-  if (!(args.confidence > 0.0 && args.confidence < 1.0))
-    throw UserError(fmt::format("--confidence {}: must be strictly between 0 and 1 (e.g. 0.95)", args.confidence));
-  if (args.base < 16)
-    throw UserError(
-        fmt::format("--base {}: must be at least 16 (a power of two, e.g. 16384, balances best)", args.base));
-  if (args.base > sobol::k_max_base_samples)
-    throw UserError(
-        fmt::format("--base {}: at most 2^20 = {} (the indices' QMC design holds N (2d + 2) points in "
-                    "memory)",
-                    args.base, sobol::k_max_base_samples));
+/// The choices of the indices as the library checks them (analysis/sensitivity_choices.hpp).
+SensitivityChoiceOptions choices(const SensitivityArgs& args) {
+  SensitivityChoiceOptions c;
+  if (args.bootstrap != k_mode_default) c.bootstrap = args.bootstrap;
+  c.interval = args.interval;
+  c.confidence = args.confidence;
+  c.base = args.base;
+  return c;
 }
 
 // ---------------------------------------------------------------- --saltelli DESIGN.csv --responses Y.csv
 
-/// The interval method of --saltelli: --interval by name; without it the replicates', or the bootstrap when
-/// --bootstrap gives its resamples (the bootstrap named by its option).
-sobol::SaltelliInterval saltelli_interval(const SensitivityArgs& args) {
-  const bool resamples_given = args.bootstrap != k_mode_default;
-  if (args.interval.empty())
-    return resamples_given ? sobol::SaltelliInterval::bootstrap : sobol::SaltelliInterval::replicates;
-  sobol::SaltelliInterval interval;
-  try {
-    interval = sobol::saltelli_interval_from_string(args.interval);
-  } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--interval: {}", e.what()));
-  }
-  if (resamples_given && interval != sobol::SaltelliInterval::bootstrap)
-    throw UserError(fmt::format("--bootstrap {} gives the resamples of --interval bootstrap, not of --interval {}",
-                                args.bootstrap, args.interval));
-  return interval;
-}
-
 void run_saltelli(const SensitivityArgs& args) {
   SaltelliSensitivityOptions options;
-  options.indices.interval = saltelli_interval(args);
+  options.indices.interval = with_option_names(k_option_names, [&] { return saltelli_interval_choice(choices(args)); });
   if (!args.save_model.empty())
     throw UserError("--save-model: a Saltelli design gives indices without a metamodel: nothing to save (use --data)");
   options.design = args.saltelli;
   options.responses_file = args.responses;
   options.responses = split_list(args.outputs);
   options.indices.second_order = args.second_order;
-  options.indices.bootstrap = args.bootstrap == k_mode_default ? 200 : args.bootstrap;
+  options.indices.bootstrap = choices(args).bootstrap.value_or(k_default_saltelli_bootstrap);
   options.indices.confidence = args.confidence;
   options.indices.seed = args.seed;
   options.indices.stop = [] { return StopFlag::raised(); };
   options.warn = warnings_with_option_names(k_option_names);
   options.on_response = [&args](const std::vector<std::string>& inputs, const SaltelliResponseIndices& o) {
     if (args.json == "-") return;
-    fmt::print("{}: Sobol' indices from a Saltelli design, N = {}, {} evaluations\n", o.response, o.indices.base,
-               o.indices.evaluations);
-    fmt::print("{}", sobol_indices_text(o.indices, inputs));
+    fmt::print("{}", saltelli_response_text(o, inputs));
   };
   if (args.json != "-") options.json_file = args.json;
   const SaltelliSensitivity result = with_option_names(k_option_names, [&] { return saltelli_sensitivity(options); });
@@ -147,85 +119,32 @@ void run_saltelli(const SensitivityArgs& args) {
 
 // ---------------------------------------------------------------- --data DATA.csv: metamodels, then indices
 
-/// --bounds "name=low:high[:log],..." -> bounds of the inputs named (the others: the data's range).
-std::map<std::string, sobol::Bounds> parse_bounds(const std::string& text, const std::vector<std::string>& inputs) {
-  std::map<std::string, sobol::Bounds> bounds;
-  for (const std::string& item : split_list(text)) {
-    const std::size_t eq = item.find('=');
-    const std::string name = eq == std::string::npos ? "" : item.substr(0, eq);
-    if (eq == std::string::npos || std::find(inputs.begin(), inputs.end(), name) == inputs.end())
-      throw UserError(fmt::format("--bounds '{}': expected NAME=LOW:HIGH[:log] with NAME one of --inputs", item));
-    std::vector<std::string> parts;
-    std::string rest = item.substr(eq + 1);
-    for (std::size_t c = rest.find(':'); c != std::string::npos; c = rest.find(':')) {
-      parts.push_back(rest.substr(0, c));
-      rest = rest.substr(c + 1);
-    }
-    parts.push_back(rest);
-    if (parts.size() < 2 || parts.size() > 3)
-      throw UserError(fmt::format("--bounds '{}': expected NAME=LOW:HIGH[:log]", item));
-    auto number = [&](const std::string& s) {
-      char* end = nullptr;
-      const double v = std::strtod(s.c_str(), &end);
-      if (s.empty() || *end != '\0') throw UserError(fmt::format("--bounds '{}': '{}' is not a number", item, s));
-      return v;
-    };
-    sobol::Bounds b;
-    b.low = number(parts[0]);
-    b.high = number(parts[1]);
-    if (parts.size() == 3) {
-      try {
-        b.scale = sobol::scale_from_string(parts[2]);
-      } catch (const sobol::InputError& e) {
-        throw UserError(fmt::format("--bounds '{}': {}", item, e.what()));
-      }
-    }
-    if (!bounds.emplace(name, b).second) throw UserError(fmt::format("--bounds: '{}' is given twice", name));
-  }
-  return bounds;
-}
-
 void run_data(const SensitivityArgs& args) {
   DataSensitivityOptions options;
   options.data = args.data;
   options.inputs = split_list(args.inputs);
   options.responses = split_list(args.outputs);
-  options.bounds = parse_bounds(args.bounds, options.inputs);
+  with_option_names(k_option_names, [&] {
+    options.bounds = parse_input_bounds(args.bounds, options.inputs);
+    options.metamodels = choose_metamodels(split_list(args.metamodels));
+    choose_gp({args.gp_kernel, args.gp_trend}, options.models.gp);
+  });
   options.allow_extrapolation = args.allow_extrapolation;
-  for (const std::string& name : split_list(args.metamodels)) {
-    try {
-      options.metamodels.push_back(sobol::metamodel_kind_from_string(name));
-    } catch (const sobol::InputError& e) {
-      throw UserError(fmt::format("--metamodels: {}", e.what()));
-    }
-  }
   options.indices.base = args.base;
   options.indices.second_order = args.second_order;
-  options.indices.bootstrap = args.bootstrap == k_mode_default ? 100 : args.bootstrap;
+  options.indices.bootstrap = choices(args).bootstrap.value_or(k_default_data_refits);
   options.indices.confidence = args.confidence;
   options.indices.seed = args.seed;
   options.indices.stop = [] { return StopFlag::raised(); };
   options.models.gp.seed = args.seed;
   options.models.gp.nugget = args.gp_nugget;
-  try {
-    options.models.gp.kernel = sobol::gp_kernel_from_string(args.gp_kernel);
-  } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--gp-kernel: {}", e.what()));
-  }
-  try {
-    options.models.gp.trend = sobol::gp_trend_from_string(args.gp_trend);
-  } catch (const sobol::InputError& e) {
-    throw UserError(fmt::format("--gp-trend: {}", e.what()));
-  }
   options.repeats = args.repeats;
   options.save_model = args.save_model;
   options.warn = warnings_with_option_names(k_option_names);
   const bool print = args.json != "-";
   options.on_model = [print, &options](const std::string& response, const DataModelIndices& m) {
     if (!print) return;
-    fmt::print("{} ~ {}: R2 {:.4f}, adjusted R2 {:.4f}, Q2_LOO {:.4f} ({} samples)\n", response, m.metamodel,
-               m.quality.r2, m.quality.adjusted_r2, m.quality.q2, m.quality.samples);
-    fmt::print("{}", sobol_indices_text(m.indices, options.inputs));
+    fmt::print("{}", data_model_text(response, m, options.inputs));
   };
   options.on_noise = [print](const NoiseAnalysis& noise) {
     if (print) fmt::print("{}\n", noise_text(noise));
@@ -293,7 +212,7 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
           "(--bootstrap)");
     if (!args->repeats.empty() && args->data.empty())
       throw UserError("--repeats goes with --data: the noise sets the nugget of the metamodels fitted to the data");
-    check_numeric_options(*args);
+    with_option_names(k_option_names, [&] { check_sensitivity_choices(choices(*args)); });
     StopFlag::install();
     try {
       if (!args->saltelli.empty())

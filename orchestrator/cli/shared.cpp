@@ -5,7 +5,6 @@
 
 #include <fmt/core.h>
 
-#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
@@ -57,25 +56,6 @@ CLI::Validator integer_in(long low, long high) {
         return v == std::floor(v) && v >= static_cast<double>(low) && v <= static_cast<double>(high);
       },
       text);
-}
-
-std::string name_options(std::string message, const OptionNames& names) {
-  const auto identifier = [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; };
-  for (const auto& [field, option] : names) {
-    const std::string key = "Options." + field;
-    for (std::size_t at = message.find(key); at != std::string::npos; at = message.find(key, at)) {
-      const std::size_t end = at + key.size();
-      if (end < message.size() && identifier(message[end])) {
-        at = end;
-        continue;
-      }
-      std::size_t begin = at;  // back over the struct's name: "OedometerOptions"
-      while (begin > 0 && identifier(message[begin - 1])) --begin;
-      message.replace(begin, end - begin, option);
-      at = begin + option.size();
-    }
-  }
-  return message;
 }
 
 }  // namespace demsa::cli

@@ -5,6 +5,7 @@
 #include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/log.hpp"
+#include "orchestrator/util/text.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -46,8 +47,10 @@ CLI::Option* add_deprecated_option(CLI::App* sub, const std::string& old_name, c
 using OptionNames = std::vector<std::pair<std::string, std::string>>;
 
 /// `message` with every "SomeOptions.FIELD" of `names` written as its option ("OedometerOptions.box_side = nan" ->
-/// "--box-side = nan"): a user knows the options, not the library's fields.
-std::string name_options(std::string message, const OptionNames& names);
+/// "--box-side = nan"; util::rename_fields): a user knows the options, not the library's fields.
+inline std::string name_options(std::string message, const OptionNames& names) {
+  return util::rename_fields(std::move(message), names);
+}
 
 /// Runs a library call; a util::UserError it throws is thrown again with the fields it names written as their options
 /// (`names`).

@@ -12,6 +12,8 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 
 namespace demsa::exec {
 
@@ -82,7 +84,11 @@ HandCase write_hand_case(const HandCaseOptions& o) {
   if (o.sample)
     request = request_for_sample(config, *o.sample, o.dir.empty() ? default_study_dir(o.study) : o.dir);
   else
-    request = request_from_values(config, o.values);
+    try {
+      request = request_from_values(config, o.values);
+    } catch (const util::UserError& e) {
+      throw util::UserError(fmt::format("HandCaseOptions.values: {}", e.what()));
+    }
   request.demsa_executable = util::self_executable();
   if (find_on_path(config.run.liggghts)) request.liggghts_version = query_liggghts_at(config.run.liggghts).version;
   const std::filesystem::path dir =
@@ -90,6 +96,42 @@ HandCase write_hand_case(const HandCaseOptions& o) {
                        : o.output;
   return {write_case(config, request, dir, o.overwrite ? ExistingCaseFiles::remove : ExistingCaseFiles::refuse),
           o.sample};
+}
+
+std::vector<std::pair<std::string, double>> parse_parameter_values(const std::vector<std::string>& texts) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const std::string& text : texts) {
+    std::size_t start = 0;
+    while (start <= text.size()) {
+      const std::size_t comma = text.find(',', start);
+      const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      start = comma == std::string::npos ? text.size() + 1 : comma + 1;
+      if (item.empty()) continue;
+      const std::size_t eq = item.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw util::UserError(fmt::format("HandCaseOptions.values: '{}' is not name=value", item));
+      const std::string name = item.substr(0, eq), value_text = item.substr(eq + 1);
+      char* end = nullptr;
+      const double value = std::strtod(value_text.c_str(), &end);
+      if (value_text.empty() || *end != '\0' || !std::isfinite(value))
+        throw util::UserError(fmt::format("HandCaseOptions.values: {}: '{}' is not a number", name, value_text));
+      // A name given twice would silently take its last value.
+      for (const auto& [given, first] : out)
+        if (given == name)
+          throw util::UserError(
+              fmt::format("HandCaseOptions.values: {} is given twice ({}={} and {}={}); give each parameter once", name,
+                          name, first, name, value_text));
+      out.emplace_back(name, value);
+    }
+  }
+  return out;
+}
+
+std::string hand_case_text(const HandCase& written) {
+  const CaseSummary& summary = written.summary;
+  return fmt::format("wrote {} ({} particles, dt = {:.4g} s = {:.3f} T_R); run it with: cd {} && ./run.sh\n",
+                     summary.dir.string(), summary.particles, summary.dt, summary.dt / summary.rayleigh_time,
+                     summary.dir.string());
 }
 
 nlohmann::ordered_json hand_case_json(const HandCase& written) {

@@ -30,11 +30,19 @@ struct HandCase {
   std::optional<int> sample;  ///< the case id written, if any
 };
 
+/// Parameter values as text, "name=value" items separated by commas (one text or several, as a repeated option gives
+/// them; empty items are skipped) -> HandCaseOptions::values in the order given. Each value a finite number, each name
+/// once; a mistake is a util::UserError naming HandCaseOptions.values and the item.
+std::vector<std::pair<std::string, double>> parse_parameter_values(const std::vector<std::string>& texts);
+
 /// Writes the case. run.sh names the LIGGGHTS found for the study's rolling model; one without it is a warning (the
 /// case may run elsewhere).
 HandCase write_hand_case(const HandCaseOptions& options);
 
 /// {"dir", "sample", "particles", "dt", "rayleigh_time", "dt_source", "final_dump"}, in that order.
 nlohmann::ordered_json hand_case_json(const HandCase& written);
+
+/// "wrote DIR (N particles, dt = ... s = ... T_R); run it with: cd DIR && ./run.sh".
+std::string hand_case_text(const HandCase& written);
 
 }  // namespace demsa::exec

@@ -62,7 +62,7 @@ void check_overlay_path(const std::filesystem::path& picture, const std::filesys
   namespace fs = std::filesystem;
   std::error_code ec;
   const auto refuse = [&](const std::string& why) {
-    throw util::UserError(fmt::format("--overlay {}: {}", picture.string(), why));
+    throw util::UserError(fmt::format("MeasureReportOptions.overlay {}: {}", picture.string(), why));
   };
   const fs::path parent = picture.parent_path().empty() ? fs::path(".") : picture.parent_path();
   if (!fs::is_directory(parent, ec)) refuse(fmt::format("its folder {} does not exist", parent.string()));
@@ -136,9 +136,9 @@ MeasureReport lab_file_report(const std::filesystem::path& file, const experimen
 
 }  // namespace
 
-MeasureReport measure_report(const std::filesystem::path& path, const std::filesystem::path& photograph,
-                             const std::filesystem::path& overlay) {
-  if (!photograph.empty()) return lab_comparison_report(path, photograph, overlay);
+MeasureReport measure_report(const MeasureReportOptions& options) {
+  const std::filesystem::path& path = options.path;
+  if (!options.lab_file.empty()) return lab_comparison_report(path, options.lab_file, options.overlay);
   if (std::filesystem::is_regular_file(path)) {
     const experiments::Experiment* e = experiments::for_lab_file(path);
     if (!e)

@@ -42,9 +42,9 @@ experiments::LabComparison compare_case_with_lab_file(const std::filesystem::pat
                                                       const std::filesystem::path& file,
                                                       std::filesystem::path picture = {});
 
-/// Refuses (util::UserError naming --overlay), before anything is measured, a `picture` whose folder does not exist or
-/// cannot be written, that is a folder, the laboratory file itself, one of the case's run outputs, or an existing
-/// file that is not a PNG: the overlay is written over it.
+/// Refuses (util::UserError naming MeasureReportOptions.overlay), before anything is measured, a `picture` whose folder
+/// does not exist or cannot be written, that is a folder, the laboratory file itself, one of the case's run outputs, or
+/// an existing file that is not a PNG: the overlay is written over it.
 void check_overlay_path(const std::filesystem::path& picture, const std::filesystem::path& lab_file,
                         const std::filesystem::path& folder, const experiments::Experiment& experiment);
 
@@ -54,11 +54,16 @@ struct MeasureReport {
   std::string json;
 };
 
-/// `demsa measure`: a finished case folder measured (measure_case_described), a regular file measured as a laboratory
-/// file by the experiment whose files have its extension (experiments::for_lab_file), or, with `photograph`, the case
-/// folder against that laboratory file (compare_case_with_lab_file, the two superimposed in `overlay`). Throws
-/// util::UserError for a regular file that no experiment measures.
-MeasureReport measure_report(const std::filesystem::path& path, const std::filesystem::path& photograph = {},
-                             const std::filesystem::path& overlay = {});
+/// What `demsa measure` measures: a finished case folder (measure_case_described), a regular file measured as a
+/// laboratory file by the experiment whose files have its extension (experiments::for_lab_file), or, with `lab_file`,
+/// the case folder against that laboratory file (compare_case_with_lab_file, the two superimposed in `overlay`).
+struct MeasureReportOptions {
+  std::filesystem::path path;      ///< a case folder or a laboratory file
+  std::filesystem::path lab_file;  ///< empty: `path` alone
+  std::filesystem::path overlay;   ///< with `lab_file`: the PNG of the two superimposed (empty: CASE/lab_overlay.png)
+};
+
+/// Measures what the options name. Throws util::UserError for a regular file that no experiment measures.
+MeasureReport measure_report(const MeasureReportOptions& options);
 
 }  // namespace demsa::exec

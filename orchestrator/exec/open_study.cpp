@@ -200,7 +200,10 @@ std::optional<std::string> with_samples(const std::string& text, int samples) {
 
 }  // namespace
 
-int extend_study(const fs::path& dir, int samples) {
+namespace {
+
+/// The design of the study in `dir` grown to `samples` points; the number added.
+int grow_design(const fs::path& dir, int samples) {
   require_study_folder(dir);
   const StudyLock lock(dir);
   const fs::path frozen = dir / k_frozen_study;
@@ -223,7 +226,7 @@ int extend_study(const fs::path& dir, int samples) {
   }
   if (samples < design)
     throw UserError(
-        fmt::format("--samples {}: the study in {} has {} design samples already; a design can grow, not "
+        fmt::format("ExtendOptions.samples {}: the study in {} has {} design samples already; a design can grow, not "
                     "shrink",
                     samples, dir.string(), design));
   const std::optional<std::string> text = with_samples(util::read_file(frozen), samples);
@@ -237,11 +240,31 @@ int extend_study(const fs::path& dir, int samples) {
     after = experiments::load_study(candidate);
   } catch (const UserError& e) {
     fs::remove(candidate);
-    throw UserError(fmt::format("--samples {}: {}", samples, e.what()));
+    throw UserError(fmt::format("ExtendOptions.samples {}: {}", samples, e.what()));
   }
   { Store store = open_study(after, candidate, dir, false); }
   fs::remove(candidate);
   return samples - design;
+}
+
+}  // namespace
+
+Extension extend_study(const ExtendOptions& options) {
+  Extension e;
+  e.dir = options.dir;
+  e.added = grow_design(options.dir, options.samples);
+  const Store store = Store::open_read_only((options.dir / k_store_file).string());
+  e.design_samples = store.design_samples();
+  e.all_samples = store.samples().size();
+  return e;
+}
+
+std::string extension_text(const Extension& e) {
+  if (e.added == 0)
+    return fmt::format("{}: the design has {} samples already; nothing added\n", e.dir.string(), e.design_samples);
+  return fmt::format(
+      "{}: {} design samples added (now {} design samples, {} in all); `demsa run {} --dir {}` runs them\n",
+      e.dir.string(), e.added, e.design_samples, e.all_samples, (e.dir / k_frozen_study).string(), e.dir.string());
 }
 
 }  // namespace demsa::exec

@@ -402,7 +402,7 @@ RunSummary run_study(const RunOptions& options) {
   if ((options.submit_only || options.collect_only) && config.run.executor != ExecutorKind::slurm)
     throw UserError(fmt::format(
         "{}: {} needs [run] executor = \"slurm\"; the local executor runs the cases inside `demsa run` itself",
-        options.study_file.string(), options.submit_only ? "--submit-only" : "collecting submitted runs"));
+        options.study_file.string(), options.submit_only ? "RunOptions.submit_only" : "collecting submitted runs"));
   std::unique_ptr<Executor> executor = make_executor(config.run, dir);
   summary.executor = executor->name();
   const int parallel = config.run.executor == ExecutorKind::local ? local_parallel(config.run, machine_cores()) : 1;

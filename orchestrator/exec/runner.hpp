@@ -107,12 +107,28 @@ std::vector<study::SampleRow> design_extension(const study::StudyConfig& config,
                                                const std::vector<study::SampleRow>& existing, int design_samples,
                                                int added);
 
-/// `demsa extend DIR --samples N`: grows the design of the study in `dir` (its frozen study file) to `samples` design
-/// points, as a raised `[design] samples` does in `demsa run`: the new points are added to the store in one
-/// transaction, design.csv and the frozen study file follow. Nothing runs. Returns the number of points added (0
-/// when the design has that many already). Throws util::UserError for a count below the design's (shrinking), a
-/// count the study file refuses, or a study another demsa holds.
-int extend_study(const std::filesystem::path& dir, int samples);
+/// `demsa extend`: the study folder whose design grows, and to how many design points.
+struct ExtendOptions {
+  std::filesystem::path dir;
+  int samples = 0;  ///< design samples after the extension, at least the design's
+};
+
+/// What an extension did.
+struct Extension {
+  std::filesystem::path dir;
+  int added = 0;                ///< design points added (0: the design had that many already)
+  int design_samples = 0;       ///< design samples now
+  std::size_t all_samples = 0;  ///< every sample of the store now (design, extensions, refinements)
+};
+
+/// Grows the design of the study in `options.dir` (its frozen study file) to `options.samples` design points, as a
+/// raised `[design] samples` does in `demsa run`: the new points are added to the store in one transaction,
+/// design.csv and the frozen study file follow. Nothing runs. Throws util::UserError (naming ExtendOptions.samples)
+/// for a count below the design's (shrinking), a count the study file refuses, or a study another demsa holds.
+Extension extend_study(const ExtendOptions& options);
+
+/// The extension in words: what was added and the `demsa run` that runs it.
+std::string extension_text(const Extension& extension);
 /// The replicate cases of `config` ([design] replicates) at the first P of `samples` (the design): repeats 1 .. R − 1
 /// of each, with cases::replicate_assembly_seed. Empty when the study has none. Throws util::UserError when P exceeds
 /// the design.

@@ -214,7 +214,8 @@ struct Experiment {
 
   // ---------------------------------------------------------------- calibration, report, ParaView
   /// The targets of `demsa calibrate` when none are given: (observable, value) pairs from the settings. Throws
-  /// util::UserError naming the file and the option to give when the settings have none.
+  /// util::UserError naming the file and the field to give (analysis::CalibrateOptions::targets, written
+  /// "CalibrateOptions.targets", which a command line writes as its option) when the settings have none.
   std::vector<std::pair<std::string, double>> (*default_targets)(const study::StudyConfig& config);
   /// The observables a laboratory measures in this experiment (an angle of repose; not a DEM pile's height, which
   /// depends on how much was poured): what `demsa plan` assumes measured when no --observe is given.

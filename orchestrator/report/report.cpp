@@ -78,7 +78,7 @@ std::string format_interval(double value, double low, double high) {
 
 void ReportOptions::validate() const {
   if (dir.empty()) throw UserError("report: a study folder is required");
-  if (sample < -1) throw UserError(fmt::format("--sample {}: must be a sample index >= 0", sample));
+  if (sample < -1) throw UserError(fmt::format("ReportOptions.sample {}: must be a sample index >= 0", sample));
   plot.validate();
 }
 
@@ -441,7 +441,7 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
 int choose_sample(const StudyData& s, int requested) {
   if (requested >= 0) {
     if (!s.observables.count(requested))
-      throw UserError(fmt::format("--sample {}: not a done sample of this study", requested));
+      throw UserError(fmt::format("ReportOptions.sample {}: not a done sample of this study", requested));
     return requested;
   }
   if (s.observables.empty()) return -1;
@@ -472,7 +472,7 @@ int choose_sample(const StudyData& s, int requested) {
   return best;
 }
 
-/// The photograph given with --photograph cannot be set against the case: the report asked for is not written
+/// The photograph given as ReportOptions::lab_file cannot be set against the case: the report asked for is not written
 /// without it (exit 2), unlike a case whose own figures fail, which is a note.
 class PhotographError : public UserError {
  public:
@@ -520,11 +520,14 @@ ReportSection case_section(const StudyData& s, int sample, const Plotter& plotte
     try {
       c = experiment.compare_with_lab_file(folder, experiments::read_case_json(folder), lab_file, overlay);
     } catch (const UserError& e) {
-      throw PhotographError(fmt::format("--photograph {}: against sample {}: {}", lab_file.string(), sample, e.what()));
+      throw PhotographError(
+          fmt::format("ReportOptions.lab_file {}: against sample {}: {}", lab_file.string(), sample, e.what()));
     } catch (const postprocess::ParseError& e) {
-      throw PhotographError(fmt::format("--photograph {}: against sample {}: {}", lab_file.string(), sample, e.what()));
+      throw PhotographError(
+          fmt::format("ReportOptions.lab_file {}: against sample {}: {}", lab_file.string(), sample, e.what()));
     } catch (const postprocess::InputError& e) {
-      throw PhotographError(fmt::format("--photograph {}: against sample {}: {}", lab_file.string(), sample, e.what()));
+      throw PhotographError(
+          fmt::format("ReportOptions.lab_file {}: against sample {}: {}", lab_file.string(), sample, e.what()));
     }
     section.paragraphs.push_back(fmt::format(
         "Against the photograph `{}`: the case and the photograph disagree about material over {:.1f} mm² {} (below: "
@@ -887,8 +890,8 @@ ReportSummary write_study_report(const ReportOptions& options) {
   if (!options.lab_file.empty()) {
     const experiments::Experiment& experiment = experiments::of(s.config);
     if (!experiment.compare_with_lab_file || experiments::for_lab_file(options.lab_file) != &experiment)
-      throw UserError(fmt::format("--photograph {}: not a laboratory file of a {} study", options.lab_file.string(),
-                                  experiment.name));
+      throw UserError(fmt::format("ReportOptions.lab_file {}: not a laboratory file of a {} study",
+                                  options.lab_file.string(), experiment.name));
   }
   ReportSummary summary;
   summary.sample_shown = choose_sample(s, options.sample);
@@ -959,6 +962,27 @@ ReportSummary write_study_report(const ReportOptions& options) {
     write_file_atomically(summary.html, render_html(doc));
   }
   return summary;
+}
+
+nlohmann::json report_summary_json(const ReportSummary& summary) {
+  nlohmann::json j{{"dir", summary.out_dir.string()},
+                   {"markdown", summary.markdown.string()},
+                   {"html", summary.html.string()},
+                   {"sample_shown", summary.sample_shown},
+                   {"notes", summary.notes}};
+  nlohmann::json images = nlohmann::json::array();
+  for (const auto& p : summary.images) images.push_back(p.string());
+  j["images"] = images;
+  return j;
+}
+
+std::string report_summary_text(const ReportSummary& summary) {
+  std::string text = fmt::format("report: {}\n", summary.markdown.string());
+  if (!summary.html.empty()) text += fmt::format("report: {}\n", summary.html.string());
+  text += fmt::format("{} plots (PNG and SVG, each with its gnuplot script) in {}\n", summary.images.size(),
+                      summary.out_dir.string());
+  for (const std::string& note : summary.notes) text += fmt::format("note: {}\n", note);
+  return text;
 }
 
 }  // namespace demsa::report

@@ -21,6 +21,8 @@
 // and render_html() only lay it out.
 #include "orchestrator/report/plot.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -95,5 +97,13 @@ struct ReportSummary {
 
 /// Writes the report of a study. Throws util::UserError when DIR is not a study or has fewer than two done samples.
 ReportSummary write_study_report(const ReportOptions& options);
+
+/// {"dir", "markdown", "html", "sample_shown", "notes", "images"}: what was written, as `demsa report --json` prints
+/// it.
+nlohmann::json report_summary_json(const ReportSummary& summary);
+
+/// What was written in words: "report: FILE" for report.md and report.html, the plots' count and folder, a line per
+/// note.
+std::string report_summary_text(const ReportSummary& summary);
 
 }  // namespace demsa::report

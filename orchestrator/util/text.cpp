@@ -1,5 +1,6 @@
 #include "orchestrator/util/text.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -78,6 +79,25 @@ std::vector<std::string> split(std::string_view text, char separator) {
     fields.emplace_back(text.substr(start, at - start));
     start = at + 1;
   }
+}
+
+std::string rename_fields(std::string message, const std::vector<std::pair<std::string, std::string>>& names) {
+  const auto identifier = [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; };
+  for (const auto& [field, replacement] : names) {
+    const std::string key = "Options." + field;
+    for (std::size_t at = message.find(key); at != std::string::npos; at = message.find(key, at)) {
+      const std::size_t end = at + key.size();
+      if (end < message.size() && identifier(message[end])) {
+        at = end;
+        continue;
+      }
+      std::size_t begin = at;  // back over the struct's name: "OedometerOptions"
+      while (begin > 0 && identifier(message[begin - 1])) --begin;
+      message.replace(begin, end - begin, replacement);
+      at = begin + replacement.size();
+    }
+  }
+  return message;
 }
 
 }  // namespace demsa::util

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace demsa::util {
@@ -29,5 +30,11 @@ std::string shell_quote(std::string_view text);
 
 /// `text` split at every `separator` (an empty text gives one empty field; a trailing separator an empty last one).
 std::vector<std::string> split(std::string_view text, char separator);
+
+/// `message` with every "SomeOptions.FIELD" whose FIELD is a key of `names` written as its value
+/// ("OedometerOptions.box_side = nan" -> "--box-side = nan" for {"box_side", "--box-side"}): the libraries' messages
+/// name the field of their options struct that is wrong; a front end writes it in its own words. A longer field
+/// ("Options.box_side_x") is not a match of "box_side".
+std::string rename_fields(std::string message, const std::vector<std::pair<std::string, std::string>>& names);
 
 }  // namespace demsa::util

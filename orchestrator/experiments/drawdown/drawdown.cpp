@@ -123,8 +123,8 @@ std::vector<std::string> lab_observables(const StudyConfig&) {
 
 std::vector<std::pair<std::string, double>> default_targets(const StudyConfig& config) {
   throw util::UserError(fmt::format(
-      "{}: a draw-down study has no target of its own; give the measured values, e.g. --target slope_angle=38±2 "
-      "--target discharged_mass=0.06±0.002",
+      "{}: a draw-down study has no target of its own; give the measured values, e.g. CalibrateOptions.targets "
+      "slope_angle=38±2 CalibrateOptions.targets discharged_mass=0.06±0.002",
       config.file.string()));
 }
 

@@ -175,8 +175,9 @@ std::vector<std::string> lab_observables(const StudyConfig& config) {
 
 std::vector<std::pair<std::string, double>> default_targets(const StudyConfig& config) {
   throw util::UserError(fmt::format(
-      "{}: a drum study has no target of its own; measure the photograph (demsa measure IMAGE --json) and give its "
-      "values, e.g. --target dynamic_angle=38.2±0.5 --target surface_1=0.0123±0.0005",
+      "{}: a drum study has no target of its own; measure the photograph (as `demsa measure IMAGE` does) and give "
+      "its values, e.g. CalibrateOptions.targets dynamic_angle=38.2±0.5 CalibrateOptions.targets "
+      "surface_1=0.0123±0.0005",
       config.file.string()));
 }
 

@@ -120,8 +120,8 @@ std::vector<std::string> lab_observables(const StudyConfig& config) {
 
 std::vector<std::pair<std::string, double>> default_targets(const StudyConfig& config) {
   throw util::UserError(fmt::format(
-      "{}: an incline study has no target of its own; give the measured angles, e.g. --target roll_angle=12±0.5 "
-      "--target slide_angle=35±1",
+      "{}: an incline study has no target of its own; give the measured angles, e.g. CalibrateOptions.targets "
+      "roll_angle=12±0.5 CalibrateOptions.targets slide_angle=35±1",
       config.file.string()));
 }
 

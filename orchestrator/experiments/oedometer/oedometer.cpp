@@ -143,8 +143,8 @@ std::vector<std::pair<std::string, double>> default_targets(const StudyConfig& c
   const std::vector<double>& measured = o.measured_settlements;
   if (measured.empty())
     throw util::UserError(
-        fmt::format("{}: no --target given and the study has no [oedometer] measured_settlements; give e.g. --target "
-                    "settlement=0.5e-3,1.2e-3,1.9e-3",
+        fmt::format("{}: no CalibrateOptions.targets given and the study has no [oedometer] measured_settlements; give "
+                    "e.g. CalibrateOptions.targets settlement=0.5e-3,1.2e-3,1.9e-3",
                     config.file.string()));
   // Either n-1 values (loads after the first) or n values starting with the first load's 0.
   std::vector<std::pair<std::string, double>> targets;

@@ -50,7 +50,7 @@ TEST(TiedParameters, TheDesignHasOneColumnPerPairAndTheCaseBothValues) {
     cases::request_from_values(c, {{"mu_pw", 0.5}});
     FAIL() << "a tied parameter was set";
   } catch (const UserError& e) {
-    EXPECT_EQ(std::string(e.what()), "--set: mu_pw is tied to mu_pp in study.toml (same_as): set mu_pp");
+    EXPECT_EQ(std::string(e.what()), "mu_pw is tied to mu_pp in study.toml (same_as): set mu_pp");
   }
 }
 
