@@ -255,8 +255,8 @@ double split_rhat(const Eigen::MatrixXd& chains) {
   return std::sqrt(var_plus / w);
 }
 
-ChainDiagnostics diagnose(const EnsembleResult& result, const std::string& steps_option,
-                          const std::string& walkers_option) {
+ChainDiagnostics diagnose(const EnsembleResult& result, const std::string& steps_name,
+                          const std::string& walkers_name) {
   ChainDiagnostics d;
   d.acceptance = result.acceptance;
   const double draws = static_cast<double>(result.steps) * result.walkers;
@@ -279,14 +279,14 @@ ChainDiagnostics diagnose(const EnsembleResult& result, const std::string& steps
   if (!d.converged) {
     std::vector<std::string> why;
     if (!long_enough)
-      why.push_back(fmt::format("{} steps per walker are fewer than 50 τ = {:.0f}: raise --{} to at least {:.0f}",
-                                result.steps, 50.0 * d.max_tau, steps_option, std::ceil(50.0 * d.max_tau)));
+      why.push_back(fmt::format("{} steps per walker are fewer than 50 τ = {:.0f}: raise {} to at least {:.0f}",
+                                result.steps, 50.0 * d.max_tau, steps_name, std::ceil(50.0 * d.max_tau)));
     if (!mixed)
-      why.push_back(fmt::format("split R̂ = {:.3f} >= 1.05: the walkers disagree; raise --{} and --{}", d.max_rhat,
-                                steps_option, walkers_option));
+      why.push_back(fmt::format("split R̂ = {:.3f} >= 1.05: the walkers disagree; raise {} and {}", d.max_rhat,
+                                steps_name, walkers_name));
     if (d.acceptance < 0.1)
-      why.push_back(fmt::format("acceptance {:.2f} is low (a narrow or multimodal posterior): raise --{}", d.acceptance,
-                                walkers_option));
+      why.push_back(fmt::format("acceptance {:.2f} is low (a narrow or multimodal posterior): raise {}", d.acceptance,
+                                walkers_name));
     for (size_t i = 0; i < why.size(); ++i) d.advice += (i ? "; " : "") + why[i];
   }
   return d;

@@ -100,8 +100,9 @@ struct ChainDiagnostics {
   std::string advice;  ///< what to change when not converged ("" when converged)
 };
 
-/// The diagnostics of a run. `steps_option`/`walkers_option` name the options the advice refers to.
-ChainDiagnostics diagnose(const EnsembleResult& result, const std::string& steps_option = "steps",
-                          const std::string& walkers_option = "walkers");
+/// The diagnostics of a run. `steps_name`/`walkers_name` are what the advice calls the two knobs ("raise the steps
+/// per walker to at least 165"); a front end may name its own options instead.
+ChainDiagnostics diagnose(const EnsembleResult& result, const std::string& steps_name = "the steps per walker",
+                          const std::string& walkers_name = "the walkers");
 
 }  // namespace demsa::sobol

@@ -203,7 +203,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
     sampler.start = sobol::highest_density_start(points, density(points), sampler.walkers_for(d));
   }
   sobol::EnsembleResult r = sobol::sample_ensemble(density, lower, upper, sampler);
-  sobol::ChainDiagnostics diag = sobol::diagnose(r, "steps", "walkers");
+  sobol::ChainDiagnostics diag = sobol::diagnose(r);
   if (options.steps == 0) {
     // Automatic length, emcee's practice (Foreman-Mackey et al. 2013, §3; the emcee documentation's
     // "Autocorrelation analysis" tutorial): a chain of at least 50 integrated autocorrelation times, the burn-in a
@@ -221,7 +221,7 @@ PosteriorOutcome calibrate_posterior(const PosteriorOptions& options) {
       // A stream of its own for each run (splitmix64's increment), the reported seed staying the first.
       sampler.seed = seed + static_cast<std::uint64_t>(run) * 0x9E3779B97F4A7C15ULL;
       r = sobol::sample_ensemble(density, lower, upper, sampler);
-      diag = sobol::diagnose(r, "steps", "walkers");
+      diag = sobol::diagnose(r);
       outcome.auto_steps.push_back(r.steps);
     }
     if (!diag.converged && r.steps >= cap)

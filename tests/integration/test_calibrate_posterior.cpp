@@ -127,7 +127,7 @@ TEST(CalibratePosteriorCli, TextOutputPrintsTheTableAndAShortChainFailsTheCheckU
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.out.find("identified"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("UNCONVERGED: 20 steps per walker are fewer than 50 τ"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("raise --steps"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("raise the steps per walker"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("CHECK FAILED: the chain has not converged; this posterior is not an answer"), std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("correlations with |r| >= 0.3"), std::string::npos) << r.out;

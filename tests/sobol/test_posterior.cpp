@@ -121,7 +121,7 @@ TEST(Posterior, TooShortAChainIsReportedAsUnconvergedWithWhatToChange) {
   o.burn_in = 0;
   const ChainDiagnostics d = diagnose(sample_ensemble(posterior_function(posterior), {0.0, 0.0}, {1.0, 1.0}, o));
   EXPECT_FALSE(d.converged);
-  EXPECT_NE(d.advice.find("raise --steps"), std::string::npos) << d.advice;
+  EXPECT_NE(d.advice.find("raise the steps per walker"), std::string::npos) << d.advice;
 }
 
 TEST(Posterior, WalkersStartedAtTheDensestPointsMissALocalModeThatTrapsAUniformStart) {

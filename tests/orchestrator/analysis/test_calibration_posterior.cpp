@@ -75,7 +75,7 @@ TEST(PosteriorCheck, AChainThatHasNotConvergedFailsTheCheckAndSaysWhatToRaise) {
   const std::string& problem = short_chain.problems.front();
   EXPECT_EQ(problem.rfind("UNCONVERGED: ", 0), 0u) << problem;
   EXPECT_NE(problem.find("20 steps per walker are fewer than 50 τ"), std::string::npos) << problem;
-  EXPECT_NE(problem.find("raise --steps"), std::string::npos) << problem;
+  EXPECT_NE(problem.find("raise the steps per walker"), std::string::npos) << problem;
   // Everything is written all the same, and posterior.json carries the verdict.
   EXPECT_TRUE(fs::exists(dir / "calibration" / "posterior_samples.csv"));
   const nlohmann::json j = nlohmann::json::parse(read_file(dir / "calibration" / "posterior.json"));
