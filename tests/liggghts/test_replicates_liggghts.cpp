@@ -29,7 +29,7 @@ seed = 2024
 
 [design]
 method = "lhs"
-samples = 3
+samples = 4
 replicates = { points = 1, repeats = 2 }
 
 [parameters]
