@@ -433,6 +433,9 @@ DataSensitivity data_sensitivity(const DataSensitivityOptions& options) {
       try {
         // Unlike the study analysis, a model that does not fit is the user's to fix: its error names the line.
         if (!fit.ok()) std::rethrow_exception(fit.exception);
+        // As the study analysis (analysis/fit.hpp): no index from a fit whose leave-one-out error cannot be measured.
+        if (const std::string why = unmeasurable_error(fit.quality); !why.empty())
+          throw UserError(data.file, 0, fmt::format("output '{}', metamodel {}: {}", output, model.metamodel, why));
         model.indices = sobol::metamodel_sobol(*fit.model, index_options);
         require_finite_indices(model.indices, inputs);
       } catch (const sobol::DataError& e) {

@@ -113,5 +113,31 @@ TEST(Sensitivity, MetamodelOfALinearFunctionGivesItsExactIndices) {
   }
 }
 
+TEST(Sensitivity, AMetamodelWhoseQ2IsNotComputableGivesNoIndicesButAnErrorNamingTheFile) {
+  TempDir dir;
+  // rsm2 of two inputs has 6 terms: on 6 samples it passes through each, and no sample can be left out.
+  Eigen::MatrixXd data(6, 3);
+  const double a[] = {0.0, 1.0, 0.0, 1.0, 0.5, 0.2}, b[] = {0.0, 0.0, 1.0, 1.0, 0.5, 0.9};
+  for (int i = 0; i < 6; ++i) data.row(i) << a[i], b[i], 2 * a[i] + b[i] + 0.1 * a[i] * b[i];
+  util::write_csv(dir / "data.csv", {"a", "b", "y"}, data);
+  DataSensitivityOptions options;
+  options.data = (dir / "data.csv").string();
+  options.inputs = {"a", "b"};
+  options.responses = {"y"};
+  options.metamodels = {sobol::MetamodelKind::rsm2};
+  options.indices.bootstrap = 0;
+  try {
+    data_sensitivity(options);
+    FAIL() << "indices of a fit whose leave-one-out error cannot be measured";
+  } catch (const UserError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("data.csv"), std::string::npos) << what;
+    EXPECT_NE(what.find("output 'y', metamodel rsm2"), std::string::npos) << what;
+    EXPECT_NE(what.find("Q²"), std::string::npos) << what;
+  }
+  options.metamodels = {sobol::MetamodelKind::rsm1};  // 3 terms on 6 samples: measured
+  EXPECT_EQ(data_sensitivity(options).outputs.size(), 1u);
+}
+
 }  // namespace
 }  // namespace demsa::test
