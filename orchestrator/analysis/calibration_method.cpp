@@ -1,5 +1,6 @@
 #include "orchestrator/analysis/calibration_method.hpp"
 
+#include "orchestrator/analysis/target_syntax.hpp"
 #include "orchestrator/util/errors.hpp"
 
 #include <fmt/core.h>
@@ -43,6 +44,23 @@ CalibrationMethod CalibrationMethodOptions::choose() const {
     return CalibrationMethod::bayes;
   }
   throw UserError(fmt::format("CalibrationMethodOptions.method '{}': expected auto, bayes or optimize", method));
+}
+
+CalibrationMethodOptions read_calibration_targets(const std::vector<std::string>& targets,
+                                                  const std::vector<std::string>& target_files,
+                                                  const std::vector<std::string>& weights) {
+  CalibrationMethodOptions options;
+  for (const std::string& text : targets)
+    for (const MeasuredTarget& t : parse_measured("CalibrationMethodOptions.targets", text))
+      options.targets.push_back(t);
+  for (const std::string& text : weights) {
+    const auto [label, weight] = parse_weight("CalibrationMethodOptions.weights", text);
+    options.weights[label] = weight;
+  }
+  for (const std::string& text : target_files)
+    for (const MeasuredTarget& t : read_target_file("CalibrationMethodOptions.target_files", text))
+      options.target_files.push_back(t);
+  return options;
 }
 
 bool calibration_failed(const CalibrationOutcome& outcome, bool verify) {

@@ -13,6 +13,7 @@
 #include "orchestrator/analysis/measured_target.hpp"
 
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -27,10 +28,18 @@ struct CalibrationMethodOptions {
   std::vector<MeasuredTarget> targets;       ///< the values given one by one (NAME=V[±E])
   std::vector<MeasuredTarget> target_files;  ///< the values read from curve files (bayes only)
   int verify = -1;                           ///< -1: no verification; 0: the optimum or the MAP; K: and K draws
+  std::map<std::string, double> weights;     ///< by target label
   /// The method `method` names, auto resolved; throws util::UserError naming the field when that method refuses
   /// the combination (optimize: several studies, verify K > 0, a target with an uncertainty; bayes: no target).
   CalibrationMethod choose() const;
 };
+
+/// The measured values and weights as text (target_syntax.hpp) in the options: `targets` "NAME=V[±E]",
+/// `target_files` "NAME=FILE.csv", `weights` "NAME=W"; errors name CalibrationMethodOptions.targets, .target_files
+/// and .weights with the item. The method, the studies and verify keep their defaults.
+CalibrationMethodOptions read_calibration_targets(const std::vector<std::string>& targets,
+                                                  const std::vector<std::string>& target_files,
+                                                  const std::vector<std::string>& weights);
 
 /// A target the study cannot produce, or a verification that was asked for (`verify`) and did not give
 /// measurements, fails the check of an optimization.

@@ -3,7 +3,6 @@
 #include "orchestrator/analysis/calibration_method.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
-#include "orchestrator/cli/targets.hpp"
 #include "orchestrator/exec/point_run.hpp"
 #include "orchestrator/report/posterior_plots.hpp"
 #include "orchestrator/study/folder.hpp"
@@ -69,14 +68,7 @@ int do_bayes(CalibrateArgs& args) {
   std::vector<std::unique_ptr<study::StudyLock>> locks;
   for (const std::filesystem::path& d : p.dirs) locks.push_back(study::hold_study_for_results(d));
   const PosteriorOutcome outcome = with_option_names(k_option_names, [&] { return calibrate_posterior(p); });
-  std::string plot_note;
-  if (!args.no_plots) {
-    try {
-      report::plot_posterior(report::Plotter(), outcome, outcome.out / "posterior_samples.csv", outcome.out);
-    } catch (const UserError& e) {
-      plot_note = fmt::format("no plots: {}", e.what());
-    }
-  }
+  const std::string plot_note = args.no_plots ? "" : report::plot_posterior_note(outcome);
   if (args.json)
     fmt::print("{}", posterior_to_json(outcome));
   else
@@ -86,18 +78,15 @@ int do_bayes(CalibrateArgs& args) {
 }
 
 int do_calibrate(CalibrateArgs& args) {
-  for (const std::string& text : args.targets)
-    for (const MeasuredTarget& t : parse_measured("--target", text)) args.options.targets.push_back(t);
-  for (const std::string& text : args.weights) {
-    const auto [label, weight] = parse_weight(text);
-    args.options.weights[label] = weight;
-  }
-  CalibrationMethodOptions choice{args.method, args.dirs.size(), args.options.targets, {}, args.verify};
-  for (const std::string& text : args.target_files)
-    for (const MeasuredTarget& t : read_target_file(text)) choice.target_files.push_back(t);
+  CalibrationMethodOptions choice = with_option_names(
+      k_option_names, [&] { return read_calibration_targets(args.targets, args.target_files, args.weights); });
+  choice.method = args.method;
+  choice.studies = args.dirs.size();
+  choice.verify = args.verify;
+  args.options.targets = choice.targets;
+  args.options.weights = args.posterior.weights = choice.weights;
   args.posterior.targets = choice.targets;
   args.posterior.targets.insert(args.posterior.targets.end(), choice.target_files.begin(), choice.target_files.end());
-  args.posterior.weights = args.options.weights;
   const CalibrationMethod method = with_option_names(k_option_names, [&] { return choice.choose(); });
   return method == CalibrationMethod::optimize ? do_optimize(args) : do_bayes(args);
 }
