@@ -15,6 +15,19 @@ namespace demsa::analysis {
 using util::UserError;
 
 void check_sensitivity_choices(const SensitivityChoiceOptions& options) {
+  if (options.design.empty() == options.data.empty())
+    throw UserError(
+        "give exactly one of SensitivityChoiceOptions.design DESIGN.csv (with "
+        "SaltelliSensitivityOptions.responses_file) or SensitivityChoiceOptions.data DATA.csv");
+  if (!options.interval.empty() && !options.data.empty())
+    throw UserError(
+        "SensitivityChoiceOptions.interval goes with SensitivityChoiceOptions.design: the intervals of "
+        "SensitivityChoiceOptions.data are design-bootstrap refits of each metamodel "
+        "(SensitivityChoiceOptions.bootstrap)");
+  if (!options.repeats.empty() && options.data.empty())
+    throw UserError(
+        "SensitivityChoiceOptions.repeats goes with SensitivityChoiceOptions.data: the noise sets the nugget of the "
+        "metamodels fitted to the data");
   if (options.bootstrap && *options.bootstrap < 0)
     throw UserError(
         fmt::format("SensitivityChoiceOptions.bootstrap {}: must be >= 0 (0: no intervals)", *options.bootstrap));
@@ -31,6 +44,13 @@ void check_sensitivity_choices(const SensitivityChoiceOptions& options) {
         fmt::format("SensitivityChoiceOptions.base {}: at most 2^20 = {} (the indices' QMC design holds N (2d + 2) "
                     "points in memory)",
                     options.base, sobol::k_max_base_samples));
+  if (!options.design.empty()) {
+    saltelli_interval_choice(options);
+    if (!options.save_model.empty())
+      throw UserError(
+          "SensitivityChoiceOptions.save_model: a Saltelli design gives indices without a metamodel: nothing to save "
+          "(use SensitivityChoiceOptions.data)");
+  }
 }
 
 sobol::SaltelliInterval saltelli_interval_choice(const SensitivityChoiceOptions& options) {

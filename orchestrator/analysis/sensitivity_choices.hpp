@@ -26,9 +26,15 @@ struct SensitivityChoiceOptions {
   std::string interval;
   double confidence = 0.95;  ///< in (0, 1)
   int base = 16384;          ///< QMC base sample size of the metamodels' indices, 16 .. sobol::k_max_base_samples
+  /// The path, exactly one of the two: a Saltelli design's file (SaltelliSensitivityOptions.design) or the data's
+  /// (DataSensitivityOptions.data).
+  std::string design, data;
+  std::string repeats;     ///< the data's repeated runs (DataSensitivityOptions.repeats): data path only
+  std::string save_model;  ///< where fitted metamodels go (DataSensitivityOptions.save_model): data path only
 };
 
-/// Checks the numbers of the options (bootstrap, confidence, base).
+/// Checks which options go together (one path of design and data; interval with the design, repeats and save_model
+/// with the data), the numbers (bootstrap, confidence, base) and the design's interval (saltelli_interval_choice).
 void check_sensitivity_choices(const SensitivityChoiceOptions& options);
 
 /// The interval method of a Saltelli design: `interval` by name; without it the replicates', or the bootstrap when

@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -377,6 +378,17 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
     write_text(summary.out_dir / fmt::format("sobol_{}.json", model_name), per_obs.dump(2) + "\n");
   }
   return summary;
+}
+
+int balanced_base_samples(int base, const std::function<void(const std::string&)>& warn) {
+  if (base <= 0 || std::has_single_bit(static_cast<unsigned>(base))) return base;
+  const int balanced = static_cast<int>(std::bit_ceil(static_cast<unsigned>(base)));
+  if (warn)
+    warn(fmt::format(
+        "AnalyzeOptions.base_samples {} is not a power of two: rounded up to {} (a scrambled Sobol' sequence is "
+        "balanced only at powers of two; Saltelli 2010 takes N = 2^k)",
+        base, balanced));
+  return balanced;
 }
 
 std::string analysis_failure(const AnalysisSummary& summary) {

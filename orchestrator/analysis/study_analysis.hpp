@@ -82,6 +82,12 @@ std::string unmeasurable_text(const sobol::MetamodelSummary& quality);
 /// samples are done.
 AnalysisSummary analyze_study(const AnalyzeOptions& options);
 
+/// A QMC base N as a scrambled Sobol' sequence is balanced: `base` rounded up to a power of two, as [analysis]
+/// base_samples and `design saltelli --base` are (Owen 1997; the error at N = 10000 against 8192:
+/// docs/explanation/benchmarks.md). `warn` is told when it rounds, naming AnalyzeOptions.base_samples. A base <= 0
+/// (the study's value) is returned as it is.
+int balanced_base_samples(int base, const std::function<void(const std::string&)>& warn);
+
 /// Why nothing was analysed ("" when at least one metamodel of one observable gave indices): one line per observable
 /// with its error, or with the errors of its metamodels.
 std::string analysis_failure(const AnalysisSummary& summary);

@@ -13,8 +13,6 @@
 
 #include <fmt/core.h>
 
-#include <bit>
-
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,16 +39,7 @@ int do_analyze(const AnalyzeArgs& args) {
   options.dir = args.dir;
   options.metamodels = args.models;
   options.bootstrap = args.bootstrap;
-  options.base_samples = args.base;
-  if (args.base > 0 && !std::has_single_bit(static_cast<unsigned>(args.base))) {
-    // As for [analysis] base_samples and `design saltelli --base`: a scrambled Sobol' sequence is balanced only at
-    // powers of two (Owen 1997; the error at N = 10000 against 8192: docs/explanation/benchmarks.md).
-    options.base_samples = static_cast<int>(std::bit_ceil(static_cast<unsigned>(args.base)));
-    log::warn(
-        "--base {} is not a power of two: rounded up to {} (a scrambled Sobol' sequence is balanced only at "
-        "powers of two; Saltelli 2010 takes N = 2^k)",
-        args.base, options.base_samples);
-  }
+  options.base_samples = balanced_base_samples(args.base, warnings_with_option_names({{"base_samples", "--base"}}));
   if (args.second_order) options.second_order = 1;
   if (args.no_second_order) options.second_order = 0;
   // A `demsa run` holding the study would leave an analysis of the samples done so far: refused, as a second run is.

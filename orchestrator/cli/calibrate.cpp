@@ -1,16 +1,8 @@
 // `demsa calibrate` (docs/reference/command-line.md): what measured values say about the parameters, on the studies'
-// metamodels.
-//   --method bayes:    the posterior (analysis/calibration_posterior.hpp) of one or several studies, its
-//                      diagnostics and plots under DIR/calibration/; --verify K runs the MAP and K draws.
-//   --method optimize: the one point that best matches (analysis/calibration.hpp), --verify runs it.
-//   --method auto (default): bayes when the measurements carry an uncertainty (a target with ±, a --target-file)
-//                      or several studies are given, optimize otherwise: a likelihood needs the measurement's
-//                      spread, and a target without one states no more than the point it asks for.
-#include "orchestrator/analysis/calibration.hpp"
-#include "orchestrator/analysis/calibration_posterior.hpp"
+// metamodels. The method (bayes, optimize or auto) and the combinations each refuses: analysis/calibration_method.hpp.
+#include "orchestrator/analysis/calibration_method.hpp"
 #include "orchestrator/cli/commands.hpp"
 #include "orchestrator/cli/shared.hpp"
-#include "orchestrator/cli/targets.hpp"
 #include "orchestrator/exec/point_run.hpp"
 #include "orchestrator/report/posterior_plots.hpp"
 #include "orchestrator/study/folder.hpp"
@@ -19,7 +11,6 @@
 
 #include <fmt/core.h>
 
-#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -43,7 +34,8 @@ struct CalibrateArgs {
 };
 
 /// The library's fields as the options that set them.
-const OptionNames k_option_names{{"targets", "--target"},  {"weights", "--weight"},
+const OptionNames k_option_names{{"targets", "--target"},  {"target_files", "--target-file"},
+                                 {"weights", "--weight"},  {"method", "--method"},
                                  {"walkers", "--walkers"}, {"steps", "--steps"},
                                  {"burn_in", "--burn-in"}, {"verify", "--verify"},
                                  {"model", "--model"},     {"global_evaluations", "--global-evaluations"},
@@ -51,16 +43,6 @@ const OptionNames k_option_names{{"targets", "--target"},  {"weights", "--weight
                                  {"local", "--local"}};
 
 int do_optimize(CalibrateArgs& args) {
-  if (args.dirs.size() != 1)
-    throw UserError(
-        fmt::format("--method optimize: one study folder, not {} (several studies: --method bayes)", args.dirs.size()));
-  if (args.verify > 0)
-    throw UserError(
-        fmt::format("--verify {}: --method optimize verifies its one optimum (give --verify alone)", args.verify));
-  for (const MeasuredTarget& t : args.options.targets)
-    if (t.sd > 0)
-      throw UserError(fmt::format(
-          "--target '{}': --method optimize matches a value; an uncertainty is for --method bayes", t.text()));
   args.options.dir = args.dirs.front();
   args.options.verify = args.verify >= 0;
   args.options.run_point = exec::run_point;
@@ -72,15 +54,11 @@ int do_optimize(CalibrateArgs& args) {
   else
     fmt::print("{}", calibration_text(outcome));
   for (const std::string& problem : outcome.problems) log::warn("check failed: {}", problem);
-  // A target the study cannot produce, or a verification that was asked for and did not give measurements, is a
-  // failed check.
-  return (args.options.verify && !outcome.verified) || !outcome.problems.empty() ? k_exit_check_failed : k_exit_ok;
+  return calibration_failed(outcome, args.options.verify) ? k_exit_check_failed : k_exit_ok;
 }
 
 int do_bayes(CalibrateArgs& args) {
   PosteriorOptions& p = args.posterior;
-  if (p.targets.empty())
-    throw UserError("calibrate --method bayes: give the measured values with --target NAME=V±E or --target-file");
   for (const std::string& d : args.dirs) p.dirs.emplace_back(d);
   p.model = args.options.model;
   p.out = args.out;
@@ -90,44 +68,27 @@ int do_bayes(CalibrateArgs& args) {
   std::vector<std::unique_ptr<study::StudyLock>> locks;
   for (const std::filesystem::path& d : p.dirs) locks.push_back(study::hold_study_for_results(d));
   const PosteriorOutcome outcome = with_option_names(k_option_names, [&] { return calibrate_posterior(p); });
-  std::string plot_note;
-  if (!args.no_plots) {
-    try {
-      report::plot_posterior(report::Plotter(), outcome, outcome.out / "posterior_samples.csv", outcome.out);
-    } catch (const UserError& e) {
-      plot_note = fmt::format("no plots: {}", e.what());
-    }
-  }
+  const std::string plot_note = args.no_plots ? "" : report::plot_posterior_note(outcome);
   if (args.json)
     fmt::print("{}", posterior_to_json(outcome));
   else
     fmt::print("{}{}", posterior_text(outcome), plot_note.empty() ? "" : plot_note + "\n");
   for (const std::string& problem : outcome.problems) log::warn("check failed: {}", problem);
-  // A chain that has not converged, a measurement the posterior cannot produce, or a verification run that failed,
-  // is a failed check.
-  bool failed = !outcome.problems.empty();
-  for (const VerifyPoint& v : outcome.verification) failed = failed || !v.errors.empty();
-  return failed ? k_exit_check_failed : k_exit_ok;
+  return posterior_failed(outcome) ? k_exit_check_failed : k_exit_ok;
 }
 
 int do_calibrate(CalibrateArgs& args) {
-  for (const std::string& text : args.targets)
-    for (const MeasuredTarget& t : parse_measured("--target", text)) args.options.targets.push_back(t);
-  for (const std::string& text : args.weights) {
-    const auto [label, weight] = parse_weight(text);
-    args.options.weights[label] = weight;
-  }
-  args.posterior.targets = args.options.targets;
-  for (const std::string& text : args.target_files)
-    for (const MeasuredTarget& t : read_target_file(text)) args.posterior.targets.push_back(t);
-  args.posterior.weights = args.options.weights;
-  const bool uncertain = std::any_of(args.posterior.targets.begin(), args.posterior.targets.end(),
-                                     [](const MeasuredTarget& t) { return t.sd > 0; });
-  std::string method = args.method;
-  if (method == "auto") method = args.dirs.size() > 1 || uncertain ? "bayes" : "optimize";
-  if (method == "optimize") return do_optimize(args);
-  if (method == "bayes") return do_bayes(args);
-  throw UserError(fmt::format("--method '{}': expected auto, bayes or optimize", args.method));
+  CalibrationMethodOptions choice = with_option_names(
+      k_option_names, [&] { return read_calibration_targets(args.targets, args.target_files, args.weights); });
+  choice.method = args.method;
+  choice.studies = args.dirs.size();
+  choice.verify = args.verify;
+  args.options.targets = choice.targets;
+  args.options.weights = args.posterior.weights = choice.weights;
+  args.posterior.targets = choice.targets;
+  args.posterior.targets.insert(args.posterior.targets.end(), choice.target_files.begin(), choice.target_files.end());
+  const CalibrationMethod method = with_option_names(k_option_names, [&] { return choice.choose(); });
+  return method == CalibrationMethod::optimize ? do_optimize(args) : do_bayes(args);
 }
 
 }  // namespace

@@ -15,7 +15,6 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -27,8 +26,6 @@ using namespace demsa::exec;
 using namespace demsa::analysis;
 
 namespace {
-
-namespace fs = std::filesystem;
 
 struct RunArgs {
   std::string study;
@@ -44,6 +41,10 @@ struct RunArgs {
   double progress_interval = 10.0;
 };
 
+/// The library's fields as the options that set them.
+const OptionNames k_option_names{
+    {"submit_only", "--submit-only"}, {"dry_run", "--dry-run"}, {"json", "--json"}, {"probe", "--probe"}};
+
 int do_run(const RunArgs& args) {
   RunOptions options;
   options.study_file = args.study;
@@ -54,17 +55,12 @@ int do_run(const RunArgs& args) {
   options.progress_interval = args.progress_interval;
   options.submit_only = args.submit_only;
   options.cancel_on_interrupt = args.cancel_on_interrupt;
-  if (args.submit_only && args.dry_run)
-    throw UserError("--submit-only and --dry-run: a dry run submits nothing; use one of them");
-  if (args.json && !args.dry_run) throw UserError("--json goes with --dry-run: the estimate of a study as JSON");
-  if (args.probe != 0.0 && !args.dry_run)
-    throw UserError("--probe goes with --dry-run: a short run of the first case that measures the study's own rate");
-  if (args.probe != 0.0) check_probe_budget(args.probe);
+  const RunReportOptions report_options{args.json, args.probe};
+  with_option_names(k_option_names, [&] { report_options.validate(options); });
   if (::isatty(STDIN_FILENO) == 1)
     options.ask_cancel = [](int in_flight) { return ask_cancel_on_interrupt(in_flight, std::cin, std::cerr); };
-  if (!fs::exists(options.study_file)) throw UserError(fmt::format("{}: no such study file", args.study));
   StopFlag::install();
-  const RunSummary summary = with_option_names({{"submit_only", "--submit-only"}}, [&] { return run_study(options); });
+  const RunSummary summary = with_option_names(k_option_names, [&] { return run_study(options); });
   if (!args.json) fmt::print("{}", remeasure_text(summary));
   if (summary.dry_run) {
     const DryRunReport report = dry_run_report(args.study, summary, args.probe, [&args](const std::string& note) {

@@ -89,6 +89,10 @@ SensitivityChoiceOptions choices(const SensitivityArgs& args) {
   c.interval = args.interval;
   c.confidence = args.confidence;
   c.base = args.base;
+  c.design = args.saltelli;
+  c.data = args.data;
+  c.repeats = args.repeats;
+  c.save_model = args.save_model;
   return c;
 }
 
@@ -97,8 +101,6 @@ SensitivityChoiceOptions choices(const SensitivityArgs& args) {
 void run_saltelli(const SensitivityArgs& args) {
   SaltelliSensitivityOptions options;
   options.indices.interval = with_option_names(k_option_names, [&] { return saltelli_interval_choice(choices(args)); });
-  if (!args.save_model.empty())
-    throw UserError("--save-model: a Saltelli design gives indices without a metamodel: nothing to save (use --data)");
   options.design = args.saltelli;
   options.responses_file = args.responses;
   options.responses = split_list(args.outputs);
@@ -204,14 +206,6 @@ void register_sensitivity_command(CLI::App& app, CliState& state) {
                 "Estimate a nugget in the gp metamodel (noisy simulators such as DEM: it then smooths, not "
                 "interpolates)");
   sub->callback([args, &state] {
-    if (!args->saltelli.empty() == !args->data.empty())
-      throw UserError("give exactly one of --saltelli DESIGN.csv (with --responses) or --data DATA.csv");
-    if (!args->interval.empty() && !args->data.empty())
-      throw UserError(
-          "--interval goes with --saltelli: the intervals of --data are design-bootstrap refits of each metamodel "
-          "(--bootstrap)");
-    if (!args->repeats.empty() && args->data.empty())
-      throw UserError("--repeats goes with --data: the noise sets the nugget of the metamodels fitted to the data");
     with_option_names(k_option_names, [&] { check_sensitivity_choices(choices(*args)); });
     StopFlag::install();
     try {

@@ -4,12 +4,30 @@
 #include "orchestrator/exec/liggghts_locator.hpp"
 #include "orchestrator/exec/progress.hpp"
 #include "orchestrator/experiments/registry.hpp"
+#include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+
 namespace demsa::exec {
+
+void RunReportOptions::validate(const RunOptions& run) const {
+  using util::UserError;
+  if (run.submit_only && run.dry_run)
+    throw UserError("RunOptions.submit_only and RunOptions.dry_run: a dry run submits nothing; use one of them");
+  if (json && !run.dry_run)
+    throw UserError("RunReportOptions.json goes with RunOptions.dry_run: the estimate of a study as JSON");
+  if (probe != 0.0 && !run.dry_run)
+    throw UserError(
+        "RunReportOptions.probe goes with RunOptions.dry_run: a short run of the first case that measures the "
+        "study's own rate");
+  if (probe != 0.0) check_probe_budget(probe);
+  if (!std::filesystem::exists(run.study_file))
+    throw UserError(fmt::format("{}: no such study file", run.study_file.string()));
+}
 
 std::string remeasure_text(const RunSummary& summary) {
   if (!summary.remeasured) return {};

@@ -18,6 +18,16 @@ std::string run_summary_text(const RunSummary& summary, const std::string& study
 /// measured again (or, for a dry run, that `demsa run` will); "" otherwise.
 std::string remeasure_text(const RunSummary& summary);
 
+/// What `demsa run` reports beside the run itself (RunOptions): a dry run's estimate as JSON, its probe.
+struct RunReportOptions {
+  bool json = false;   ///< a dry run's estimate as JSON (DryRunReport::json)
+  double probe = 0.0;  ///< [s] a dry run's probe of the first case (dry_run_report); 0: none
+  /// Throws util::UserError naming the fields when `run` and these do not go together: json or probe without
+  /// RunOptions.dry_run, RunOptions.submit_only with it, a probe too short to measure (check_probe_budget), or a
+  /// study file that does not exist.
+  void validate(const RunOptions& run) const;
+};
+
 struct DryRunReport {
   std::string text;  ///< "STUDY: study valid; ..." and the estimate (estimate_text)
   std::string json;  ///< the study, its folder, samples, cases and the estimate (estimate_json)

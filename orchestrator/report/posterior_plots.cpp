@@ -1,6 +1,7 @@
 #include "orchestrator/report/posterior_plots.hpp"
 
 #include "orchestrator/util/csv.hpp"
+#include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
@@ -190,6 +191,15 @@ PlotFiles plot_plan(const Plotter& plotter, const analysis::PlanOutcome& plan, c
   if (plan.recommended >= 0)
     chart.recommended_label = analysis::plan_mark(plan, static_cast<std::size_t>(plan.recommended));
   return plot_plan_widths(plotter, chart, folder / "plan_widths");
+}
+
+std::string plot_posterior_note(const PosteriorOutcome& outcome) {
+  try {
+    plot_posterior(Plotter(), outcome, outcome.out / "posterior_samples.csv", outcome.out);
+  } catch (const util::UserError& e) {
+    return fmt::format("no plots: {}", e.what());
+  }
+  return "";
 }
 
 }  // namespace demsa::report

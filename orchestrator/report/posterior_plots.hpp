@@ -8,6 +8,7 @@
 #include "orchestrator/report/plot.hpp"
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace demsa::report {
@@ -22,6 +23,10 @@ struct PosteriorFigures {
 /// draws in `samples` (posterior_samples.csv).
 PosteriorFigures plot_posterior(const Plotter& plotter, const analysis::PosteriorOutcome& outcome,
                                 const std::filesystem::path& samples, const std::filesystem::path& folder);
+
+/// plot_posterior with gnuplot into the posterior's own folder (outcome.out, from its posterior_samples.csv), for a
+/// front end that says what it did: "" when the figures were written, else "no plots: " and why (no gnuplot, ...).
+std::string plot_posterior_note(const analysis::PosteriorOutcome& outcome);
 
 /// `demsa plan`'s figure, plan_widths (.gp, .png, .svg) in `folder`: grouped bars of the expected widths.
 PlotFiles plot_plan(const Plotter& plotter, const analysis::PlanOutcome& plan, const std::filesystem::path& folder);

@@ -59,6 +59,7 @@ TEST(SensitivityChoices, IntervalFollowsTheBootstrap) {
 
 TEST(SensitivityChoices, NumbersAreChecked) {
   SensitivityChoiceOptions o;
+  o.data = "data.csv";
   EXPECT_NO_THROW(check_sensitivity_choices(o));
   o.base = 8;
   EXPECT_EQ(message_of<UserError>([&] { check_sensitivity_choices(o); }),
@@ -73,6 +74,41 @@ TEST(SensitivityChoices, NumbersAreChecked) {
   o.bootstrap = -1;
   EXPECT_EQ(message_of<UserError>([&] { check_sensitivity_choices(o); }),
             "SensitivityChoiceOptions.bootstrap -1: must be >= 0 (0: no intervals)");
+}
+
+TEST(SensitivityChoices, OptionsOfOnePathAreRefusedOnTheOther) {
+  SensitivityChoiceOptions o;
+  EXPECT_EQ(message_of<UserError>([&] { check_sensitivity_choices(o); }),
+            "give exactly one of SensitivityChoiceOptions.design DESIGN.csv (with "
+            "SaltelliSensitivityOptions.responses_file) or SensitivityChoiceOptions.data DATA.csv");
+  o.design = "design.csv";
+  o.data = "data.csv";
+  EXPECT_NE(message_of<UserError>([&] { check_sensitivity_choices(o); }).find("exactly one"), std::string::npos);
+  o.design.clear();
+  o.interval = "bootstrap";
+  EXPECT_EQ(message_of<UserError>([&] { check_sensitivity_choices(o); }),
+            "SensitivityChoiceOptions.interval goes with SensitivityChoiceOptions.design: the intervals of "
+            "SensitivityChoiceOptions.data are design-bootstrap refits of each metamodel "
+            "(SensitivityChoiceOptions.bootstrap)");
+  o.interval.clear();
+  o.repeats = "repeats.csv";
+  o.save_model = "model.json";
+  EXPECT_NO_THROW(check_sensitivity_choices(o));
+  o.data.clear();
+  o.design = "design.csv";
+  EXPECT_EQ(message_of<UserError>([&] { check_sensitivity_choices(o); }),
+            "SensitivityChoiceOptions.repeats goes with SensitivityChoiceOptions.data: the noise sets the nugget of "
+            "the metamodels fitted to the data");
+  o.repeats.clear();
+  EXPECT_EQ(message_of<UserError>([&] { check_sensitivity_choices(o); }),
+            "SensitivityChoiceOptions.save_model: a Saltelli design gives indices without a metamodel: nothing to "
+            "save (use SensitivityChoiceOptions.data)");
+  o.interval = "jackknife";  // the design's interval is checked before what it cannot save
+  EXPECT_EQ(
+      message_of<UserError>([&] { check_sensitivity_choices(o); }).rfind("SensitivityChoiceOptions.interval: ", 0), 0u);
+  o.interval = "replicates";
+  o.save_model.clear();
+  EXPECT_NO_THROW(check_sensitivity_choices(o));
 }
 
 TEST(SensitivityChoices, MetamodelsAndGpByName) {

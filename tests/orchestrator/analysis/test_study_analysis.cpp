@@ -14,6 +14,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 using namespace demsa::study;
 using namespace demsa::analysis;
@@ -43,6 +44,19 @@ const ObservableAnalysis& observable(const AnalysisSummary& s, const std::string
   for (const ObservableAnalysis& o : s.observables)
     if (o.name == name) return o;
   throw std::runtime_error("no observable " + name);
+}
+
+TEST(StudyAnalysis, ABaseThatIsNotAPowerOfTwoIsRoundedUpWithAWarningNamingTheField) {
+  std::vector<std::string> warnings;
+  const auto warn = [&warnings](const std::string& w) { warnings.push_back(w); };
+  EXPECT_EQ(balanced_base_samples(1024, warn), 1024);
+  EXPECT_EQ(balanced_base_samples(-1, warn), -1);  // the study's value
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_EQ(balanced_base_samples(10000, warn), 16384);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0],
+            "AnalyzeOptions.base_samples 10000 is not a power of two: rounded up to 16384 (a scrambled Sobol' "
+            "sequence is balanced only at powers of two; Saltelli 2010 takes N = 2^k)");
 }
 
 TEST(StudyAnalysis, ConstantObservableIsItsOwnErrorAndTheOthersAreAnalysed) {
