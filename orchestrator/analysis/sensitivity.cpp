@@ -392,16 +392,10 @@ DataSensitivity data_sensitivity(const DataSensitivityOptions& options) {
   std::vector<std::pair<std::filesystem::path, std::string>> model_files;  // written once every model is fitted
 
   sobol::MetamodelSobolOptions index_options = options.indices;
-  if (!std::has_single_bit(static_cast<unsigned>(index_options.base)) && index_options.base > 0) {
-    // As the study analysis and `design saltelli`: the QMC design on the metamodel is a scrambled Sobol' sequence,
-    // balanced only at powers of two (Owen 1997; docs/explanation/benchmarks.md).
-    const int given = index_options.base;
-    index_options.base = static_cast<int>(std::bit_ceil(static_cast<unsigned>(given)));
-    warn_with(options.warn,
-              fmt::format("DataSensitivityOptions.base {} is not a power of two: rounded up to {} (a scrambled "
-                          "Sobol' sequence is balanced only at powers of two; Saltelli 2010 takes N = 2^k)",
-                          given, index_options.base));
-  }
+  // As the study analysis and `design saltelli`: the QMC design on the metamodel is a scrambled Sobol' sequence,
+  // balanced only at powers of two (Owen 1997; docs/explanation/benchmarks.md).
+  index_options.base = balanced_base_samples(index_options.base, "DataSensitivityOptions.base",
+                                             [&](const std::string& message) { warn_with(options.warn, message); });
   index_options.validate();  // a sobol::InputError names the field
 
   std::optional<CsvTable> repeats;

@@ -3,6 +3,7 @@
 #include "orchestrator/analysis/fit.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "orchestrator/util/text.hpp"
 #include "sobol/error.hpp"
 
 #include <fmt/core.h>
@@ -81,13 +82,7 @@ std::map<std::string, sobol::Bounds> parse_input_bounds(const std::string& text,
           fmt::format("DataSensitivityOptions.bounds '{}': expected NAME=LOW:HIGH[:log] with NAME one of "
                       "DataSensitivityOptions.inputs",
                       item));
-    std::vector<std::string> parts;
-    std::string rest = item.substr(eq + 1);
-    for (std::size_t c = rest.find(':'); c != std::string::npos; c = rest.find(':')) {
-      parts.push_back(rest.substr(0, c));
-      rest = rest.substr(c + 1);
-    }
-    parts.push_back(rest);
+    const std::vector<std::string> parts = util::split(std::string_view(item).substr(eq + 1), ':');
     if (parts.size() < 2 || parts.size() > 3)
       throw UserError(fmt::format("DataSensitivityOptions.bounds '{}': expected NAME=LOW:HIGH[:log]", item));
     auto number = [&](const std::string& s) {

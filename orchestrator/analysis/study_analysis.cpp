@@ -380,14 +380,14 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options) {
   return summary;
 }
 
-int balanced_base_samples(int base, const std::function<void(const std::string&)>& warn) {
+int balanced_base_samples(int base, const std::string& field, const std::function<void(const std::string&)>& warn) {
   if (base <= 0 || std::has_single_bit(static_cast<unsigned>(base))) return base;
   const int balanced = static_cast<int>(std::bit_ceil(static_cast<unsigned>(base)));
   if (warn)
     warn(fmt::format(
-        "AnalyzeOptions.base_samples {} is not a power of two: rounded up to {} (a scrambled Sobol' sequence is "
-        "balanced only at powers of two; Saltelli 2010 takes N = 2^k)",
-        base, balanced));
+        "{} {} is not a power of two: rounded up to {} (a scrambled Sobol' sequence is balanced only at powers of "
+        "two; Saltelli 2010 takes N = 2^k)",
+        field, base, balanced));
   return balanced;
 }
 

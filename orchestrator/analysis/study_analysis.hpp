@@ -84,9 +84,9 @@ AnalysisSummary analyze_study(const AnalyzeOptions& options);
 
 /// A QMC base N as a scrambled Sobol' sequence is balanced: `base` rounded up to a power of two, as [analysis]
 /// base_samples and `design saltelli --base` are (Owen 1997; the error at N = 10000 against 8192:
-/// docs/explanation/benchmarks.md). `warn` is told when it rounds, naming AnalyzeOptions.base_samples. A base <= 0
-/// (the study's value) is returned as it is.
-int balanced_base_samples(int base, const std::function<void(const std::string&)>& warn);
+/// docs/explanation/benchmarks.md). `warn` is told when it rounds, naming `field` (AnalyzeOptions.base_samples,
+/// DataSensitivityOptions.base). A base <= 0 (the study's value, or none given) is returned as it is.
+int balanced_base_samples(int base, const std::string& field, const std::function<void(const std::string&)>& warn);
 
 /// Why nothing was analysed ("" when at least one metamodel of one observable gave indices): one line per observable
 /// with its error, or with the errors of its metamodels.

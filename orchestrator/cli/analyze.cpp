@@ -39,7 +39,8 @@ int do_analyze(const AnalyzeArgs& args) {
   options.dir = args.dir;
   options.metamodels = args.models;
   options.bootstrap = args.bootstrap;
-  options.base_samples = balanced_base_samples(args.base, warnings_with_option_names({{"base_samples", "--base"}}));
+  options.base_samples = balanced_base_samples(args.base, "AnalyzeOptions.base_samples",
+                                               warnings_with_option_names({{"base_samples", "--base"}}));
   if (args.second_order) options.second_order = 1;
   if (args.no_second_order) options.second_order = 0;
   // A `demsa run` holding the study would leave an analysis of the samples done so far: refused, as a second run is.

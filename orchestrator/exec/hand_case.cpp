@@ -8,6 +8,7 @@
 #include "orchestrator/study/store.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/process.hpp"
+#include "orchestrator/util/text.hpp"
 
 #include <fmt/core.h>
 
@@ -101,11 +102,7 @@ HandCase write_hand_case(const HandCaseOptions& o) {
 std::vector<std::pair<std::string, double>> parse_parameter_values(const std::vector<std::string>& texts) {
   std::vector<std::pair<std::string, double>> out;
   for (const std::string& text : texts) {
-    std::size_t start = 0;
-    while (start <= text.size()) {
-      const std::size_t comma = text.find(',', start);
-      const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-      start = comma == std::string::npos ? text.size() + 1 : comma + 1;
+    for (const std::string& item : util::split(text, ',')) {
       if (item.empty()) continue;
       const std::size_t eq = item.find('=');
       if (eq == std::string::npos || eq == 0)

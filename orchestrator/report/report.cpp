@@ -278,18 +278,14 @@ ReportSection observable_section(const StudyData& s, const ObservableAnalysis& o
   quality.caption = "Metamodel quality: R² on the samples, adjusted R², leave-one-out Q² and RMSE";
   quality.header = {"metamodel", "terms", "R²", "adj. R²", "Q²", "RMSE_LOO"};
   for (const ModelAnalysis& m : models) {
-    if (!m.ok) {
-      // Fitted without indices (Q² not computable): its R² beside the reason, in the RMSE_LOO column it lacks.
-      quality.rows.push_back(
-          m.fitted
-              ? std::vector<std::string>{model_title(m.model), std::to_string(m.quality.terms), fixed4(m.quality.r2),
-                                         fixed4(m.quality.adjusted_r2), fixed4(m.quality.q2), m.error}
-              : std::vector<std::string>{model_title(m.model), "", "", "", "", "not fitted: " + m.error});
+    if (!m.fitted) {
+      quality.rows.push_back({model_title(m.model), "", "", "", "", "not fitted: " + m.error});
       continue;
     }
+    // Fitted without indices (Q² not computable): the reason in the RMSE_LOO column it lacks.
     quality.rows.push_back({model_title(m.model), std::to_string(m.quality.terms), fixed4(m.quality.r2),
                             fixed4(m.quality.adjusted_r2), fixed4(m.quality.q2),
-                            short_number(m.quality.rmse_loo * label.factor)});
+                            m.ok ? short_number(m.quality.rmse_loo * label.factor) : m.error});
   }
   section.tables.push_back(quality);
 

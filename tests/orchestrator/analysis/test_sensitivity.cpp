@@ -80,6 +80,18 @@ TEST(Sensitivity, OneScrambledDesignWritesNullBounds) {
   EXPECT_TRUE(j["residual"]["lower"].is_null()) << j.dump();
 }
 
+/// `data` (columns a, b, y) written to DIR/data.csv, and the options of y's rsm2 on a and b, without intervals.
+DataSensitivityOptions rsm2_of_y(const TempDir& dir, const Eigen::MatrixXd& data) {
+  util::write_csv(dir / "data.csv", {"a", "b", "y"}, data);
+  DataSensitivityOptions options;
+  options.data = (dir / "data.csv").string();
+  options.inputs = {"a", "b"};
+  options.responses = {"y"};
+  options.metamodels = {sobol::MetamodelKind::rsm2};
+  options.indices.bootstrap = 0;
+  return options;
+}
+
 TEST(Sensitivity, MetamodelOfALinearFunctionGivesItsExactIndices) {
   TempDir dir;
   // y = 2 a + b on [0, 1]²: variances 4/12 and 1/12, S1 = 0.8 and 0.2, no interaction.
@@ -88,13 +100,7 @@ TEST(Sensitivity, MetamodelOfALinearFunctionGivesItsExactIndices) {
     const double a = (i % 4) / 3.0, b = (i / 4) / 3.0;
     data.row(i) << a, b, 2 * a + b;
   }
-  util::write_csv(dir / "data.csv", {"a", "b", "y"}, data);
-  DataSensitivityOptions options;
-  options.data = (dir / "data.csv").string();
-  options.inputs = {"a", "b"};
-  options.responses = {"y"};
-  options.metamodels = {sobol::MetamodelKind::rsm2};
-  options.indices.bootstrap = 0;
+  DataSensitivityOptions options = rsm2_of_y(dir, data);
   const DataSensitivity result = data_sensitivity(options);
   ASSERT_EQ(result.outputs.size(), 1u);
   const sobol::SobolResult& r = result.outputs[0].models[0].indices;
@@ -119,13 +125,7 @@ TEST(Sensitivity, AMetamodelWhoseQ2IsNotComputableGivesNoIndicesButAnErrorNaming
   Eigen::MatrixXd data(6, 3);
   const double a[] = {0.0, 1.0, 0.0, 1.0, 0.5, 0.2}, b[] = {0.0, 0.0, 1.0, 1.0, 0.5, 0.9};
   for (int i = 0; i < 6; ++i) data.row(i) << a[i], b[i], 2 * a[i] + b[i] + 0.1 * a[i] * b[i];
-  util::write_csv(dir / "data.csv", {"a", "b", "y"}, data);
-  DataSensitivityOptions options;
-  options.data = (dir / "data.csv").string();
-  options.inputs = {"a", "b"};
-  options.responses = {"y"};
-  options.metamodels = {sobol::MetamodelKind::rsm2};
-  options.indices.bootstrap = 0;
+  DataSensitivityOptions options = rsm2_of_y(dir, data);
   try {
     data_sensitivity(options);
     FAIL() << "indices of a fit whose leave-one-out error cannot be measured";

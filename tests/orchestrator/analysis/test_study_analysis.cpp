@@ -49,10 +49,10 @@ const ObservableAnalysis& observable(const AnalysisSummary& s, const std::string
 TEST(StudyAnalysis, ABaseThatIsNotAPowerOfTwoIsRoundedUpWithAWarningNamingTheField) {
   std::vector<std::string> warnings;
   const auto warn = [&warnings](const std::string& w) { warnings.push_back(w); };
-  EXPECT_EQ(balanced_base_samples(1024, warn), 1024);
-  EXPECT_EQ(balanced_base_samples(-1, warn), -1);  // the study's value
+  EXPECT_EQ(balanced_base_samples(1024, "AnalyzeOptions.base_samples", warn), 1024);
+  EXPECT_EQ(balanced_base_samples(-1, "AnalyzeOptions.base_samples", warn), -1);  // the study's value
   EXPECT_TRUE(warnings.empty());
-  EXPECT_EQ(balanced_base_samples(10000, warn), 16384);
+  EXPECT_EQ(balanced_base_samples(10000, "AnalyzeOptions.base_samples", warn), 16384);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_EQ(warnings[0],
             "AnalyzeOptions.base_samples 10000 is not a power of two: rounded up to 16384 (a scrambled Sobol' "
