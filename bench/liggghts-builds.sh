@@ -37,7 +37,7 @@ for k in "${ids[@]}"; do
   [[ -d $work/case-$k ]] || "$demsa" case "$study" --sample "$k" -o "$work/case-$k" >/dev/null
 done
 # One run: copy the case (its LIGGGHTS scripts edited by the setting's sed script, if any), run the build in it on
-# one rank, record CPU seconds, atom-steps and the angle.
+# one rank, record CPU seconds, atom-steps and the angle (a drum's: its dynamic angle).
 run_one() { # name executable[@sed] work k demsa
   local d=$3/$1-$4 exe=${2%%@*} edit=
   [[ $2 == *@* ]] && edit=${2#*@}
@@ -52,7 +52,7 @@ run_one() { # name executable[@sed] work k demsa
     >/dev/null 2>&1) || echo "liggghts-builds: $1 case $4 failed (see $d/log.liggghts)" >&2
   awk '/^Loop time of .* procs for [0-9]+ steps with [0-9]+ atoms/ {s += $9 * $12} END {printf "%.0f\n", s}' \
     "$d/log.liggghts" >"$d/atom_steps.txt"
-  "$5" measure "$d" --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["observables"]["angle"])' \
+  "$5" measure "$d" --json 2>/dev/null | python3 -c 'import json,sys; o = json.load(sys.stdin)["observables"]; print(o.get("angle", o.get("dynamic_angle")))' \
     >"$d/angle.txt" 2>/dev/null || echo nan >"$d/angle.txt"
 }
 export -f run_one

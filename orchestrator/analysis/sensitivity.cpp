@@ -29,14 +29,14 @@ namespace demsa::analysis {
 using util::CsvTable;
 using util::UserError;
 
-namespace {
-
-void warn_with(const WarningSink& sink, const std::string& message) {
+void emit_warning(const WarningSink& sink, const std::string& message) {
   if (sink)
     sink(message);
   else
     util::log::warn("{}", message);
 }
+
+namespace {
 
 /// No NaN index leaves demsa as a result: a computation that gave one is refused (sobol::NumericalError) with what
 /// the indices were computed from.
@@ -93,21 +93,22 @@ SaltelliSensitivity saltelli_sensitivity(const SaltelliSensitivityOptions& optio
     const int replicates = file.replicates();
     const int base = file.base();
     if (!std::has_single_bit(static_cast<unsigned>(base)))
-      warn_with(options.warn,
-                fmt::format("{}: the base N = {}{} is not a power of two: a scrambled Sobol' design is balanced only "
-                            "at powers of two, and the extra rows cost accuracy instead of adding it (Ishigami, RMS "
-                            "error of S1 and ST over 50 seeds: 1.4e-3 at N = 10000 against 1.0e-3 at N = 8192); "
-                            "`demsa design saltelli` rounds N up to a power of two",
-                            options.design, base,
-                            replicates > 1 ? fmt::format(" of each of the {} replicates", replicates) : ""));
+      emit_warning(
+          options.warn,
+          fmt::format("{}: the base N = {}{} is not a power of two: a scrambled Sobol' design is balanced only "
+                      "at powers of two, and the extra rows cost accuracy instead of adding it (Ishigami, RMS "
+                      "error of S1 and ST over 50 seeds: 1.4e-3 at N = 10000 against 1.0e-3 at N = 8192); "
+                      "`demsa design saltelli` rounds N up to a power of two",
+                      options.design, base,
+                      replicates > 1 ? fmt::format(" of each of the {} replicates", replicates) : ""));
     if (replicates < 2 && options.indices.interval == sobol::SaltelliInterval::replicates)
-      warn_with(options.warn,
-                fmt::format("{}: one scrambled design, without independently scrambled replicates (column "
-                            "'replicate'): its indices come without intervals. `demsa design saltelli` writes {} "
-                            "replicates by default, from whose spread the intervals come; "
-                            "SaltelliSensitivityOptions.interval bootstrap gives bootstrap intervals, conservative "
-                            "for QMC (often several times too wide)",
-                            options.design, sobol::k_default_saltelli_replicates));
+      emit_warning(options.warn,
+                   fmt::format("{}: one scrambled design, without independently scrambled replicates (column "
+                               "'replicate'): its indices come without intervals. `demsa design saltelli` writes {} "
+                               "replicates by default, from whose spread the intervals come; "
+                               "SaltelliSensitivityOptions.interval bootstrap gives bootstrap intervals, conservative "
+                               "for QMC (often several times too wide)",
+                               options.design, sobol::k_default_saltelli_replicates));
   }
 
   const CsvTable y = appended ? design : util::read_csv(options.responses_file);
@@ -161,7 +162,7 @@ SaltelliSensitivity saltelli_sensitivity(const SaltelliSensitivityOptions& optio
           "rows (same order as {}, from this design and seed?)",
           name, util::join(outside, "; "), outside.size() == 1 ? "s" : "", options.design);
     if (options.on_response) options.on_response(names, out);
-    if (!out.warning.empty()) warn_with(options.warn, out.warning);
+    if (!out.warning.empty()) emit_warning(options.warn, out.warning);
     result.outputs.push_back(std::move(out));
   }
   if (!options.json_file.empty())
@@ -356,7 +357,7 @@ DataSensitivity data_sensitivity(const DataSensitivityOptions& options) {
         100.0 * k_min_coverage);
     if (!options.allow_extrapolation)
       throw UserError(what + "; narrow the bounds to the data, or give DataSensitivityOptions.allow_extrapolation");
-    warn_with(options.warn, what + " (DataSensitivityOptions.allow_extrapolation)");
+    emit_warning(options.warn, what + " (DataSensitivityOptions.allow_extrapolation)");
   }
 
   const std::vector<sobol::MetamodelKind>& kinds = options.metamodels;
@@ -395,7 +396,7 @@ DataSensitivity data_sensitivity(const DataSensitivityOptions& options) {
   // As the study analysis and `design saltelli`: the QMC design on the metamodel is a scrambled Sobol' sequence,
   // balanced only at powers of two (Owen 1997; docs/explanation/benchmarks.md).
   index_options.base = balanced_base_samples(index_options.base, "DataSensitivityOptions.base",
-                                             [&](const std::string& message) { warn_with(options.warn, message); });
+                                             [&](const std::string& message) { emit_warning(options.warn, message); });
   index_options.validate();  // a sobol::InputError names the field
 
   std::optional<CsvTable> repeats;

@@ -30,6 +30,9 @@ namespace demsa::analysis {
 /// Where the library's warnings go (a line without "warning:"); empty: util::log::warn.
 using WarningSink = std::function<void(const std::string&)>;
 
+/// Gives `message` to `sink`, or to util::log::warn when the sink is empty.
+void emit_warning(const WarningSink& sink, const std::string& message);
+
 // ---------------------------------------------------------------- Saltelli design and its responses
 
 struct SaltelliResponseIndices {

@@ -3,7 +3,6 @@
 #include "orchestrator/analysis/saltelli_design_file.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
-#include "orchestrator/util/log.hpp"
 #include "orchestrator/util/text.hpp"
 #include "sobol/error.hpp"
 
@@ -28,13 +27,6 @@ constexpr long long k_max_design_values = 1LL << 26;
 
 // The checks below name the options' fields, their value and the rule. They run before the sobol library's own
 // validate(), whose messages name the fields of sobol::DesignOptions and sobol::SaltelliOptions.
-
-void warn(const WarningSink& sink, const std::string& message) {
-  if (sink)
-    sink(message);
-  else
-    util::log::warn("{}", message);
-}
 
 /// How the dimension was given, for messages: "PointDesignOptions.dimension 41" or "41 parameters
 /// (PointDesignOptions.parameters)".
@@ -104,16 +96,18 @@ void warn_unless_power_of_two(const PointDesignOptions& o) {
   const auto n = static_cast<unsigned>(o.samples);
   if (o.samples < 1 || std::has_single_bit(n)) return;
   const unsigned below = std::bit_floor(n);
-  warn(o.warn, fmt::format("PointDesignOptions.samples {} is not a power of two (nearest: {} and {}); a scrambled "
+  emit_warning(o.warn,
+               fmt::format("PointDesignOptions.samples {} is not a power of two (nearest: {} and {}); a scrambled "
                            "Sobol' sequence is balanced only at powers of two (Owen 1997)",
                            o.samples, below, 2 * below));
 }
 
 void warn_without_pair_metrics(const WarningSink& sink, const sobol::DesignMetrics& m, Eigen::Index rows) {
   if (!m.phi_p)
-    warn(sink, fmt::format("phi_p and the centred L2 discrepancy are not computed for {} points (O(n^2) time; at most "
-                           "{})",
-                           rows, sobol::k_max_pair_metric_samples));
+    emit_warning(
+        sink, fmt::format("phi_p and the centred L2 discrepancy are not computed for {} points (O(n^2) time; at most "
+                          "{})",
+                          rows, sobol::k_max_pair_metric_samples));
 }
 
 /// The pair metrics are absent above sobol::k_max_pair_metric_samples points (null in JSON).
@@ -139,7 +133,8 @@ int saltelli_base(const SaltelliDesignFileOptions& o) {
                     o.base, sobol::k_max_base_samples));
   const unsigned rounded = std::bit_ceil(static_cast<unsigned>(o.base));
   if (rounded == static_cast<unsigned>(o.base)) return o.base;
-  warn(o.warn, fmt::format("SaltelliDesignFileOptions.base {} is not a power of two: rounded up to {} (a scrambled "
+  emit_warning(o.warn,
+               fmt::format("SaltelliDesignFileOptions.base {} is not a power of two: rounded up to {} (a scrambled "
                            "Sobol' sequence is balanced only at powers of two; Saltelli 2010 takes N = 2^k)",
                            o.base, rounded));
   return static_cast<int>(rounded);
@@ -247,7 +242,8 @@ PointDesign write_point_design(const PointDesignOptions& o) {
   PointDesign written{sobol::make_design(options), o.parameters.names, o.output};
   const sobol::DesignResult& r = written.design;
   if (r.stop == sobol::DesignStop::time_limit)
-    warn(o.warn, fmt::format("PointDesignOptions.time_limit {}: the optimisation stopped at the safety time limit "
+    emit_warning(o.warn,
+                 fmt::format("PointDesignOptions.time_limit {}: the optimisation stopped at the safety time limit "
                              "after {} of at most {} iterations; this design depends on the machine's speed, not on "
                              "the seed alone (raise PointDesignOptions.time_limit or lower "
                              "PointDesignOptions.iterations)",
