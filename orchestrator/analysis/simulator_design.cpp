@@ -1,6 +1,7 @@
 #include "orchestrator/analysis/simulator_design.hpp"
 
 #include "orchestrator/analysis/saltelli_design_file.hpp"
+#include "orchestrator/analysis/study_analysis.hpp"
 #include "orchestrator/util/csv.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
@@ -131,13 +132,8 @@ int saltelli_base(const SaltelliDesignFileOptions& o) {
     throw UserError(
         fmt::format("SaltelliDesignFileOptions.base {}: at most 2^20 = {} (the design holds N (2d + 2) rows in memory)",
                     o.base, sobol::k_max_base_samples));
-  const unsigned rounded = std::bit_ceil(static_cast<unsigned>(o.base));
-  if (rounded == static_cast<unsigned>(o.base)) return o.base;
-  emit_warning(o.warn,
-               fmt::format("SaltelliDesignFileOptions.base {} is not a power of two: rounded up to {} (a scrambled "
-                           "Sobol' sequence is balanced only at powers of two; Saltelli 2010 takes N = 2^k)",
-                           o.base, rounded));
-  return static_cast<int>(rounded);
+  return balanced_base_samples(o.base, "SaltelliDesignFileOptions.base",
+                               [&o](const std::string& message) { emit_warning(o.warn, message); });
 }
 
 void check_saltelli(const SaltelliDesignFileOptions& o, int base, int replicates) {
