@@ -27,29 +27,4 @@ python3 "$here/pedestal_stl.py" 0.05 0.005 0.005 0.005 "$work/pedestal-old.stl"
 python3 "$here/pedestal_stl.py" 0.05 0.005 0.005 0.0125 "$work/pedestal-new.stl"
 WORK=$work "$here/liggghts-builds.sh" "$demsa" "$study" "$ids" \
   "old=$old@s|file pedestal.stl|file $work/pedestal-old.stl|" "new=$new@s|file pedestal.stl|file $work/pedestal-new.stl|"
-python3 - "$work" "$ids" <<'PY'
-import math, statistics, sys
-work, ids = sys.argv[1], sys.argv[2].split(",")
-angle = lambda name, k: float(open(f"{work}/{name}-{k}/angle.txt").read())
-points = [ids[i:i + 3] for i in range(0, len(ids), 3)]
-print("| design point | old pedestal [deg] (3 packings) | new pedestal [deg] | new − old per packing | mean new − old |")
-print("|---|---|---|---|---|")
-ss = {"old": 0.0, "new": 0.0}
-diffs = []
-for p, ks in enumerate(points):
-    a = {n: [angle(n, k) for k in ks] for n in ("old", "new")}
-    for n in a:
-        m = statistics.mean(a[n]); ss[n] += sum((x - m) ** 2 for x in a[n])
-    d = [y - x for x, y in zip(a["old"], a["new"])]
-    diffs += d
-    f = lambda v: ", ".join(f"{x:.2f}" for x in v)
-    print(f"| {p} | {f(a['old'])} | {f(a['new'])} | {', '.join(f'{x:+.2f}' for x in d)} | {statistics.mean(d):+.2f} |")
-dof = len(ids) - len(points)
-for n in ss:
-    print(f"packing noise, {n} pedestal: pooled sd {math.sqrt(ss[n] / dof):.2f} deg ({dof} degrees of freedom)")
-md, sd = statistics.mean(diffs), statistics.stdev(diffs)
-print(f"new − old over the {len(diffs)} cases: mean {md:+.2f} deg, sd {sd:.2f} deg, standard error {sd / math.sqrt(len(diffs)):.2f} deg")
-mo = [statistics.mean([angle("old", k) for k in ks]) for ks in points]
-mn = [statistics.mean([angle("new", k) for k in ks]) for ks in points]
-print("per-point means new − old:", ", ".join(f"{b - a:+.2f}" for a, b in zip(mo, mn)))
-PY
+python3 "$here/paired_angles.py" "$work" "$ids" old new

@@ -22,6 +22,12 @@ namespace demsa::experiments::pile {
 /// the pedestal top (every contact of the pile's base is then particle-particle).
 enum class PileBase { wall, particles };
 
+/// The pedestal's top as LIGGGHTS sees it: the mesh (demsa's pedestal.stl, rim, side band and top), or a primitive
+/// plane at the top's height with the particles past the rim deleted (cheaper by the mesh wall's share of a case:
+/// docs/explanation/benchmarks.md, "The pedestal top as a plane"). `automatic`: the plane where it can stand in for
+/// the mesh (`remove_fallen` on, `base = "wall"`), the mesh elsewhere.
+enum class PedestalTop { automatic, mesh, plane };
+
 /// [pile] (paper §3). Defaults: particle set 1 of Table 2 scaled to `particles`.
 struct PileSettings {
   std::string preset;    ///< "", "set1" or "set2" (paper Table 2); fills radii and particles
@@ -45,6 +51,7 @@ struct PileSettings {
   /// "paper" (§3.3) or "robust": the angle estimator of the measurement (postprocess::AngleEstimator)
   std::string angle_estimator = "paper";
   PileBase base = PileBase::wall;  ///< the pedestal top: its wall, or a frozen layer of the material's particles
+  PedestalTop pedestal_top = PedestalTop::automatic;  ///< the pedestal top's wall in LIGGGHTS (plane_pedestal)
 
   // The pile in time: snapshots during settling, measured like the final pile.
   double history_interval = 0.1;      ///< a snapshot every this long after the last disc [s]; 0 = none
@@ -57,6 +64,10 @@ struct PileSettings {
 /// The [pile] settings of a study.
 const PileSettings& settings(const study::StudyConfig& config);
 PileSettings& settings(study::StudyConfig& config);
+
+/// Whether a case's pedestal top is the primitive plane (PedestalTop::plane, or `automatic` with remove_fallen on a
+/// wall base) rather than the mesh.
+bool plane_pedestal(const PileSettings& s);
 
 /// The pile's descriptor (registry.hpp lists it).
 const Experiment& experiment();

@@ -182,7 +182,8 @@ TEST(StudySettings, TheKeysOfThePreviousVersionAreRows) {
        "preset, particles, r_min, r_max, r_mean, r_sd, disc_radius, fill_height, pedestal_radius, "
        "pedestal_height, settle_time, settle_speed, settle_quantile, settle_window, settle_check_time, "
        "remove_fallen, domain_half_width, target_angle, directions, "
-       "levels, angle_estimator, base, history_interval, keep_snapshots, measure_times, drift_window, drift_limit"},
+       "levels, angle_estimator, base, pedestal_top, history_interval, keep_snapshots, measure_times, drift_window, "
+       "drift_limit"},
       {"oedometer",
        "preset, particles, r_min, r_max, r_mean, r_sd, box_side, box_height, fill_time, loads, "
        "measured_settlements, plate_mode, plate_gap, load_tolerance, servo_vel_max, servo_kp, servo_ki, "
