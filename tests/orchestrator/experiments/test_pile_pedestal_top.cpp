@@ -1,5 +1,5 @@
-// [pile] pedestal_top: the pedestal's top as a mesh or as a primitive plane with the particles past the rim deleted
-// (which one `auto` picks, the case script of each, the hash, and the settings a plane cannot stand with).
+// [pile] pedestal_top: the pedestal's top as a mesh (the default) or as a primitive plane with the particles past the
+// rim deleted (the case script of each, the hash, and the settings a plane cannot stand with).
 #include "orchestrator/cases/case_writer.hpp"
 #include "orchestrator/experiments/pile/pile.hpp"
 #include "orchestrator/experiments/registry.hpp"
@@ -34,13 +34,11 @@ std::string error_of(const std::string& text) {
 
 bool plane(const std::string& lines) { return pile::plane_pedestal(pile::settings(parse_study(k_study + lines, "s"))); }
 
-TEST(PilePedestalTop, AutoIsThePlaneWhereParticlesPastTheRimAreRemovedOnAWall) {
-  EXPECT_FALSE(plane(""));  // the paper's schedule keeps every particle: the mesh's rim lets them fall
-  EXPECT_TRUE(plane("remove_fallen = true\n"));
-  EXPECT_FALSE(plane("remove_fallen = true\nbase = \"particles\"\n"));
+TEST(PilePedestalTop, TheMeshIsTheDefaultAndThePlaneIsChosen) {
+  EXPECT_FALSE(plane(""));
+  EXPECT_FALSE(plane("remove_fallen = true\n"));
   EXPECT_FALSE(plane("remove_fallen = true\npedestal_top = \"mesh\"\n"));
   EXPECT_TRUE(plane("remove_fallen = true\npedestal_top = \"plane\"\n"));
-  EXPECT_TRUE(plane("remove_fallen = true\npedestal_top = \"auto\"\n"));
 }
 
 TEST(PilePedestalTop, APlaneIsRefusedWhereItCannotStandInForTheMesh) {
@@ -51,24 +49,24 @@ TEST(PilePedestalTop, APlaneIsRefusedWhereItCannotStandInForTheMesh) {
   const std::string rough =
       error_of(k_study + "remove_fallen = true\nbase = \"particles\"\npedestal_top = \"plane\"\n");
   EXPECT_NE(rough.find("base = \"particles\" has none"), std::string::npos) << rough;
-  EXPECT_NE(error_of(k_study + "pedestal_top = \"disc\"\n").find("pedestal_top"), std::string::npos);
+  EXPECT_NE(error_of(k_study + "pedestal_top = \"auto\"\n").find("pedestal_top"), std::string::npos);
 }
 
 TEST(PilePedestalTop, ThePlaneIsAnotherCaseAndTheMeshKeepsItsHash) {
   const study::StudyConfig before = parse_study(k_study + "remove_fallen = true\n", "s");
   const study::StudyConfig mesh = parse_study(k_study + "remove_fallen = true\npedestal_top = \"mesh\"\n", "s");
+  const study::StudyConfig flat = parse_study(k_study + "remove_fallen = true\npedestal_top = \"plane\"\n", "s");
   const std::string mesh_text = settings_table().hash_text(mesh);
   EXPECT_EQ(mesh_text.find("pedestal_top"), std::string::npos) << mesh_text;  // as before the key existed
-  EXPECT_NE(settings_table().hash_text(before).find("pile.pedestal_top=plane"), std::string::npos);
-  EXPECT_NE(study::design_hash(before), study::design_hash(mesh));
-  EXPECT_EQ(study::design_hash(before),
-            study::design_hash(parse_study(k_study + "remove_fallen = true\npedestal_top = \"plane\"\n", "s")));
+  EXPECT_EQ(study::design_hash(before), study::design_hash(mesh));
+  EXPECT_NE(settings_table().hash_text(flat).find("pile.pedestal_top=plane"), std::string::npos);
+  EXPECT_NE(study::design_hash(flat), study::design_hash(mesh));
 }
 
 TEST(PilePedestalTop, ThePlaneCaseHasAPrimitiveTopAndRemovesEveryParticlePastTheRim) {
   test::TempDir tmp;
   const study::StudyConfig mesh = parse_study(k_study + "remove_fallen = true\npedestal_top = \"mesh\"\n", "s");
-  const study::StudyConfig flat = parse_study(k_study + "remove_fallen = true\n", "s");
+  const study::StudyConfig flat = parse_study(k_study + "remove_fallen = true\npedestal_top = \"plane\"\n", "s");
   const auto request = cases::request_from_unit_point(mesh, 0, {0.5});
   const cases::CaseSummary m = cases::write_case(mesh, request, tmp / "mesh");
   const cases::CaseSummary p = cases::write_case(flat, request, tmp / "plane");
@@ -92,8 +90,8 @@ TEST(PilePedestalTop, ThePlaneCaseHasAPrimitiveTopAndRemovesEveryParticlePastThe
 
 TEST(PilePedestalTop, ThePlaneTakesTheStudysRollingModel) {
   test::TempDir tmp;
-  const study::StudyConfig flat =
-      parse_study(k_study + "remove_fallen = true\n[contact]\nrolling_model = \"epsd2\"\n", "s");
+  const study::StudyConfig flat = parse_study(
+      k_study + "remove_fallen = true\npedestal_top = \"plane\"\n[contact]\nrolling_model = \"epsd2\"\n", "s");
   cases::write_case(flat, cases::request_from_unit_point(flat, 0, {0.5}), tmp / "c");
   const std::string script = test::read_file(tmp / "c" / "in.liggghts");
   EXPECT_NE(script.find("rolling_friction epsd2 primitive type 2 zplane ${pedestal_height}"), std::string::npos)

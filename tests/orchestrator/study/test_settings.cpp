@@ -113,6 +113,9 @@ TEST(StudySettings, EveryRowIsReadIntoItsOwnField) {
     // mode = "fixed" needs a value: that row may change along.
     const bool fixed_mode = s.section == "timestep" && s.key == "mode";
     if (fixed_mode) study["timestep"]["value"] = "1e-6";
+    // [pile] pedestal_top = "plane" needs remove_fallen.
+    const bool plane_top = s.section == "pile" && s.key == "pedestal_top";
+    if (plane_top) study["pile"]["remove_fallen"] = "true";
     // [drum] diameters and fractions are given together, as many of each.
     const bool size_classes = s.section == "drum" && (s.key == "diameters" || s.key == "fractions");
     if (size_classes) {
@@ -129,6 +132,7 @@ TEST(StudySettings, EveryRowIsReadIntoItsOwnField) {
     const std::map<std::string, std::string> after = shown(c);
     for (const auto& [name, shown_value] : after) {
       if (fixed_mode && name == "timestep.value") continue;
+      if (plane_top && name == "pile.remove_fallen") continue;
       if (size_classes && name != s.section + "." + s.key && (name == "drum.diameters" || name == "drum.fractions"))
         continue;
       if (name == s.section + "." + s.key)
@@ -146,7 +150,7 @@ TEST(StudySettings, AFileOfEveryDefaultReadsAsTheDefaults) {
   // rows, whose defaults the file gives.
   for (const Experiment* experiment : all()) {
     StudyConfig expected;
-    expected.name = "s";
+    expected.name = std::string("s");  // not from the literal: GCC 12 gives a false -Wrestrict warning here at -O3
     expected.experiment = std::string(experiment->name);
     expected.timestep.value = 1e-6;  // 0 = not given, which the file cannot say
     expected.parameters.push_back({"E", sobol::Bounds{1e8, 1e9, sobol::Scale::log_uniform}, 0});
