@@ -145,18 +145,20 @@ class PileDraft final : public CaseDraft {
   std::vector<Particle> m_base;  ///< the frozen base layer ([pile] base = "particles"); empty on a wall
 };
 
+/// Replaces the one occurrence of `from` in `text` (a line of pile.liggghts that a case variant rewrites).
+void replace_once(std::string& text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  assert(at != std::string::npos && "pile.liggghts lacks a line a pile variant replaces");
+  text.replace(at, from.size(), to);
+}
+
 /// The LIGGGHTS text of `base = "particles"` in pile.liggghts: the base layer (atoms 1..base_particles) is glued —
 /// `fix freeze` zeroes its forces and torques after every other force (so the integration leaves it at rest) and its
 /// pairs among themselves are not computed — and the particles on the pedestal are counted without it. The wall
 /// case's script is the template unchanged.
 std::string with_base_layer(std::string text) {
-  const auto replace_once = [&text](const std::string& from, const std::string& to) {
-    const std::size_t at = text.find(from);
-    assert(at != std::string::npos && "pile.liggghts lacks a line the base layer replaces");
-    text.replace(at, from.size(), to);
-  };
   replace_once(
-      "fix integr      all nve/sphere\n",
+      text, "fix integr      all nve/sphere\n",
       "fix integr      all nve/sphere\n"
       "# [pile] base = \"particles\": atoms 1..base_particles are a layer of the material's particles glued to "
       "the\n# pedestal top. Their force and torque are zeroed after every other force (fix freeze, defined "
@@ -164,7 +166,7 @@ std::string with_base_layer(std::string text) {
       "group           base id <= ${base_particles}\n"
       "fix             glue base freeze\n"
       "neigh_modify    exclude group base base\n");
-  replace_once("variable        n_on_pedestal equal count(all,on_pedestal)\n",
+  replace_once(text, "variable        n_on_pedestal equal count(all,on_pedestal)\n",
                "variable        n_on_pedestal equal count(all,on_pedestal)-${base_particles}\n");
   return text;
 }
@@ -175,12 +177,8 @@ std::string with_base_layer(std::string text) {
 /// every settling check, where on the mesh it would tip over the rim and fall past the side band). The mesh wall was
 /// a third of a quickstart pile's time (docs/explanation/benchmarks.md, "Where the time goes").
 std::string with_plane_pedestal(std::string text) {
-  const auto replace_once = [&text](const std::string& from, const std::string& to) {
-    const std::size_t at = text.find(from);
-    assert(at != std::string::npos && "pile.liggghts lacks a line the plane pedestal replaces");
-    text.replace(at, from.size(), to);
-  };
   replace_once(
+      text,
       "# The pedestal is a closed-top cylinder mesh (primitive cylinders are infinite and have no cap).\n"
       "fix pedm        all mesh/surface file pedestal.stl type 2\n"
       "fix pedw        all wall/gran model hertz tangential history rolling_friction cdt mesh n_meshes 1 meshes "
@@ -189,7 +187,7 @@ std::string with_plane_pedestal(std::string text) {
       "# drawing only); particles past its rim are deleted at every check (region fallen below).\n"
       "fix pedw        all wall/gran model hertz tangential history rolling_friction cdt primitive type 2 zplane "
       "${pedestal_height}\n");
-  replace_once("region          fallen intersect 2 below_top off_radius\n",
+  replace_once(text, "region          fallen intersect 2 below_top off_radius\n",
                "# The plane pedestal: a particle past the rim has left the pedestal, at any height.\n"
                "region          fallen cylinder z 0.0 0.0 ${pedestal_radius} INF INF units box side out\n");
   return text;
