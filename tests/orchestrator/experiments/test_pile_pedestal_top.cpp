@@ -24,12 +24,7 @@ const std::string k_study =
     "[pile]\nparticles = 300\n";
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_study(text, "study.toml");
-  } catch (const util::UserError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test::message_of<util::UserError>([&] { parse_study(text, "study.toml"); });
 }
 
 bool plane(const std::string& lines) { return pile::plane_pedestal(pile::settings(parse_study(k_study + lines, "s"))); }

@@ -5,6 +5,7 @@
 #include "orchestrator/study/parameters.hpp"
 #include "orchestrator/study/settings.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,12 +22,7 @@ namespace {
 const std::string k_head = "[study]\nname = \"t\"\nexperiment = \"pile\"\nseed = 5\n[parameters]\n";
 
 std::string error_of(const std::string& parameters) {
-  try {
-    parse_study(k_head + parameters, "study.toml");
-  } catch (const UserError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test::message_of<UserError>([&] { parse_study(k_head + parameters, "study.toml"); });
 }
 
 TEST(ParameterTies, InlineAndSubTableFormsTieWithoutAColumn) {

@@ -40,12 +40,7 @@ samples = 6
 )";
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_study(text, "study.toml");
-  } catch (const util::UserError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test::message_of<util::UserError>([&] { parse_study(text, "study.toml"); });
 }
 
 TEST(Replicates, SettingIsReadAndOffByDefault) {

@@ -4,6 +4,7 @@
 #include "orchestrator/experiments/registry.hpp"
 #include "orchestrator/study/config.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,12 +28,7 @@ E = { low = 1e8, high = 1e9, scale = "log" }
 )";
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_study(text, "study.toml");
-  } catch (const UserError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test::message_of<UserError>([&] { parse_study(text, "study.toml"); });
 }
 
 TEST(StudyConfig, MinimalFileTakesDefaultsAndPaperOrder) {
