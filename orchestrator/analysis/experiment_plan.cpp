@@ -16,12 +16,15 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <thread>
 
 #include <unistd.h>
 
@@ -123,6 +126,32 @@ PlanChain sample_plan_posterior(const sobol::GaussianPosterior& posterior, const
   return chain;
 }
 
+/// f(0) .. f(n - 1) on up to `threads` threads (0: one per core), results in order. Each call must touch only its own
+/// result and shared state it reads; the first exception thrown (by index) is rethrown once every thread has joined.
+template <class F>
+auto plan_in_parallel(int n, int threads, const F& f) -> std::vector<decltype(f(0))> {
+  std::vector<decltype(f(0))> results(static_cast<size_t>(n));
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(n));
+  std::atomic<int> next{0};
+  const auto work = [&] {
+    for (int i = next++; i < n; i = next++) {
+      try {
+        results[static_cast<size_t>(i)] = f(i);
+      } catch (...) {
+        errors[static_cast<size_t>(i)] = std::current_exception();
+      }
+    }
+  };
+  const int wanted = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::clamp(wanted, 1, std::max(n, 1)); ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+  return results;
+}
+
 }  // namespace
 
 void PlanOptions::validate() const {
@@ -131,6 +160,8 @@ void PlanOptions::validate() const {
     throw UserError(fmt::format("plan: {} studies given; at most {} ({} subsets)", dirs.size(), k_plan_max_studies,
                                 (1 << k_plan_max_studies) - 1));
   if (truths < 2 || truths > 1000) throw UserError(fmt::format("PlanOptions.truths {}: must be in 2..1000", truths));
+  if (threads < 0 || threads > 256)
+    throw UserError(fmt::format("PlanOptions.threads {}: must be in 0..256 (0: one per core)", threads));
   if (!(goal > 0 && goal < 1)) throw UserError(fmt::format("PlanOptions.goal {:g}: must be in (0, 1)", goal));
   for (size_t k = 0; k < sds.size(); ++k) {
     const std::string text = fmt::format("{}={:.12g}", sds[k].observable.label(), sds[k].sd);
@@ -376,7 +407,9 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
     for (int k = 0; k < n_targets; ++k) measured(t, k) = truth_mean(t, k) + truth_sd(t, k) * random.normal();
 
   const int n_studies = static_cast<int>(studies.size());
-  for (int mask = 1; mask < (1 << n_studies); ++mask) {
+  // One subset's widths over every truth; it reads the shared state above and writes nothing else, so subsets run
+  // side by side (plan_in_parallel). Each truth's chain has its own seed, so the outcome does not depend on the order.
+  const auto evaluate = [&](int mask) {
     PlanSubset subset;
     std::vector<int> ks;
     double cost = 0.0;
@@ -444,13 +477,15 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       subset.worst_sensitive = std::max(subset.worst_sensitive, w);
       if (w > options.goal) subset.meets_goal = false;
     }
+    return subset;
+  };
+  outcome.subsets = plan_in_parallel((1 << n_studies) - 1, options.threads, [&](int i) { return evaluate(i + 1); });
+  for (const PlanSubset& subset : outcome.subsets)
     if (subset.unconverged > 0)
       outcome.problems.push_back(fmt::format(
           "{}: the posterior of {} of {} truths did not converge ({}); its widths are those of an unfinished chain, "
           "not of the measurement",
           subset_label(subset), subset.unconverged, options.truths, subset.unconverged_advice));
-    outcome.subsets.push_back(subset);
-  }
 
   // The recommendation: the cheapest subset that meets the goal (unknown costs rank by the number of experiments),
   // ties broken by fewer experiments and then by the smaller largest width; else the smallest largest width.

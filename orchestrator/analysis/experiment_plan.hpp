@@ -51,7 +51,7 @@ inline constexpr double k_plan_min_ess = 400.0;
 inline constexpr int k_plan_walkers_per_parameter = 2;
 inline constexpr int k_plan_burn_in = 300;
 inline constexpr int k_plan_steps = 600;
-inline constexpr int k_plan_max_steps = 9600;
+inline constexpr int k_plan_max_steps = 19200;
 
 /// The total sd of one measured observable, in the units demsa stores it (`demsa plan --sd`).
 struct ObservableSd {
@@ -74,6 +74,8 @@ struct PlanOptions {
   double goal = 0.5;                  ///< the width the recommendation asks of every sensitive parameter, in (0, 1)
   std::string model;                  ///< one metamodel for every observable; empty: the best Q² per observable
   std::optional<std::uint64_t> seed;  ///< empty: the first study's seed
+  /// Subsets evaluated side by side, 0..256; 0: one per core. The outcome does not depend on it.
+  int threads = 0;
   /// Throws util::UserError naming the field ("PlanOptions.sds") and the value.
   void validate() const;
 };

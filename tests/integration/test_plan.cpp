@@ -112,6 +112,42 @@ TEST(PlanCli, TwoObservablesThatEachLeaveARidgePinBothParametersTogether) {
   EXPECT_NE(read_file(dir / "sum" / "report" / "report.md").find("Which experiments to run"), std::string::npos);
 }
 
+TEST(PlanCli, SubsetsSideBySideGiveTheSamePlanAsOneAtATime) {
+  TempDir dir;
+  // Narrow posteriors (sd 0.1 on a 10-degree span), so that most subsets' truths are sampled by the ensemble sampler,
+  // whose chains are the part that runs on several threads.
+  write_study(
+      dir / "sum", "sum", 11, [](const std::vector<double>& u) { return 20.0 + 5.0 * (u[0] + u[1]); }, 40.0);
+  write_study(
+      dir / "difference", "difference", 12, [](const std::vector<double>& u) { return 30.0 + 5.0 * (u[0] - u[1]); },
+      10.0);
+  write_study(
+      dir / "third", "third", 14, [](const std::vector<double>& u) { return 25.0 + 4.0 * u[2] + u[0]; }, 20.0);
+  const std::vector<std::string> args{(dir / "sum").string(),
+                                      (dir / "difference").string(),
+                                      (dir / "third").string(),
+                                      "--sd",
+                                      "sum:angle=0.1",
+                                      "--sd",
+                                      "difference:angle=0.1",
+                                      "--sd",
+                                      "third:angle=0.1",
+                                      "--truths",
+                                      "8",
+                                      "--no-plots"};
+  std::vector<std::string> one = args, three = args;
+  one.insert(one.end(), {"--threads", "1", "--out", (dir / "one").string()});
+  three.insert(three.end(), {"--threads", "3", "--out", (dir / "three").string()});
+  const nlohmann::json a = plan(one);
+  const nlohmann::json b = plan(three);
+  ASSERT_EQ(a.at("subsets").size(), 7u);
+  int sampled = 0;
+  for (const nlohmann::json& s : a.at("subsets")) sampled += s.at("sampled").get<int>();
+  EXPECT_GT(sampled, 0) << "no truth reached the ensemble sampler: the test would not see the threads";
+  EXPECT_EQ(a.at("subsets"), b.at("subsets"));
+  EXPECT_EQ(a.at("recommended"), b.at("recommended"));
+}
+
 TEST(PlanCli, HalvingTheSdHalvesALinearGaussianPosterior) {
   TempDir dir;
   write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
@@ -289,6 +325,7 @@ TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
   refused({"--observe", "slide_angle"}, "--observe 'slide_angle': no study measures it");
   refused({"--truths", "1"}, "--truths 1: must be in 2..1000");
   refused({"--truths", "5000"}, "--truths 5000: must be in 2..1000");
+  refused({"--threads", "-1"}, "--threads -1: must be in 0..256");
   refused({study}, "are the same study");
   // issue 45: an sd whose square overflows made every posterior the prior, silently; one sd given twice kept the
   // first without a word.
