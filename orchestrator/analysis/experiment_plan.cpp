@@ -407,8 +407,7 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
     for (int k = 0; k < n_targets; ++k) measured(t, k) = truth_mean(t, k) + truth_sd(t, k) * random.normal();
 
   const int n_studies = static_cast<int>(studies.size());
-  // One subset's widths over every truth; it reads the shared state above and writes nothing else, so subsets run
-  // side by side (plan_in_parallel). Each truth's chain has its own seed, so the outcome does not depend on the order.
+  // One subset's widths over every truth.
   const auto evaluate = [&](int mask) {
     PlanSubset subset;
     std::vector<int> ks;
@@ -424,7 +423,15 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       if (mask & (1 << target_study[static_cast<size_t>(k)])) ks.push_back(k);
     std::vector<std::vector<double>> widths(static_cast<size_t>(d));
     std::vector<int> outside(static_cast<size_t>(d), 0);
-    for (int t = 0; t < options.truths; ++t) {
+    // Each truth's posterior reads only the shared state above, so the truths run side by side (plan_in_parallel);
+    // each chain has its own seed, so the plan does not depend on the threads.
+    struct TruthPosterior {
+      std::vector<std::pair<double, double>> interval;
+      bool sampled = false, converged = true;
+      std::string advice;
+    };
+    const std::vector<TruthPosterior> posteriors = plan_in_parallel(options.truths, options.threads, [&](int t) {
+      TruthPosterior p;
       Eigen::VectorXd log_w = Eigen::VectorXd::Zero(p_points);
       for (const int k : ks)
         log_w.array() -= (mean.col(k).array() - measured(t, k)).square() / (2.0 * variance.col(k).array()) +
@@ -432,10 +439,10 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       const Eigen::VectorXd w = (log_w.array() - log_w.maxCoeff()).exp().matrix();
       const double total = w.sum();
       const double ess = total * total / w.squaredNorm();
-      std::vector<std::pair<double, double>> interval(static_cast<size_t>(d));
+      p.interval.resize(static_cast<size_t>(d));
       if (ess >= k_plan_min_ess) {
         for (int j = 0; j < d; ++j)
-          interval[static_cast<size_t>(j)] = weighted_interval(u, order[static_cast<size_t>(j)], w, j, total);
+          p.interval[static_cast<size_t>(j)] = weighted_interval(u, order[static_cast<size_t>(j)], w, j, total);
       } else {
         // Too few prior points carry the posterior (it is narrow in some direction): sample it.
         std::vector<sobol::GaussianTarget> chosen;
@@ -448,15 +455,22 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
         const PlanChain chain = sample_plan_posterior(
             posterior, u, log_w,
             outcome.seed + 7919u * static_cast<std::uint64_t>(mask) + static_cast<std::uint64_t>(t));
-        interval = chain.interval;
-        if (!chain.converged) {
-          ++subset.unconverged;
-          subset.unconverged_advice = chain.advice;
-        }
-        ++subset.sampled;
+        p.interval = chain.interval;
+        p.sampled = true;
+        p.converged = chain.converged;
+        p.advice = chain.advice;
+      }
+      return p;
+    });
+    for (int t = 0; t < options.truths; ++t) {
+      const TruthPosterior& p = posteriors[static_cast<size_t>(t)];
+      if (p.sampled) ++subset.sampled;
+      if (!p.converged) {
+        ++subset.unconverged;
+        subset.unconverged_advice = p.advice;
       }
       for (int j = 0; j < d; ++j) {
-        const auto [q05, q95] = interval[static_cast<size_t>(j)];
+        const auto [q05, q95] = p.interval[static_cast<size_t>(j)];
         widths[static_cast<size_t>(j)].push_back(q95 - q05);
         if (truth(t, j) < q05 || truth(t, j) > q95) ++outside[static_cast<size_t>(j)];
       }
@@ -479,7 +493,7 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
     }
     return subset;
   };
-  outcome.subsets = plan_in_parallel((1 << n_studies) - 1, options.threads, [&](int i) { return evaluate(i + 1); });
+  for (int mask = 1; mask < (1 << n_studies); ++mask) outcome.subsets.push_back(evaluate(mask));
   for (const PlanSubset& subset : outcome.subsets)
     if (subset.unconverged > 0)
       outcome.problems.push_back(fmt::format(

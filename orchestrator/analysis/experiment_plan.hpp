@@ -74,7 +74,7 @@ struct PlanOptions {
   double goal = 0.5;                  ///< the width the recommendation asks of every sensitive parameter, in (0, 1)
   std::string model;                  ///< one metamodel for every observable; empty: the best Q² per observable
   std::optional<std::uint64_t> seed;  ///< empty: the first study's seed
-  /// Subsets evaluated side by side, 0..256; 0: one per core. The outcome does not depend on it.
+  /// Truths' posteriors computed side by side, 0..256; 0: one per core. The outcome does not depend on it.
   int threads = 0;
   /// Throws util::UserError naming the field ("PlanOptions.sds") and the value.
   void validate() const;

@@ -91,7 +91,7 @@ void register_plan_command(CLI::App& app, CliState& state) {
   sub->add_option("--seed", args->seed, "Seed of the truths and samplers (default: the first study's seed)");
   sub->add_option("--out", args->out, "Output folder (default: DIR/plan of the first study)");
   sub->add_option("--threads", args->options.threads,
-                  "Subsets of experiments evaluated side by side (default 0: one per core); the plan is the same");
+                  "Truths calibrated side by side (default 0: one per core); the plan is the same");
   sub->add_flag("--no-plots", args->no_plots, "No gnuplot figure");
   sub->add_flag("--json", args->json, "Machine-readable output (plan.json)");
   sub->callback([args, &state] { state.exit_code = do_plan(*args); });

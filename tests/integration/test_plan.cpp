@@ -112,7 +112,7 @@ TEST(PlanCli, TwoObservablesThatEachLeaveARidgePinBothParametersTogether) {
   EXPECT_NE(read_file(dir / "sum" / "report" / "report.md").find("Which experiments to run"), std::string::npos);
 }
 
-TEST(PlanCli, SubsetsSideBySideGiveTheSamePlanAsOneAtATime) {
+TEST(PlanCli, TruthsSideBySideGiveTheSamePlanAsOneAtATime) {
   TempDir dir;
   // Narrow posteriors (sd 0.1 on a 10-degree span), so that most subsets' truths are sampled by the ensemble sampler,
   // whose chains are the part that runs on several threads.

@@ -13,6 +13,20 @@
 // 36 loads): their steps over their 1 / dt, the ratio estimator of a study's total, which the bill is (their plain
 // mean time is 1.82 s: the long loads are those of soft cases, with a longer dt). Stricter criteria and other gains
 // are not measured and keep the cap.
+//
+// The trial-step plate's expected cost (docs/how-to/cost.md, "The trial-step oedometer's model"): the plate moves
+// δ_T0 a trial of n_s steps until the force passes the load (paper §4), so a load's approach is its plate travel over
+// δ_T0 trials; its closing is a few relaxations of n_L steps until the relaxed force lies within R_pr. The travel is
+// the bed's, whichever plate moves: measured by the servo plate on 9 quickstart-size cases (1000 particles of mean
+// radius 3.0 mm, E 1e7-1e8 Pa: 6.73 mm to the first load, 1.50 and 1.92 mm to the next two) and 4 paper-size cases
+// (4642 of 2.47 mm, E 1e8-1e9 Pa: 4.18 mm, then 0.88, 0.88 and 0.98 mm), 2026-12-05. In mean particle diameters that is
+// 1.12 and 0.84 to the first load (the plate starts 0.5 mm above the highest particle and seats on the top layer)
+// and 0.29 and 0.18 to each later one; the model takes their geometric means, 1.0 and 0.23, which holds both
+// assemblies' total travel within 0.86-1.21. The bed's creep, not E, sets the rest: the four paper-size cases' travels
+// do not follow E. The closing was measured on one quickstart-size trial-step case (E 3.16e7 Pa, the paper's constants,
+// R_pr 0.03 N): 5 relaxations of n_L steps, each after a trial, at 100 N, 28 at 400 N and 38 at 1100 N without
+// converging yet (the case was stopped there); the model takes 24 a load, their mean, a floor.
+// A relaxed force must land within ±R_pr while the bed creeps by 0.1-4 N a relaxation, so their count is a lottery.
 #include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/experiments/oedometer/oedometer.hpp"
 #include "orchestrator/util/errors.hpp"
@@ -44,6 +58,15 @@ constexpr double k_model_weight_cases = 10.0;
 /// Atom-steps per CPU-second of those 12 cases (3.57e9 in 557.5 CPU-s, wait4's rusage) over the standard run's of the
 /// same LIGGGHTS on the same machine (8.68e6, 8.64e6-9.00e6 measured again three times the same day).
 constexpr double k_rate_factor = 0.738;
+
+/// The trial-step plate's travel to its first load and to each later one, in mean particle diameters, and its
+/// relaxations a load (this file's header).
+constexpr double k_trial_first_travel_diameters = 1.0;
+constexpr double k_trial_later_travel_diameters = 0.23;
+constexpr double k_trial_closing_relaxations = 24.0;
+/// The trial-step case's atom-steps per CPU-second over the standard run's: 2.05e10 atom-steps in 3328 CPU-s (6.16e6,
+/// its process's CPU time, beside other runs as the servo's 0.738 was measured) against 8.68e6.
+constexpr double k_trial_rate_factor = 0.71;
 
 /// Whether the servo's criterion and gains are those the model was measured with, or laxer (a larger tolerance or
 /// rest speed ends a load sooner): a stricter criterion creeps for longer (a tolerance of 0.03 N and a rest speed of
@@ -86,6 +109,18 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
     // Each trial runs n_s steps and, when the force overshoots, n_L more; a load not reached adds one step.
     per_load = max_trials * (trial_steps + relax_steps) + 1;
     plate = fmt::format("at most {} trials of {} + {} steps", max_trials, trial_steps, relax_steps);
+    const std::optional<double> step0 = case_number(case_json, file, "oedometer.trial_step.trial_step0_m", 0.0, 1.0);
+    const std::optional<double> radius = case_number(case_json, file, "assembly.radius_mean_m", 0.0, 1.0);
+    if (step0 && *step0 > 0.0 && radius && *radius > 0.0) {
+      // Each load's approach in trials of n_s steps, then its closing; the model's mean over the loads.
+      const double diameters =
+          k_trial_first_travel_diameters + static_cast<double>(loads - 1) * k_trial_later_travel_diameters;
+      const double trials = diameters * 2.0 * *radius / *step0;
+      const double steps =
+          trials * static_cast<double>(trial_steps) +
+          k_trial_closing_relaxations * static_cast<double>(loads) * static_cast<double>(trial_steps + relax_steps);
+      expected_per_load = std::min(static_cast<double>(per_load), steps / static_cast<double>(loads));
+    }
   } else {
     const long check_steps = integer("oedometer.servo.check_steps");
     const long max_steps = integer("oedometer.servo.max_steps");
@@ -106,13 +141,26 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
   if (expected_per_load) {
     cost.expected_atom_steps = (static_cast<double>(fill_steps) + static_cast<double>(loads) * *expected_per_load) *
                                static_cast<double>(particles);
-    cost.expected = fmt::format(
-        "the servo oedometer's model: {:.3g} s of simulated time a load over each case's dt, measured on 36 loads of "
-        "12 quickstart-size cases with the same criterion; docs/how-to/cost.md",
-        k_servo_seconds_per_load);
+    cost.expected =
+        trial ? fmt::format(
+                    "the trial-step oedometer's model: the plate travels {:.2g} mean particle diameters to the "
+                    "first load and {:.2g} to each later one in trials of delta_T0, then {:.3g} relaxations a "
+                    "load, measured on 13 servo cases of two sizes and one trial-step case; docs/how-to/cost.md",
+                    k_trial_first_travel_diameters, k_trial_later_travel_diameters, k_trial_closing_relaxations)
+              : fmt::format(
+                    "the servo oedometer's model: {:.3g} s of simulated time a load over each case's dt, "
+                    "measured on 36 loads of 12 quickstart-size cases with the same criterion; "
+                    "docs/how-to/cost.md",
+                    k_servo_seconds_per_load);
     cost.expected_weight = k_model_weight_cases;
   }
-  if (!trial) {
+  if (trial) {
+    cost.rate_factor = k_trial_rate_factor;
+    cost.rate_factor_source = fmt::format(
+        "x {:.2f}, the trial-step oedometer's atom-steps per CPU-second over the standard run's (one quickstart-size "
+        "case, 6.16e6 against 8.68e6, 2026-12-05; docs/how-to/cost.md)",
+        k_trial_rate_factor);
+  } else {
     cost.rate_factor = k_rate_factor;
     cost.rate_factor_source = fmt::format(
         "x {:.3f}, the servo oedometer's atom-steps per CPU-second over the standard run's (12 quickstart-size cases, "

@@ -233,13 +233,42 @@ TEST(CostEstimate, OedometerScheduleCountedByHand) {
   const experiments::CaseCost trial = experiments::oedometer::case_cost(config, doc, "case.json");
   EXPECT_EQ(trial.steps, 100 + 3 * (4 * (10 + 30) + 1));
   EXPECT_DOUBLE_EQ(trial.atom_steps, 50.0 * static_cast<double>(trial.steps));
-  EXPECT_DOUBLE_EQ(trial.expected_atom_steps, 0.0);  // the trial-step plate has no model: its cap stands
-  EXPECT_DOUBLE_EQ(trial.rate_factor, 1.0);
+  // Without the particles' mean radius and delta_T0 the trial-step model cannot count: the cap stands.
+  EXPECT_DOUBLE_EQ(trial.expected_atom_steps, 0.0);
+  EXPECT_LT(trial.rate_factor, 1.0);
   doc["oedometer"]["trial_step"].erase("max_trials");
   EXPECT_NE(test::message_of<util::UserError>([&] {
               experiments::oedometer::case_cost(config, doc, "case.json");
             }).find("oedometer.trial_step.max_trials"),
             std::string::npos);
+}
+
+TEST(CostEstimate, TheTrialStepOedometerExpectsItsTravelInTrialsThen24RelaxationsALoad) {
+  // The quickstart-size trial-step case measured for the model (docs/how-to/cost.md): 1000 particles of mean radius
+  // 3.006 mm, the paper's constants, loads 100, 400 and 1100 N.
+  study::StudyConfig config;
+  nlohmann::json doc = nlohmann::json::parse(R"({
+    "assembly": {"particles": 1000, "radius_mean_m": 3.0063800464675073e-3},
+    "oedometer": {"plate_mode": "trial-step", "loads_N": [100, 400, 1100], "fill_steps": 16382,
+                  "load_tolerance_N": 0.03,
+                  "trial_step": {"trial_steps": 15000, "relax_steps": 80000, "max_trials": 2000,
+                                 "trial_step0_m": 7.5e-6, "trial_reduction": 0.95, "trial_floor": 0.05}}})");
+  const experiments::CaseCost c = experiments::oedometer::case_cost(config, doc, "case.json");
+  // The travel: 1 diameter to the first load and 0.23 to each of the two others, 1.46 x 6.0128 mm = 8.779 mm, in
+  // trials of 7.5 um: 1170.5 trials of 15,000 steps; then 24 relaxations a load of 15,000 + 80,000 steps.
+  const double trials = 1.46 * 2.0 * 3.0063800464675073e-3 / 7.5e-6;
+  EXPECT_NEAR(c.expected_atom_steps, 1000.0 * (16382 + trials * 15000 + 24.0 * 3 * 95000), 1.0);
+  EXPECT_GT(c.expected_weight, 0.0);
+  EXPECT_NE(c.expected.find("trial-step"), std::string::npos);
+  // Its three loads took 16,330,000, 5,105,000 and, when it was stopped still closing, 6,700,000 steps (1056, 163
+  // and 206 trials; 5, 28 and 38 relaxations): the case's expectation lies near them and far below the cap of 2000
+  // trials of 95,000 steps a load.
+  EXPECT_NEAR(c.expected_atom_steps / (1000.0 * (16382 + 16330000 + 5105000 + 6700000)), 1.0, 0.3);
+  EXPECT_LT(c.expected_atom_steps, 0.1 * c.atom_steps);
+  // A smaller trial step takes proportionally more trials.
+  doc["oedometer"]["trial_step"]["trial_step0_m"] = 3.75e-6;
+  EXPECT_NEAR(experiments::oedometer::case_cost(config, doc, "case.json").expected_atom_steps,
+              1000.0 * (16382 + 2 * trials * 15000 + 24.0 * 3 * 95000), 1.0);
 }
 
 /// A servo oedometer case.json of the calibration example's criterion: 1000 atoms, 3 loads, a cap of 400,000 steps
