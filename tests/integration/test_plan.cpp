@@ -63,14 +63,19 @@ const nlohmann::json& subset(const nlohmann::json& j, const std::vector<std::str
 
 double width(const nlohmann::json& s, int parameter) { return s.at("width").at(parameter).get<double>(); }
 
-TEST(PlanCli, TwoObservablesThatEachLeaveARidgePinBothParametersTogether) {
-  TempDir dir;
-  // y1 = a + b and y2 = a - b, in degrees: each alone fixes one combination, together both.
+/// Two studies "sum" and "difference": y1 = a + b and y2 = a - b, in degrees, with 40 and 10 CPU-s a case.
+void write_ridge_pair(const fs::path& dir) {
   write_study(
       dir / "sum", "sum", 11, [](const std::vector<double>& u) { return 20.0 + 5.0 * (u[0] + u[1]); }, 40.0);
   write_study(
       dir / "difference", "difference", 12, [](const std::vector<double>& u) { return 30.0 + 5.0 * (u[0] - u[1]); },
       10.0);
+}
+
+TEST(PlanCli, TwoObservablesThatEachLeaveARidgePinBothParametersTogether) {
+  TempDir dir;
+  // y1 = a + b and y2 = a - b, in degrees: each alone fixes one combination, together both.
+  write_ridge_pair(dir.path());
   const nlohmann::json j = plan({(dir / "sum").string(), (dir / "difference").string(), "--sd", "sum:angle=0.25",
                                  "--sd", "difference:angle=0.25"});
   ASSERT_EQ(j.at("subsets").size(), 3u);
@@ -116,11 +121,7 @@ TEST(PlanCli, TruthsSideBySideGiveTheSamePlanAsOneAtATime) {
   TempDir dir;
   // Narrow posteriors (sd 0.1 on a 10-degree span), so that most subsets' truths are sampled by the ensemble sampler,
   // whose chains are the part that runs on several threads.
-  write_study(
-      dir / "sum", "sum", 11, [](const std::vector<double>& u) { return 20.0 + 5.0 * (u[0] + u[1]); }, 40.0);
-  write_study(
-      dir / "difference", "difference", 12, [](const std::vector<double>& u) { return 30.0 + 5.0 * (u[0] - u[1]); },
-      10.0);
+  write_ridge_pair(dir.path());
   write_study(
       dir / "third", "third", 14, [](const std::vector<double>& u) { return 25.0 + 4.0 * u[2] + u[0]; }, 20.0);
   const std::vector<std::string> args{(dir / "sum").string(),
