@@ -82,10 +82,12 @@ std::pair<double, double> weighted_interval(const Eigen::MatrixXd& u, const std:
 
 std::string subset_label(const PlanSubset& s) { return join(s.studies, " + "); }
 
+/// One truth's posterior: by importance sampling over the shared prior sample, or by the ensemble sampler.
 struct PlanChain {
   std::vector<std::pair<double, double>> interval;  ///< 90 % interval per parameter
-  bool converged = false;
-  std::string advice;  ///< the diagnostics' words when not converged
+  bool sampled = false;                             ///< by the ensemble sampler
+  bool converged = true;                            ///< false: the sampler's chain did not converge
+  std::string advice;                               ///< the diagnostics' words when not converged
 };
 
 /// One truth's posterior where importance sampling falls short: the ensemble sampler, started at the
@@ -116,6 +118,7 @@ PlanChain sample_plan_posterior(const sobol::GaussianPosterior& posterior, const
     diag = sobol::diagnose(r);
   }
   PlanChain chain;
+  chain.sampled = true;
   const std::vector<sobol::MarginalSummary> m = sobol::summarise_marginals(r, lower, upper);
   for (int j = 0; j < d; ++j) chain.interval.emplace_back(m[static_cast<size_t>(j)].q05, m[static_cast<size_t>(j)].q95);
   chain.converged = diag.converged;
@@ -425,13 +428,8 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
     std::vector<int> outside(static_cast<size_t>(d), 0);
     // Each truth's posterior reads only the shared state above, so the truths run side by side (plan_in_parallel);
     // each chain has its own seed, so the plan does not depend on the threads.
-    struct TruthPosterior {
-      std::vector<std::pair<double, double>> interval;
-      bool sampled = false, converged = true;
-      std::string advice;
-    };
-    const std::vector<TruthPosterior> posteriors = plan_in_parallel(options.truths, options.threads, [&](int t) {
-      TruthPosterior p;
+    const std::vector<PlanChain> posteriors = plan_in_parallel(options.truths, options.threads, [&](int t) {
+      PlanChain p;
       Eigen::VectorXd log_w = Eigen::VectorXd::Zero(p_points);
       for (const int k : ks)
         log_w.array() -= (mean.col(k).array() - measured(t, k)).square() / (2.0 * variance.col(k).array()) +
@@ -452,18 +450,14 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
           chosen.push_back(g);
         }
         const sobol::GaussianPosterior posterior(chosen, d);
-        const PlanChain chain = sample_plan_posterior(
+        p = sample_plan_posterior(
             posterior, u, log_w,
             outcome.seed + 7919u * static_cast<std::uint64_t>(mask) + static_cast<std::uint64_t>(t));
-        p.interval = chain.interval;
-        p.sampled = true;
-        p.converged = chain.converged;
-        p.advice = chain.advice;
       }
       return p;
     });
     for (int t = 0; t < options.truths; ++t) {
-      const TruthPosterior& p = posteriors[static_cast<size_t>(t)];
+      const PlanChain& p = posteriors[static_cast<size_t>(t)];
       if (p.sampled) ++subset.sampled;
       if (!p.converged) {
         ++subset.unconverged;

@@ -14,7 +14,7 @@
 // mean time is 1.82 s: the long loads are those of soft cases, with a longer dt). Stricter criteria and other gains
 // are not measured and keep the cap.
 //
-// The trial-step plate's expected cost (docs/how-to/cost.md, "The trial-step oedometer's model"): the plate moves
+// The trial-step plate's expected cost (docs/how-to/cost.md, "The trial-step oedometer"): the plate moves
 // δ_T0 a trial of n_s steps until the force passes the load (paper §4), so a load's approach is its plate travel over
 // δ_T0 trials; its closing is a few relaxations of n_L steps until the relaxed force lies within R_pr. The travel is
 // the bed's, whichever plate moves: measured by the servo plate on 9 quickstart-size cases (1000 particles of mean
@@ -99,9 +99,10 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
   if (loads <= 0) throw util::UserError(fmt::format("{}: no oedometer.loads_N", file.string()));
   const bool trial = case_string(case_json, file, "oedometer.plate_mode").value_or("servo") == "trial-step";
 
+  CaseCost cost;
   long per_load = 0;
   std::string plate;
-  std::optional<double> expected_per_load;  // the servo model's steps a load
+  std::optional<double> expected_per_load;  // the plate's model's steps a load, when it applies
   if (trial) {
     const long trial_steps = integer("oedometer.trial_step.trial_steps");
     const long relax_steps = integer("oedometer.trial_step.relax_steps");
@@ -120,7 +121,17 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
           trials * static_cast<double>(trial_steps) +
           k_trial_closing_relaxations * static_cast<double>(loads) * static_cast<double>(trial_steps + relax_steps);
       expected_per_load = std::min(static_cast<double>(per_load), steps / static_cast<double>(loads));
+      cost.expected = fmt::format(
+          "the trial-step oedometer's model: the plate travels {:.2g} mean particle diameters to the first load and "
+          "{:.2g} to each later one in trials of delta_T0, then {:.3g} relaxations a load, measured on 13 servo cases "
+          "of two sizes and one trial-step case; docs/how-to/cost.md",
+          k_trial_first_travel_diameters, k_trial_later_travel_diameters, k_trial_closing_relaxations);
     }
+    cost.rate_factor = k_trial_rate_factor;
+    cost.rate_factor_source = fmt::format(
+        "x {:.2f}, the trial-step oedometer's atom-steps per CPU-second over the standard run's (one quickstart-size "
+        "case, 6.16e6 against 8.68e6, 2026-12-05; docs/how-to/cost.md)",
+        k_trial_rate_factor);
   } else {
     const long check_steps = integer("oedometer.servo.check_steps");
     const long max_steps = integer("oedometer.servo.max_steps");
@@ -128,10 +139,19 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
     per_load = (max_steps + check_steps - 1) / check_steps * check_steps;
     plate = fmt::format("at most {} servo steps in checks of {}", per_load, check_steps);
     const std::optional<double> dt = case_number(case_json, file, "dt", 0.0, 1.0);
-    if (dt && *dt > 0.0 && servo_model_holds(case_json, file))
+    if (dt && *dt > 0.0 && servo_model_holds(case_json, file)) {
       expected_per_load = std::min(static_cast<double>(per_load), k_servo_seconds_per_load / *dt);
+      cost.expected = fmt::format(
+          "the servo oedometer's model: {:.3g} s of simulated time a load over each case's dt, measured on 36 loads of "
+          "12 quickstart-size cases with the same criterion; docs/how-to/cost.md",
+          k_servo_seconds_per_load);
+    }
+    cost.rate_factor = k_rate_factor;
+    cost.rate_factor_source = fmt::format(
+        "x {:.3f}, the servo oedometer's atom-steps per CPU-second over the standard run's (12 quickstart-size cases, "
+        "6.41e6 against 8.68e6, 2026-12-04; docs/how-to/cost.md)",
+        k_rate_factor);
   }
-  CaseCost cost;
   cost.steps = fill_steps + loads * per_load;
   cost.particles = particles;
   cost.atom_steps = static_cast<double>(cost.steps) * static_cast<double>(particles);
@@ -141,31 +161,7 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
   if (expected_per_load) {
     cost.expected_atom_steps = (static_cast<double>(fill_steps) + static_cast<double>(loads) * *expected_per_load) *
                                static_cast<double>(particles);
-    cost.expected =
-        trial ? fmt::format(
-                    "the trial-step oedometer's model: the plate travels {:.2g} mean particle diameters to the "
-                    "first load and {:.2g} to each later one in trials of delta_T0, then {:.3g} relaxations a "
-                    "load, measured on 13 servo cases of two sizes and one trial-step case; docs/how-to/cost.md",
-                    k_trial_first_travel_diameters, k_trial_later_travel_diameters, k_trial_closing_relaxations)
-              : fmt::format(
-                    "the servo oedometer's model: {:.3g} s of simulated time a load over each case's dt, "
-                    "measured on 36 loads of 12 quickstart-size cases with the same criterion; "
-                    "docs/how-to/cost.md",
-                    k_servo_seconds_per_load);
     cost.expected_weight = k_model_weight_cases;
-  }
-  if (trial) {
-    cost.rate_factor = k_trial_rate_factor;
-    cost.rate_factor_source = fmt::format(
-        "x {:.2f}, the trial-step oedometer's atom-steps per CPU-second over the standard run's (one quickstart-size "
-        "case, 6.16e6 against 8.68e6, 2026-12-05; docs/how-to/cost.md)",
-        k_trial_rate_factor);
-  } else {
-    cost.rate_factor = k_rate_factor;
-    cost.rate_factor_source = fmt::format(
-        "x {:.3f}, the servo oedometer's atom-steps per CPU-second over the standard run's (12 quickstart-size cases, "
-        "6.41e6 against 8.68e6, 2026-12-04; docs/how-to/cost.md)",
-        k_rate_factor);
   }
   return cost;
 }
