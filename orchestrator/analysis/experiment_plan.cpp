@@ -8,6 +8,7 @@
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
 #include "sobol/ensemble_sampler.hpp"
+#include "sobol/importance_sampler.hpp"
 #include "sobol/metamodel_sobol.hpp"
 #include "sobol/posterior.hpp"
 #include "sobol/random.hpp"
@@ -85,12 +86,35 @@ std::string subset_label(const PlanSubset& s) { return join(s.studies, " + "); }
 /// One truth's posterior: by importance sampling over the shared prior sample, or by the ensemble sampler.
 struct PlanChain {
   std::vector<std::pair<double, double>> interval;  ///< 90 % interval per parameter
+  bool adapted = false;                             ///< by adaptive importance sampling
   bool sampled = false;                             ///< by the ensemble sampler
   bool converged = true;                            ///< false: the sampler's chain did not converge
   std::string advice;                               ///< the diagnostics' words when not converged
 };
 
-/// One truth's posterior where importance sampling falls short: the ensemble sampler, started at the
+/// One truth's posterior where the prior sample carries too little of it: adaptive importance sampling
+/// (sobol::adaptive_importance_sample) started from the prior sample's weights. Its draws are independent, so a
+/// posterior narrow in two directions and flat in five, where the ensemble sampler's walkers took autocorrelation
+/// times of up to 1147 steps, needs no chain. `adapted` is false when no round reached k_plan_min_ess.
+PlanChain adapt_plan_posterior(const sobol::GaussianPosterior& posterior, const Eigen::MatrixXd& u,
+                               const Eigen::VectorXd& log_w, std::uint64_t seed) {
+  const int d = static_cast<int>(u.cols());
+  const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
+  sobol::ImportanceOptions options;
+  options.draws = k_plan_prior_points;
+  options.rounds = k_plan_importance_rounds;
+  options.min_ess = k_plan_min_ess;
+  options.seed = seed;
+  const sobol::ImportanceResult r =
+      sobol::adaptive_importance_sample(sobol::posterior_function(posterior), lower, upper, u, log_w, options);
+  PlanChain chain;
+  chain.adapted = r.converged;
+  if (r.converged)
+    for (int j = 0; j < d; ++j) chain.interval.push_back(r.interval(j));
+  return chain;
+}
+
+/// One truth's posterior where adaptive importance sampling falls short too: the ensemble sampler, started at the
 /// k_plan_walkers_per_parameter d + 2 prior points of largest weight rather than uniformly in the box
 /// (sobol::highest_density_start says why). A posterior narrower than the prior sample's spacing is then found at
 /// once; started uniformly, a fixed chain did not reach it. The chain is then doubled, each run
@@ -450,14 +474,16 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
           chosen.push_back(g);
         }
         const sobol::GaussianPosterior posterior(chosen, d);
-        p = sample_plan_posterior(
-            posterior, u, log_w,
-            outcome.seed + 7919u * static_cast<std::uint64_t>(mask) + static_cast<std::uint64_t>(t));
+        const std::uint64_t seed =
+            outcome.seed + 7919u * static_cast<std::uint64_t>(mask) + static_cast<std::uint64_t>(t);
+        p = adapt_plan_posterior(posterior, u, log_w, seed);
+        if (!p.adapted) p = sample_plan_posterior(posterior, u, log_w, seed);
       }
       return p;
     });
     for (int t = 0; t < options.truths; ++t) {
       const PlanChain& p = posteriors[static_cast<size_t>(t)];
+      if (p.adapted) ++subset.adapted;
       if (p.sampled) ++subset.sampled;
       if (!p.converged) {
         ++subset.unconverged;
@@ -605,6 +631,7 @@ std::string plan_to_json(const PlanOutcome& o) {
                            {"outside", numbers(s.outside)},
                            {"outside_all", s.outside_all},
                            {"cpu_seconds", number(s.cpu_seconds)},
+                           {"adapted", s.adapted},
                            {"sampled", s.sampled},
                            {"unconverged", s.unconverged},
                            {"meets_goal", s.meets_goal},
@@ -621,6 +648,7 @@ std::string plan_to_json(const PlanOutcome& o) {
   j["defaults"] = json{{"measurement_share", k_plan_measurement_share},
                        {"sensitive_total_index", k_plan_sensitive},
                        {"min_ess", k_plan_min_ess},
+                       {"importance_rounds", k_plan_importance_rounds},
                        {"burn_in", k_plan_burn_in},
                        {"steps", k_plan_steps},
                        {"max_steps", k_plan_max_steps}};
@@ -665,6 +693,7 @@ PlanOutcome read_plan(const fs::path& file) {
       s.outside = numbers_of(e.at("outside"));
       s.outside_all = e.at("outside_all");
       s.cpu_seconds = number_of(e.at("cpu_seconds"));
+      s.adapted = e.value("adapted", 0);  // written since adaptive importance sampling
       s.sampled = e.at("sampled");
       s.unconverged = e.value("unconverged", 0);  // written since the convergence check
       s.meets_goal = e.at("meets_goal");

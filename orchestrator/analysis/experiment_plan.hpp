@@ -45,9 +45,13 @@ inline constexpr double k_plan_sensitive = 0.1;
 /// is used instead.
 inline constexpr int k_plan_prior_points = 16384;
 inline constexpr double k_plan_min_ess = 400.0;
-/// The ensemble sampler's chain where importance sampling falls short: k_plan_walkers_per_parameter · d + 2 walkers
-/// started at the prior points of largest weight, k_plan_burn_in + k_plan_steps steps, the kept steps doubled until
-/// the chain converges or reaches k_plan_max_steps (a truth whose chain does not converge fails the plan's check).
+/// Where the prior sample carries too little of a truth's posterior: adaptive importance sampling, at most this many
+/// rounds of k_plan_prior_points draws, each judged by k_plan_min_ess (sobol/importance_sampler.hpp).
+inline constexpr int k_plan_importance_rounds = 8;
+/// The ensemble sampler's chain where adaptive importance sampling falls short too: k_plan_walkers_per_parameter · d +
+/// 2 walkers started at the prior points of largest weight, k_plan_burn_in + k_plan_steps steps, the kept steps doubled
+/// until the chain converges or reaches k_plan_max_steps (a truth whose chain does not converge fails the plan's
+/// check).
 inline constexpr int k_plan_walkers_per_parameter = 2;
 inline constexpr int k_plan_burn_in = 300;
 inline constexpr int k_plan_steps = 600;
@@ -100,6 +104,7 @@ struct PlanSubset {
   std::vector<double> outside;               ///< share of truths outside the 90 % interval, per parameter
   double outside_all = 0.0;                  ///< the same over all parameters
   double cpu_seconds = 0.0;                  ///< one more study of each experiment of the subset (NaN: unknown)
+  int adapted = 0;                           ///< truths that needed adaptive importance sampling
   int sampled = 0;                 ///< truths that needed the ensemble sampler (the rest: importance sampling)
   int unconverged = 0;             ///< of those, the truths whose chain did not converge by k_plan_max_steps
   std::string unconverged_advice;  ///< the last such chain's diagnostics (not written to plan.json)
