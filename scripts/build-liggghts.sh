@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Build LIGGGHTS 3.8.0 from Debian's source archive with the project's rolling model
 # (liggghts/rolling_model_viscous.h) and compiled kernels for hertz / tangential history /
-# cohesion off / rolling off, cdt, epsd, epsd2, epsd3 and viscous (liggghts/style_contact_model.whitelist), and the
-# mesh walls' contact history cleared per atom instead of per page (the same trajectories: docs/explanation/benchmarks.md).
+# cohesion off / rolling off, cdt, epsd, epsd2, epsd3 and viscous (liggghts/style_contact_model.whitelist), the
+# mesh walls' contact history cleared per atom instead of per page, and the mesh wall's exact skip of particles out of
+# reach of a triangle (the same trajectories: docs/explanation/benchmarks.md).
 #
 #   scripts/build-liggghts.sh                build (once per source + patch hash), print the prefix
 #   scripts/build-liggghts.sh --print-prefix print the prefix this checkout's build lives in; build nothing
@@ -21,7 +22,7 @@
 # Needs: apt-get (source download), cmake, mpicxx (libopenmpi-dev): scripts/install-deps.sh --liggghts-build.
 set -euo pipefail
 
-RECIPE=4 # bump when the build commands below change the result
+RECIPE=5 # bump when the build commands below change the result
 VERSION=3.8.0
 TARBALL=liggghts_3.8.0+repack1.orig.tar.xz
 
@@ -35,7 +36,7 @@ while (($#)); do
     --print-prefix) print_only=1 ;;
     --generic-viscous) generic=1 ;;
     --jobs) jobs=$2; shift ;;
-    -h | --help) sed -n '2,24p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "build-liggghts: error: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -128,6 +129,106 @@ sed -i -e '/^void FixContactHistoryMesh::markAllContacts()/,/^}/{' \
 grep -q 'memset(keepflag_\[i\], 0, nneighs\*sizeof(bool));' "$src/fix_contact_history_mesh.cpp" &&
   ! grep -q 'keeppage_\[0\]->reset(true);' "$src/fix_contact_history_mesh.cpp" ||
   { say "error: fix_contact_history_mesh.cpp not patched"; exit 1; }
+# The mesh wall's exact shortcut (RECIPE 5). FixWallGran::post_force_mesh resolves every particle of each triangle's
+# mesh neighbour list (TriMesh::resolveTriSphereContactBary: barycentric coordinates, then the face, an edge or a
+# corner) and does nothing with it when the distance found exceeds the particle's radius (plus contactDistanceFactor's
+# share): no contact, no history, no force. Every point that resolution can return lies in the triangle's plane and
+# within SMALL_TRIMESH (edge ends) or the mesh precision (the face test's tolerance) of the triangle. So a sphere
+# whose centre is farther than reach + margin from the plane, or whose centre lies outside one edge by dk > margin
+# (in-plane outward edge normal) with dn² + (dk − margin)² > (reach + margin)², cannot be found in contact, and
+# skipping it changes no state. The margin, 1e-10 + precision + 1e-9·reach + 1e-12·(|x|+|node0|), is orders of
+# magnitude above the rounding of both computations; the skip applies to spheres only (not atom->shapetype_flag).
+cat >"$work/demsa-mesh-apart.cpp" <<'EOF'
+
+// demsa (scripts/build-liggghts.sh, RECIPE 5): an exact rejection before TriMesh::resolveTriSphereContactBary.
+// True only if the sphere centre p is farther than reach from every point that resolution can return.
+namespace {
+struct DemsaTriMeshAccess : public LAMMPS_NS::TriMesh
+{
+    // protected members of a TriMesh, read through pointers to members of this class (no object of it is made)
+    static inline double **nodeOf(LAMMPS_NS::TriMesh *m, int i)
+    { return (m->*(&DemsaTriMeshAccess::node_))(i); }
+    static inline double *surfaceNormOf(LAMMPS_NS::TriMesh *m, int i)
+    { return (m->*static_cast<double *(LAMMPS_NS::SurfaceMeshBase::*)(int)>(&DemsaTriMeshAccess::surfaceNorm))(i); }
+    static inline double **edgeNormOf(LAMMPS_NS::TriMesh *m, int i)
+    { return (m->*(&DemsaTriMeshAccess::edgeNorm))(i); }
+    static inline double precisionOf(LAMMPS_NS::TriMesh *m)
+    { return (m->*(&DemsaTriMeshAccess::precision))(); }
+};
+
+inline bool demsaSphereApartFromTri(LAMMPS_NS::TriMesh *mesh, int iTri, const double *p, double reach)
+{
+    double **node = DemsaTriMeshAccess::nodeOf(mesh, iTri);
+    const double *sn = DemsaTriMeshAccess::surfaceNormOf(mesh, iTri);
+    const double v[3] = { p[0] - node[0][0], p[1] - node[0][1], p[2] - node[0][2] };
+    const double margin = 1e-10 + DemsaTriMeshAccess::precisionOf(mesh) + 1e-9*reach
+        + 1e-12*(fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + fabs(node[0][0]) + fabs(node[0][1]) + fabs(node[0][2]));
+    const double far = reach + margin;
+    const double far2 = far*far;
+    const double dn = sn[0]*v[0] + sn[1]*v[1] + sn[2]*v[2];
+    const double dn2 = dn*dn;
+    if (dn2 > far2) return true;
+    double **en = DemsaTriMeshAccess::edgeNormOf(mesh, iTri);
+    for (int k = 0; k < 3; k++)
+    {
+        const double dk = (p[0] - node[k][0])*en[k][0] + (p[1] - node[k][1])*en[k][1] + (p[2] - node[k][2])*en[k][2]
+            - margin;
+        if (dk > 0. && dn2 + dk*dk > far2) return true;
+    }
+    return false;
+}
+}
+EOF
+sed -i "/^const double SMALL = 1e-12;\$/r $work/demsa-mesh-apart.cpp" "$src/fix_wall_gran.cpp"
+sed -i 's|^\( *\)\(deltan = mesh->resolveTriSphereContactBary(iPart, iTri, sidata.radi, x_\[iPart\], delta, bary, barysign, atom->shapetype_flag ? false : true);\)$|\1if (!atom->shapetype_flag \&\& demsaSphereApartFromTri(mesh, iTri, x_[iPart], sidata.radi + ((radius \&\& contactDistanceMultiplier > 0.) ? contactDistanceMultiplier*radius[iPart] : 0.))) continue;\n\1\2|' \
+  "$src/fix_wall_gran.cpp"
+[[ $(grep -c 'inline bool demsaSphereApartFromTri' "$src/fix_wall_gran.cpp") == 1 &&
+  $(grep -c 'demsaSphereApartFromTri(mesh, iTri, x_\[iPart\]' "$src/fix_wall_gran.cpp") == 2 ]] ||
+  { say "error: fix_wall_gran.cpp not patched"; exit 1; }
+# The mesh contact history's per-step loops over every atom (RECIPE 5), the same writes at less cost:
+# markAllContacts calls memset for the keep flags of each atom even when it has no mesh neighbours (a call for
+# nothing, for most atoms of a pile); cleanUpContacts reloads the atom's four page pointers and dnum_ after every
+# flag it stores (a bool store may alias them) and decrements npartner_ in memory; it now reads them once per atom
+# and stores the decremented count once. The values written, and where, are the same.
+sed -i 's|^      memset(keepflag_\[i\], 0, nneighs\*sizeof(bool));$|      if (nneighs > 0) memset(keepflag_[i], 0, nneighs*sizeof(bool));|' \
+  "$src/fix_contact_history_mesh.cpp"
+cat >"$work/demsa-clean-up-contacts.cpp" <<'EOF'
+void FixContactHistoryMesh::cleanUpContacts(int ifrom, int ito)
+{
+    // demsa (scripts/build-liggghts.sh, RECIPE 5): the same stores as upstream's loop, the pointers read once
+    const int dnum = dnum_;
+    for(int i = ifrom; i < ito; i++)
+    {
+        const int nneighs = fix_nneighs_->get_vector_atom_int(i);
+        if (nneighs <= 0) continue;
+        const bool *const keep = keepflag_[i];
+        int *const partner = partner_[i];
+        bool *const intersect = intersectflag_[i];
+        double *const history = contacthistory_[i];
+        int npartner = npartner_[i];
+        for(int j = 0; j < nneighs; j++)
+        {
+            // delete values
+            if(!keep[j])
+            {
+                if(partner[j] > -1)
+                    npartner--;
+                partner[j] = -1;
+                intersect[j] = false;
+                vectorZeroizeN(&(history[j*dnum]),dnum);
+            }
+        }
+        npartner_[i] = npartner;
+    }
+}
+EOF
+sed -i -e '/^void FixContactHistoryMesh::cleanUpContacts(int ifrom, int ito)$/,/^}$/{/^}$/r '"$work/demsa-clean-up-contacts.cpp" \
+  -e 'd}' "$src/fix_contact_history_mesh.cpp"
+grep -q '^      if (nneighs > 0) memset(keepflag_\[i\], 0, nneighs\*sizeof(bool));$' "$src/fix_contact_history_mesh.cpp" &&
+  [[ $(grep -c '^void FixContactHistoryMesh::cleanUpContacts(int ifrom, int ito)$' "$src/fix_contact_history_mesh.cpp") == 1 ]] &&
+  grep -q 'the same stores as upstream' "$src/fix_contact_history_mesh.cpp" &&
+  ! grep -q '^                    npartner_\[i\]--;$' "$src/fix_contact_history_mesh.cpp" ||
+  { say "error: fix_contact_history_mesh.cpp (RECIPE 5) not patched"; exit 1; }
 # Debian's soname (the upstream CMakeLists gives the library none of its own).
 echo 'SET_TARGET_PROPERTIES(liggghts_shared PROPERTIES VERSION 3.8.0 SOVERSION 3)' >>"$src/CMakeLists.txt"
 say "source in $src, patched with: ${patches[*]##*/}"
