@@ -101,7 +101,7 @@ PlanChain adapt_plan_posterior(const sobol::GaussianPosterior& posterior, const 
   const int d = static_cast<int>(u.cols());
   const std::vector<double> lower(static_cast<size_t>(d), 0.0), upper(static_cast<size_t>(d), 1.0);
   sobol::ImportanceOptions options;
-  options.draws = k_plan_prior_points;
+  options.draws = k_plan_importance_draws;
   options.rounds = k_plan_importance_rounds;
   options.min_ess = k_plan_min_ess;
   options.seed = seed;
@@ -648,6 +648,7 @@ std::string plan_to_json(const PlanOutcome& o) {
   j["defaults"] = json{{"measurement_share", k_plan_measurement_share},
                        {"sensitive_total_index", k_plan_sensitive},
                        {"min_ess", k_plan_min_ess},
+                       {"importance_draws", k_plan_importance_draws},
                        {"importance_rounds", k_plan_importance_rounds},
                        {"burn_in", k_plan_burn_in},
                        {"steps", k_plan_steps},

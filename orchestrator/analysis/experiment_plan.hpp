@@ -45,8 +45,11 @@ inline constexpr double k_plan_sensitive = 0.1;
 /// is used instead.
 inline constexpr int k_plan_prior_points = 16384;
 inline constexpr double k_plan_min_ess = 400.0;
-/// Where the prior sample carries too little of a truth's posterior: adaptive importance sampling, at most this many
-/// rounds of k_plan_prior_points draws, each judged by k_plan_min_ess (sobol/importance_sampler.hpp).
+/// Where the prior sample carries too little of a truth's posterior: adaptive importance sampling, at most
+/// k_plan_importance_rounds rounds of k_plan_importance_draws draws, the last rounds pooled until their effective
+/// sample size reaches k_plan_min_ess (sobol/importance_sampler.hpp). A fitted proposal keeps about half its draws
+/// effective, so one round of 4096 usually suffices; pooling covers the rest.
+inline constexpr int k_plan_importance_draws = 4096;
 inline constexpr int k_plan_importance_rounds = 8;
 /// The ensemble sampler's chain where adaptive importance sampling falls short too: k_plan_walkers_per_parameter · d +
 /// 2 walkers started at the prior points of largest weight, k_plan_burn_in + k_plan_steps steps, the kept steps doubled
