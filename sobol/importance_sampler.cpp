@@ -55,6 +55,7 @@ void ImportanceOptions::validate() const {
 }
 
 std::pair<double, double> ImportanceResult::interval(int j, double low, double high) const {
+  if (points.rows() == 0) return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   std::vector<Eigen::Index> order(static_cast<size_t>(points.rows()));
   std::iota(order.begin(), order.end(), Eigen::Index{0});
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return points(a, j) < points(b, j); });

@@ -43,7 +43,7 @@ struct ImportanceResult {
   int evaluations = 0;      ///< log-density evaluations (points)
   bool converged = false;   ///< ess >= ImportanceOptions::min_ess
   /// The weighted `low` and `high` quantiles of parameter j: the first draws, in the order of coordinate j, where the
-  /// cumulative weight reaches each.
+  /// cumulative weight reaches each. NaN, NaN when no draw was kept.
   std::pair<double, double> interval(int j, double low = 0.05, double high = 0.95) const;
 };
 

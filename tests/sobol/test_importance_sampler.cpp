@@ -132,6 +132,8 @@ TEST(ImportanceSampler, TooFewRoundsForAVeryNarrowPosteriorIsNotConverged) {
   EXPECT_FALSE(r.converged);
   EXPECT_LT(r.ess, 400.0);
   EXPECT_EQ(r.rounds, 1);
+  const ImportanceResult empty;
+  EXPECT_TRUE(std::isnan(empty.interval(0).first) && std::isnan(empty.interval(0).second));
 }
 
 TEST(ImportanceSampler, SeededRunsAreIdenticalAndSeedsDiffer) {
