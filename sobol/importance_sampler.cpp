@@ -26,6 +26,12 @@ void weighted_moments(const Eigen::MatrixXd& x, const Eigen::VectorXd& w, Eigen:
   covariance = centred.transpose() * w.asDiagonal() * centred;
 }
 
+/// Rounds pooled into one importance sample: the largest log weight over them, and their Kish size.
+struct Pool {
+  double top = -std::numeric_limits<double>::infinity();
+  double ess = 0.0;
+};
+
 /// Kish's effective sample size of unnormalised weights.
 double kish_ess(const Eigen::VectorXd& w) {
   const double total = w.sum();
@@ -54,18 +60,25 @@ void ImportanceOptions::validate() const {
     throw InputError(fmt::format("importance sampler: inflation {} must be a finite number >= 1", inflation));
 }
 
+std::pair<double, double> weighted_interval(const Eigen::MatrixXd& points, int j,
+                                            const std::vector<Eigen::Index>& order, const Eigen::VectorXd& weights,
+                                            double total, double low, double high) {
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  if (order.empty()) return {nan, nan};
+  double cumulative = 0.0, q_low = nan;
+  for (const Eigen::Index i : order) {
+    cumulative += weights(i);
+    if (std::isnan(q_low) && cumulative >= low * total) q_low = points(i, j);
+    if (cumulative >= high * total) return {q_low, points(i, j)};
+  }
+  return {q_low, points(order.back(), j)};  // rounding left the sum a little below high · total
+}
+
 std::pair<double, double> ImportanceResult::interval(int j, double low, double high) const {
-  if (points.rows() == 0) return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   std::vector<Eigen::Index> order(static_cast<size_t>(points.rows()));
   std::iota(order.begin(), order.end(), Eigen::Index{0});
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return points(a, j) < points(b, j); });
-  double cumulative = 0.0, q_low = std::numeric_limits<double>::quiet_NaN();
-  for (const Eigen::Index i : order) {
-    cumulative += weights(i);
-    if (std::isnan(q_low) && cumulative >= low) q_low = points(i, j);
-    if (cumulative >= high) return {q_low, points(i, j)};
-  }
-  return {q_low, points(order.back(), j)};  // rounding left the total a little below `high`
+  return weighted_interval(points, j, order, weights, 1.0, low, high);
 }
 
 ImportanceResult adaptive_importance_sample(const BatchLogDensity& log_density, const std::vector<double>& lower,
@@ -182,35 +195,37 @@ ImportanceResult adaptive_importance_sample(const BatchLogDensity& log_density, 
     // The last k rounds pooled, each draw weighted by density / its own round's proposal: the weights share one
     // scale (the density's constant), so the pool is one importance sample (Cappé et al. 2004, §2.2) and its Kish
     // size counts what every round adds. The fewest last rounds that reach min_ess are kept.
-    int kept = 0;
-    double pooled_ess = 0.0;
-    for (int k = 1; k <= static_cast<int>(drawn.size()) && kept == 0; ++k) {
-      double top_k = -std::numeric_limits<double>::infinity();
-      for (size_t r = drawn.size() - static_cast<size_t>(k); r < drawn.size(); ++r)
-        top_k = std::max(top_k, drawn[r].log_w.maxCoeff());
+    const auto pool = [&](size_t first) {
+      Pool p;
+      for (size_t r = first; r < drawn.size(); ++r) p.top = std::max(p.top, drawn[r].log_w.maxCoeff());
       double sum = 0.0, squares = 0.0;
-      for (size_t r = drawn.size() - static_cast<size_t>(k); r < drawn.size(); ++r) {
-        const Eigen::VectorXd wr = weights_of(drawn[r].log_w, top_k);
+      for (size_t r = first; r < drawn.size(); ++r) {
+        const Eigen::VectorXd wr = weights_of(drawn[r].log_w, p.top);
         sum += wr.sum();
         squares += wr.squaredNorm();
       }
-      pooled_ess = squares > 0.0 ? sum * sum / squares : 0.0;
-      if (pooled_ess >= options.min_ess) kept = k;
+      p.ess = squares > 0.0 ? sum * sum / squares : 0.0;
+      return p;
+    };
+    int kept = 0;
+    Pool pooled;
+    for (int k = 1; k <= static_cast<int>(drawn.size()) && kept == 0; ++k) {
+      pooled = pool(drawn.size() - static_cast<size_t>(k));
+      if (pooled.ess >= options.min_ess) kept = k;
     }
     if (kept > 0 || round + 1 == options.rounds) {
       const int k = kept > 0 ? kept : 1;
       const size_t first = drawn.size() - static_cast<size_t>(k);
-      double top_k = -std::numeric_limits<double>::infinity();
-      for (size_t r = first; r < drawn.size(); ++r) top_k = std::max(top_k, drawn[r].log_w.maxCoeff());
+      if (kept == 0) pooled = pool(first);
       result.points.resize(static_cast<Eigen::Index>(k) * options.draws, d);
       result.weights.resize(static_cast<Eigen::Index>(k) * options.draws);
       for (size_t r = first; r < drawn.size(); ++r) {
         const Eigen::Index row = static_cast<Eigen::Index>(r - first) * options.draws;
         result.points.middleRows(row, options.draws) = drawn[r].x;
-        result.weights.segment(row, options.draws) = weights_of(drawn[r].log_w, top_k);
+        result.weights.segment(row, options.draws) = weights_of(drawn[r].log_w, pooled.top);
       }
       result.weights /= result.weights.sum();
-      result.ess = kept > 0 ? pooled_ess : ess;
+      result.ess = kept > 0 ? pooled.ess : ess;
       result.converged = kept > 0;
       break;
     }

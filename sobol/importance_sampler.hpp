@@ -47,6 +47,13 @@ struct ImportanceResult {
   std::pair<double, double> interval(int j, double low = 0.05, double high = 0.95) const;
 };
 
+/// The weighted `low` and `high` quantiles of column j of `points`, walking its rows in `order` (sorted by column j):
+/// the first rows where the cumulative weight reaches low · total and high · total (`total`: the weights' sum). The
+/// last row's value when rounding leaves the sum short of high · total; NaN, NaN for an empty order.
+std::pair<double, double> weighted_interval(const Eigen::MatrixXd& points, int j,
+                                            const std::vector<Eigen::Index>& order, const Eigen::VectorXd& weights,
+                                            double total, double low = 0.05, double high = 0.95);
+
 /// Samples the density on the box [lower, upper] (zero outside). The first Gaussian is fitted to `points` weighted
 /// by exp(`log_density_at_points`) (draws of the uniform prior, e.g., with their log-density), with a variance of at
 /// least a quarter of their spacing squared in each direction so that a posterior narrower than their spacing is

@@ -64,23 +64,6 @@ std::vector<double> total_indices(const sobol::Metamodel& model, int dimension, 
   }
 }
 
-/// 90 % interval of parameter j under weights w over the prior sample, by walking the sample in the order of its
-/// coordinate j (order[j], sorted once): the first points where the weighted CDF reaches 5 % and 95 %.
-std::pair<double, double> weighted_interval(const Eigen::MatrixXd& u, const std::vector<int>& order,
-                                            const Eigen::VectorXd& w, int j, double total) {
-  double cum = 0.0, q05 = k_nan, q95 = k_nan;
-  for (const int i : order) {
-    cum += w(i);
-    if (std::isnan(q05) && cum >= 0.05 * total) q05 = u(i, j);
-    if (cum >= 0.95 * total) {
-      q95 = u(i, j);
-      break;
-    }
-  }
-  if (std::isnan(q95)) q95 = u(order.back(), j);
-  return {q05, q95};
-}
-
 std::string subset_label(const PlanSubset& s) { return join(s.studies, " + "); }
 
 /// One truth's posterior: by importance sampling over the shared prior sample, or by the ensemble sampler.
@@ -369,12 +352,12 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   all.predict(u, mean, sd);
   const Eigen::MatrixXd variance = sd.array().square().matrix();
   const Eigen::MatrixXd half_log_variance = (0.5 * variance.array().log()).matrix();
-  std::vector<std::vector<int>> order(static_cast<size_t>(d));
+  std::vector<std::vector<Eigen::Index>> order(static_cast<size_t>(d));
   for (int j = 0; j < d; ++j) {
     order[static_cast<size_t>(j)].resize(static_cast<size_t>(p_points));
-    std::iota(order[static_cast<size_t>(j)].begin(), order[static_cast<size_t>(j)].end(), 0);
+    std::iota(order[static_cast<size_t>(j)].begin(), order[static_cast<size_t>(j)].end(), Eigen::Index{0});
     std::sort(order[static_cast<size_t>(j)].begin(), order[static_cast<size_t>(j)].end(),
-              [&](int a, int b) { return u(a, j) < u(b, j); });
+              [&](Eigen::Index a, Eigen::Index b) { return u(a, j) < u(b, j); });
   }
   // The truths: uniform on the box, or, with --near, uniform points accepted with probability exp(-z²/2), z the
   // distance of the predicted observable from the guessed value in units of its ±.
@@ -464,7 +447,7 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       p.interval.resize(static_cast<size_t>(d));
       if (ess >= k_plan_min_ess) {
         for (int j = 0; j < d; ++j)
-          p.interval[static_cast<size_t>(j)] = weighted_interval(u, order[static_cast<size_t>(j)], w, j, total);
+          p.interval[static_cast<size_t>(j)] = sobol::weighted_interval(u, j, order[static_cast<size_t>(j)], w, total);
       } else {
         // Too few prior points carry the posterior (it is narrow in some direction): sample it.
         std::vector<sobol::GaussianTarget> chosen;

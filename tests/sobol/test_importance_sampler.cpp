@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace demsa::sobol {
 namespace {
@@ -177,6 +178,22 @@ TEST(ImportanceSampler, BadOptionsAndInputsNameTheValue) {
       Eigen::VectorXd::Constant(start.points.rows(), -std::numeric_limits<double>::infinity());
   EXPECT_NE(message({}, start.points, nowhere).find("no starting point has a finite density"), std::string::npos);
   EXPECT_NE(message({}, start.points.leftCols(3), start.log_density).find("points 500 × 3"), std::string::npos);
+}
+
+TEST(ImportanceSampler, WeightedIntervalWalksTheGivenOrderToEachQuantile) {
+  // Rows out of order in column 1; weights 1..4 of total 10: the CDF in value order is 0.3, 0.4, 0.6, 1.0.
+  Eigen::MatrixXd points(4, 2);
+  points << 9, 0.7, 9, 0.1, 9, 0.4, 9, 0.9;
+  const Eigen::VectorXd weights = (Eigen::VectorXd(4) << 2.0, 3.0, 1.0, 4.0).finished();
+  const std::vector<Eigen::Index> order{1, 2, 0, 3};
+  const auto [q05, q95] = weighted_interval(points, 1, order, weights, 10.0);
+  EXPECT_DOUBLE_EQ(q05, 0.1);
+  EXPECT_DOUBLE_EQ(q95, 0.9);
+  const auto [q35, q55] = weighted_interval(points, 1, order, weights, 10.0, 0.35, 0.55);
+  EXPECT_DOUBLE_EQ(q35, 0.4);
+  EXPECT_DOUBLE_EQ(q55, 0.7);
+  const auto [a, b] = weighted_interval(points, 1, {}, weights, 10.0);
+  EXPECT_TRUE(std::isnan(a) && std::isnan(b));
 }
 
 }  // namespace
