@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The pedestal mesh against the angle (docs/explanation/benchmarks.md, "The pedestal mesh"): the 18 cases of
 # bench/pedestal-angles.toml (the quickstart's piles at 6 design points × 3 packings), each run with the old pedestal
-# (5 mm triangles everywhere, demsa's until 2026-12-04) by OLD_LIGGGHTS and with the lean one (the top's rings 12.5 mm
-# apart inside the same 5 mm rim and side band, demsa's since) by NEW_LIGGGHTS, both meshes from bench/pedestal_stl.py,
+# (5 mm triangles everywhere, demsa's pedestal) by OLD_LIGGGHTS and with the lean one (the top's rings 12.5 mm apart
+# inside the same 5 mm rim and side band, tried and not adopted) by NEW_LIGGGHTS, both meshes from bench/pedestal_stl.py,
 # paired by bench/liggghts-builds.sh. Prints its rate table, then per design point the
 # angles of the three packings with each pedestal, the packing noise (the pooled within-point standard deviation,
 # 12 degrees of freedom per pedestal) and the paired differences new − old.
