@@ -295,11 +295,10 @@ CaseWritten PileDraft::write(const Material& m, const TimestepChoice& ts, Params
         k, snapshot_file(k));
   write_text(dir / "pile_history.liggghts", snapshots);
   // The pedestal: its rim (the circle's polygon), side band and flat top of 5 mm elements (with a plane top, the
-  // pedestal's drawing for export-vtk; LIGGGHTS does not read it). A top of 12.5 mm rings
-  // halves the mesh wall's particle-triangle pairs (the quickstart's piles ran 1.29 times as fast, their angle within
-  // its packing noise: docs/explanation/benchmarks.md, "The pedestal mesh"), but a quickstart-size pile on it was still
-  // moving at its settling cap (59 particles above the speed limit, the fastest at 0.074 m/s), where on this one it
-  // settles by the criterion: kept at 5 mm until that is understood.
+  // pedestal's drawing for export-vtk; LIGGGHTS does not read it). A top of 12.5 mm rings halves the mesh wall's
+  // particle-triangle pairs, but with RECIPE 5's exact rejection it runs the quickstart's piles only 1.13 times as
+  // fast, and it lowers the angle by about 1 degree at three of six design points on every packing
+  // (docs/explanation/benchmarks.md, "The lean top with RECIPE 5"): not adopted.
   write_text(
       dir / k_pedestal_stl,
       to_ascii_stl(pedestal_mesh(s.pedestal_radius, s.pedestal_height, 0.005, 0.005, m_base.empty()), "pedestal"));
