@@ -74,11 +74,15 @@ std::pair<double, double> weighted_interval(const Eigen::MatrixXd& points, int j
   return {q_low, points(order.back(), j)};  // rounding left the sum a little below high · total
 }
 
-std::pair<double, double> ImportanceResult::interval(int j, double low, double high) const {
+std::vector<Eigen::Index> rows_by_column(const Eigen::MatrixXd& points, int j) {
   std::vector<Eigen::Index> order(static_cast<size_t>(points.rows()));
   std::iota(order.begin(), order.end(), Eigen::Index{0});
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return points(a, j) < points(b, j); });
-  return weighted_interval(points, j, order, weights, 1.0, low, high);
+  return order;
+}
+
+std::pair<double, double> ImportanceResult::interval(int j, double low, double high) const {
+  return weighted_interval(points, j, rows_by_column(points, j), weights, 1.0, low, high);
 }
 
 ImportanceResult adaptive_importance_sample(const BatchLogDensity& log_density, const std::vector<double>& lower,

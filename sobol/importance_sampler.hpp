@@ -47,6 +47,9 @@ struct ImportanceResult {
   std::pair<double, double> interval(int j, double low = 0.05, double high = 0.95) const;
 };
 
+/// The row indices of `points` in increasing order of column j (the walk order of weighted_interval).
+std::vector<Eigen::Index> rows_by_column(const Eigen::MatrixXd& points, int j);
+
 /// The weighted `low` and `high` quantiles of column j of `points`, walking its rows in `order` (sorted by column j):
 /// the first rows where the cumulative weight reaches low · total and high · total (`total`: the weights' sum). The
 /// last row's value when rounding leaves the sum short of high · total; NaN, NaN for an empty order.

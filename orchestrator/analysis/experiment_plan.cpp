@@ -352,13 +352,8 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
   all.predict(u, mean, sd);
   const Eigen::MatrixXd variance = sd.array().square().matrix();
   const Eigen::MatrixXd half_log_variance = (0.5 * variance.array().log()).matrix();
-  std::vector<std::vector<Eigen::Index>> order(static_cast<size_t>(d));
-  for (int j = 0; j < d; ++j) {
-    order[static_cast<size_t>(j)].resize(static_cast<size_t>(p_points));
-    std::iota(order[static_cast<size_t>(j)].begin(), order[static_cast<size_t>(j)].end(), Eigen::Index{0});
-    std::sort(order[static_cast<size_t>(j)].begin(), order[static_cast<size_t>(j)].end(),
-              [&](Eigen::Index a, Eigen::Index b) { return u(a, j) < u(b, j); });
-  }
+  std::vector<std::vector<Eigen::Index>> order;
+  for (int j = 0; j < d; ++j) order.push_back(sobol::rows_by_column(u, j));
   // The truths: uniform on the box, or, with --near, uniform points accepted with probability exp(-z²/2), z the
   // distance of the predicted observable from the guessed value in units of its ±.
   struct Near {
