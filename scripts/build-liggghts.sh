@@ -3,26 +3,29 @@
 # (liggghts/rolling_model_viscous.h) and compiled kernels for hertz / tangential history /
 # cohesion off / rolling off, cdt, epsd, epsd2, epsd3 and viscous (liggghts/style_contact_model.whitelist), the
 # mesh walls' contact history cleared per atom instead of per page, and the mesh wall's exact skip of particles out of
-# reach of a triangle (the same trajectories: docs/explanation/benchmarks.md).
+# reach of a triangle, compiled with the profile of demsa's own cases (liggghts/profile.tar.xz, GCC's
+# -fprofile-use) and link-time optimisation (the same trajectories: docs/explanation/benchmarks.md).
 #
 #   scripts/build-liggghts.sh                build (once per source + patch hash), print the prefix
 #   scripts/build-liggghts.sh --print-prefix print the prefix this checkout's build lives in; build nothing
 #   scripts/build-liggghts.sh --jobs N       parallel compile jobs (default 2)
 #   scripts/build-liggghts.sh --generic-viscous  the same without the compiled viscous kernel, in <prefix>-generic
 #                                            (LIGGGHTS then runs the model through its generic path; for bench/)
+#   scripts/build-liggghts.sh --instrument DIR   the same source and flags with -fprofile-generate, the executable
+#                                            in DIR/bin (for scripts/liggghts-profile.sh, which writes the profile)
 #
 # The result is a versioned prefix outside the repository:
 #   ${XDG_CACHE_HOME:-$HOME/.cache}/demsa/liggghts-3.8.0-<key>/{bin/liggghts,lib/libliggghts.so,include/liggghts/}
-# <key> = first 16 hex digits of sha256(source tarball hash, the patch files' hashes, RECIPE). The library is
-# libliggghts.so.3.8.0 with the soname of Debian's, libliggghts.so.3, so that demsa (linked against Debian's) can
-# load it in its place for the in-process trial-step oedometer (LD_LIBRARY_PATH=<prefix>/lib). A prefix is
+# <key> = first 16 hex digits of sha256(source tarball hash, the patch files' and the profile's hashes, RECIPE).
+# The library is libliggghts.so.3.8.0 with the soname of Debian's, libliggghts.so.3, so that demsa (linked against
+# Debian's) can load it in its place for the in-process trial-step oedometer (LD_LIBRARY_PATH=<prefix>/lib). A prefix is
 # complete once its `demsa-liggghts.txt` exists (written last); a finished prefix is never rebuilt.
 # demsa finds it through `[run] liggghts`, $DEMSA_LIGGGHTS, or this cache (the newest complete prefix).
 # ccache is used when installed (CCACHE_DIR defaults to <cache>/ccache), so a changed patch rebuilds cheaply.
 # Needs: apt-get (source download), cmake, mpicxx (libopenmpi-dev): scripts/install-deps.sh --liggghts-build.
 set -euo pipefail
 
-RECIPE=5 # bump when the build commands below change the result
+RECIPE=6 # bump when the build commands below change the result
 VERSION=3.8.0
 TARBALL=liggghts_3.8.0+repack1.orig.tar.xz
 
@@ -31,12 +34,14 @@ cache=${XDG_CACHE_HOME:-$HOME/.cache}/demsa
 jobs=2
 print_only=0
 generic=0
+instrument=
 while (($#)); do
   case $1 in
     --print-prefix) print_only=1 ;;
     --generic-viscous) generic=1 ;;
     --jobs) jobs=$2; shift ;;
-    -h | --help) sed -n '2,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --instrument) instrument=${2:?--instrument needs a folder}; shift ;;
+    -h | --help) sed -n '2,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "build-liggghts: error: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -46,7 +51,14 @@ done
 # generates 119 combinations (a loop over 3780 in sh: many minutes), and each kernel costs compile time in lammps.cpp;
 # any other combination still runs, through LIGGGHTS's generic path.
 patches=("$repo/liggghts/rolling_model_viscous.h" "$repo/liggghts/style_contact_model.whitelist")
-for p in "${patches[@]}"; do
+# The profile GCC optimises with (-fprofile-use): the counts of an instrumented build of this same source running
+# demsa's cases of every experiment and rolling model (scripts/liggghts-profile.sh writes it). It changes which code
+# is inlined and laid out hot, never the arithmetic (no -ffast-math, no -march): the trajectories stay Debian's.
+profile=$repo/liggghts/profile.tar.xz
+# The profile belongs to the builds that use it (not to --generic-viscous, whose kernels differ, nor --instrument).
+keyed=("${patches[@]}")
+((generic)) || [[ -n $instrument ]] || keyed+=("$profile")
+for p in "${keyed[@]}"; do
   [[ -f $p ]] || { echo "build-liggghts: error: missing $p" >&2; exit 1; }
 done
 
@@ -80,17 +92,18 @@ fi
 
 key=$( {
   sha256sum "$src_dl/$TARBALL" | cut -d' ' -f1
-  for p in "${patches[@]}"; do sha256sum "$p" | cut -d' ' -f1; done
+  for p in "${keyed[@]}"; do sha256sum "$p" | cut -d' ' -f1; done
   echo "recipe $RECIPE"
 } | sha256sum | cut -c1-16)
 prefix=$cache/liggghts-$VERSION-$key
 ((generic == 0)) || prefix=$prefix-generic
+[[ -z $instrument ]] || prefix=$(realpath -m "$instrument")
 
 if ((print_only)); then
   echo "$prefix"
   exit 0
 fi
-if [[ -f $prefix/demsa-liggghts.txt ]]; then
+if [[ -z $instrument && -f $prefix/demsa-liggghts.txt ]]; then
   say "already built: $prefix"
   echo "$prefix"
   exit 0
@@ -240,17 +253,55 @@ if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   say "using ccache ($CCACHE_DIR)"
 fi
+# Upstream's flags (src/CMakeLists.txt sets them only when none are given), then the profile's.
+flags="-O2 -funroll-loops -fstrict-aliasing -Wall -Wno-uninitialized -std=c++11 -Wno-literal-suffix -fPIC"
 build=$work/build
+targets=(liggghts_bin liggghts_shared)
+if [[ -n $instrument ]]; then
+  # One counter update per event (single-threaded runs); the counts land next to each object, or under
+  # $GCOV_PREFIX with $GCOV_PREFIX_STRIP leading folders of that path stripped (scripts/liggghts-profile.sh).
+  flags+=" -fprofile-generate -fprofile-update=single"
+  build=$work/build-instrumented
+  targets=(liggghts_bin)
+elif ((generic == 0)); then
+  # -fprofile-partial-training: code the training never ran is optimised as without a profile, not for size (a
+  # study may use a combination the training did not). -flto: the calls between LIGGGHTS's files (the atom arrays,
+  # the neighbour lists, the contact history) are inlined like those within one.
+  flags+=" -fprofile-use -fprofile-partial-training -fprofile-correction -Wno-missing-profile -flto=$jobs"
+  flags+=" -fno-fat-lto-objects"
+fi
 start=$(date +%s)
-CC=mpicc CXX=mpicxx cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE= "${launcher[@]}" \
+CC=mpicc CXX=mpicxx cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE= "${launcher[@]}" -DCMAKE_CXX_FLAGS="$flags" \
   -DCMAKE_DISABLE_FIND_PACKAGE_VTK=ON -Wno-dev >"$work/configure.log" 2>&1 ||
   { say "error: cmake configure failed, see $work/configure.log"; tail -20 "$work/configure.log" >&2; exit 1; }
+if [[ $flags == *-fprofile-use* ]]; then
+  # The counts of each object, CMakeFiles/liggghts_obj.dir/FILE.cpp.gcda, where GCC looks for them: beside it.
+  tar -xJf "$profile" -C "$build" || { say "error: cannot unpack $profile"; exit 1; }
+  counted=$(find "$build/CMakeFiles/liggghts_obj.dir" -name '*.gcda' | wc -l)
+  ((counted > 100)) ||
+    { say "error: $profile holds $counted profiles of liggghts_obj (scripts/liggghts-profile.sh)"; exit 1; }
+  say "optimising with the profile of $counted files ($profile)"
+fi
 say "building with $jobs job(s) (nice 10); log: $work/build.log"
 # -k: every file that fails is reported in one pass.
-nice -n 10 cmake --build "$build" --target liggghts_bin liggghts_shared -j "$jobs" -- -k >"$work/build.log" 2>&1 ||
-  { say "error: build failed, see $work/build.log"; grep -m 20 -E ': error:' "$work/build.log" >&2; exit 1; }
+nice -n 10 cmake --build "$build" --target "${targets[@]}" -j "$jobs" -- -k >"$work/build.log" 2>&1 || {
+  say "error: build failed, see $work/build.log"
+  grep -m 20 -E ': error:' "$work/build.log" >&2
+  # A profile of another source (a changed patch or recipe) no longer matches its functions.
+  ! grep -q 'coverage mismatch\|-Werror=coverage-mismatch' "$work/build.log" ||
+    say "error: $profile was written for another source: run scripts/liggghts-profile.sh to write it again"
+  exit 1
+}
 grep -q 'ROLLING_VISCOUS' "$src/style_contact_model.h" || ((generic)) ||
   { say "error: the viscous kernel is missing from $src/style_contact_model.h"; exit 1; }
+if [[ -n $instrument ]]; then
+  mkdir -p "$prefix/bin"
+  cp "$build/liggghts" "$prefix/bin/liggghts"
+  echo "$build" >"$prefix/objects-dir.txt"
+  say "instrumented build in $prefix (its counts: $build/CMakeFiles/liggghts_obj.dir/*.gcda)"
+  echo "$prefix"
+  exit 0
+fi
 
 # 4. Install into the versioned prefix atomically (a temporary sibling, renamed at the end).
 tmp=$prefix.tmp.$$

@@ -729,8 +729,8 @@ std::string liggghts_text() {
   text += fmt::format(
       "which a study runs: the one its [run] liggghts names; else, but for `cdt`, $DEMSA_LIGGGHTS; else the build of "
       "scripts/build-liggghts.sh when it is built ({}); else `liggghts` on PATH. The build is the default because it "
-      "runs Debian's trajectories to the last digit, the quickstart's piles 1.09-1.10 times as fast (RECIPE 5; "
-      "docs/explanation/benchmarks.md, \"The mesh wall's exact shortcuts\").\n",
+      "runs Debian's trajectories to the last digit, the quickstart's piles about 1.29 times as fast (RECIPE 6; "
+      "docs/explanation/benchmarks.md, \"Profile-guided and link-time optimisation\").\n",
       cached_liggghts_executable() ? "here it is" : "here it is not");
   return text;
 }

@@ -133,9 +133,9 @@ void resolve_liggghts(study::StudyConfig& config, bool refuse) {
   const RollingModel model = config.contact.rolling_model;
   const std::string name(study::rolling_model_name(model));
   // `cdt` is in every LIGGGHTS 3.x: nothing to ask. The build of scripts/build-liggghts.sh runs it by the same
-  // trajectories as Debian's, bit for bit, and faster (docs/explanation/benchmarks.md, "The mesh wall's exact
-  // shortcuts": 1.09-1.10x on the quickstart's cases), so it is the default when it is built; else the `liggghts` on
-  // PATH, as before.
+  // trajectories as Debian's, bit for bit, and faster (docs/explanation/benchmarks.md, "Profile-guided and link-time
+  // optimisation": about 1.29x on the quickstart's cases), so it is the default when it is built; else the `liggghts`
+  // on PATH, as before.
   if (model == RollingModel::cdt) {
     if (config.run.liggghts == defaults.liggghts)
       if (const std::optional<std::string> built = cached_liggghts_executable()) config.run.liggghts = *built;

@@ -1,8 +1,9 @@
 // The project's LIGGGHTS build (scripts/build-liggghts.sh) against Debian's on the same tiny cases written by
 // `demsa case`: the final states are identical to the last digit (positions, velocities and angular velocities
 // written with %.17g). The build changes code paths only (compiled kernels, the mesh contact history's cheaper
-// clearing), never the arithmetic; a build change that did would fail here (docs/explanation/benchmarks.md, "LIGGGHTS
-// builds").
+// clearing, the mesh wall's exact skip, the profile-guided and link-time optimisation of RECIPE 6), never the
+// arithmetic; a build change that did would fail here (docs/explanation/benchmarks.md, "LIGGGHTS builds" and
+// "Profile-guided and link-time optimisation").
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>
