@@ -12,7 +12,8 @@
 #   scripts/build-liggghts.sh --generic-viscous  the same without the compiled viscous kernel, in <prefix>-generic
 #                                            (LIGGGHTS then runs the model through its generic path; for bench/)
 #   scripts/build-liggghts.sh --instrument DIR   the same source and flags with -fprofile-generate, the executable
-#                                            in DIR/bin (for scripts/liggghts-profile.sh, which writes the profile)
+#                                            in DIR/bin (for scripts/write-liggghts-profile.sh, which writes the
+#                                            profile)
 #
 # The result is a versioned prefix outside the repository:
 #   ${XDG_CACHE_HOME:-$HOME/.cache}/demsa/liggghts-3.8.0-<key>/{bin/liggghts,lib/libliggghts.so,include/liggghts/}
@@ -41,7 +42,7 @@ while (($#)); do
     --generic-viscous) generic=1 ;;
     --jobs) jobs=$2; shift ;;
     --instrument) instrument=${2:?--instrument needs a folder}; shift ;;
-    -h | --help) sed -n '2,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,26p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "build-liggghts: error: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -52,8 +53,8 @@ done
 # any other combination still runs, through LIGGGHTS's generic path.
 patches=("$repo/liggghts/rolling_model_viscous.h" "$repo/liggghts/style_contact_model.whitelist")
 # The profile GCC optimises with (-fprofile-use): the counts of an instrumented build of this same source running
-# demsa's cases of every experiment and rolling model (scripts/liggghts-profile.sh writes it). It changes which code
-# is inlined and laid out hot, never the arithmetic (no -ffast-math, no -march): the trajectories stay Debian's.
+# demsa's cases of every experiment and rolling model (scripts/write-liggghts-profile.sh writes it). It changes which
+# code is inlined and laid out hot, never the arithmetic (no -ffast-math, no -march): the trajectories stay Debian's.
 profile=$repo/liggghts/profile.tar.xz
 # The profile belongs to the builds that use it (not to --generic-viscous, whose kernels differ, nor --instrument).
 keyed=("${patches[@]}")
@@ -258,8 +259,8 @@ flags="-O2 -funroll-loops -fstrict-aliasing -Wall -Wno-uninitialized -std=c++11 
 build=$work/build
 targets=(liggghts_bin liggghts_shared)
 if [[ -n $instrument ]]; then
-  # One counter update per event (single-threaded runs); the counts land next to each object, or under
-  # $GCOV_PREFIX with $GCOV_PREFIX_STRIP leading folders of that path stripped (scripts/liggghts-profile.sh).
+  # One counter update per event (single-threaded runs); the counts land next to each object, or under $GCOV_PREFIX
+  # with $GCOV_PREFIX_STRIP leading folders of that path stripped (scripts/write-liggghts-profile.sh).
   flags+=" -fprofile-generate -fprofile-update=single"
   build=$work/build-instrumented
   targets=(liggghts_bin)
@@ -279,7 +280,7 @@ if [[ $flags == *-fprofile-use* ]]; then
   tar -xJf "$profile" -C "$build" || { say "error: cannot unpack $profile"; exit 1; }
   counted=$(find "$build/CMakeFiles/liggghts_obj.dir" -name '*.gcda' | wc -l)
   ((counted > 100)) ||
-    { say "error: $profile holds $counted profiles of liggghts_obj (scripts/liggghts-profile.sh)"; exit 1; }
+    { say "error: $profile holds $counted profiles of liggghts_obj (scripts/write-liggghts-profile.sh)"; exit 1; }
   say "optimising with the profile of $counted files ($profile)"
 fi
 say "building with $jobs job(s) (nice 10); log: $work/build.log"
@@ -289,7 +290,7 @@ nice -n 10 cmake --build "$build" --target "${targets[@]}" -j "$jobs" -- -k >"$w
   grep -m 20 -E ': error:' "$work/build.log" >&2
   # A profile of another source (a changed patch or recipe) no longer matches its functions.
   ! grep -q 'coverage mismatch\|-Werror=coverage-mismatch' "$work/build.log" ||
-    say "error: $profile was written for another source: run scripts/liggghts-profile.sh to write it again"
+    say "error: $profile was written for another source: run scripts/write-liggghts-profile.sh to write it again"
   exit 1
 }
 grep -q 'ROLLING_VISCOUS' "$src/style_contact_model.h" || ((generic)) ||
