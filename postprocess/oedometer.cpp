@@ -185,6 +185,46 @@ std::vector<PlateState> plate_states_from(LineReader& in) {
   return states;
 }
 
+std::optional<SettledPacking> settled_packing_from(LineReader& in) {
+  static constexpr std::string_view k_prefix = "# settled packing:";
+  std::string_view view;
+  while (in.next(view)) {
+    if (view.substr(0, k_prefix.size()) != k_prefix) continue;
+    // "particles N, top_z_m Z, void_ratio E, plate_start_z_m Z0": name-value pairs separated by commas.
+    std::string rest(view.substr(k_prefix.size()));
+    for (char& c : rest)
+      if (c == ',') c = ' ';
+    const std::vector<std::string> words = split_words(rest);
+    const auto field = [&](const std::string& name) {
+      for (std::size_t i = 0; i + 1 < words.size(); i += 2)
+        if (words[i] == name) {
+          double v = 0.0;
+          if (!parse_double(words[i + 1], v, true))
+            throw ParseError(in.name(), in.line(),
+                             fmt::format("settled packing: {} = {} is not a finite number", name, shown(words[i + 1])));
+          return v;
+        }
+      throw ParseError(in.name(), in.line(), fmt::format("settled packing: no {} in {}", name, shown(view)));
+    };
+    SettledPacking p;
+    const double particles = field("particles");
+    p.top_z_m = field("top_z_m");
+    p.void_ratio = field("void_ratio");
+    p.plate_start_z_m = field("plate_start_z_m");
+    if (!(particles >= 1.0 && particles <= 1e12) || particles != std::floor(particles))
+      throw ParseError(in.name(), in.line(), fmt::format("settled packing: particles = {} is not a count", particles));
+    p.particles = static_cast<long>(particles);
+    if (p.void_ratio < 0.0)
+      throw ParseError(in.name(), in.line(), fmt::format("settled packing: void_ratio = {} is negative", p.void_ratio));
+    if (p.plate_start_z_m < p.top_z_m)
+      throw ParseError(
+          in.name(), in.line(),
+          fmt::format("settled packing: plate_start_z_m = {} lies below top_z_m = {}", p.plate_start_z_m, p.top_z_m));
+    return p;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 PlateHistory read_plate_history(const std::filesystem::path& path) {
@@ -205,6 +245,16 @@ std::vector<PlateState> read_plate_states(const std::filesystem::path& path) {
 std::vector<PlateState> parse_plate_states(std::string_view text, const std::string& name) {
   LineReader in = LineReader::of_text(text, name, k_plate_limits);
   return plate_states_from(in);
+}
+
+std::optional<SettledPacking> read_settled_packing(const std::filesystem::path& path) {
+  LineReader in(path, k_plate_limits);
+  return settled_packing_from(in);
+}
+
+std::optional<SettledPacking> parse_settled_packing(std::string_view text, const std::string& name) {
+  LineReader in = LineReader::of_text(text, name, k_plate_limits);
+  return settled_packing_from(in);
 }
 
 std::vector<PlateState> states_from_history(const PlateHistory& history, double load_tolerance) {

@@ -49,6 +49,21 @@ std::vector<PlateState> read_plate_states(const std::filesystem::path& path);
 PlateHistory parse_plate_history(std::string_view text, const std::string& name);
 std::vector<PlateState> parse_plate_states(std::string_view text, const std::string& name);
 
+/// The packing after the fill, as liggghts_templates/oedometer_fill.liggghts records it in the first comment of
+/// plate_states.txt ("# settled packing: particles N, top_z_m Z, void_ratio E, plate_start_z_m Z0").
+struct SettledPacking {
+  long particles = 0;
+  double top_z_m = 0;          ///< the highest particle's top
+  double void_ratio = 0;       ///< e = A top_z / V_S - 1
+  double plate_start_z_m = 0;  ///< where the plate starts: top_z + the plate's gap
+};
+
+/// The settled packing of a plate_states.txt (or its text); none when it has no such comment (the fill did not finish).
+/// Throws ParseError (file, line, value) on that comment with a missing, non-numeric or non-finite field, fewer than
+/// one particle, a negative void ratio or a plate start below the top.
+std::optional<SettledPacking> read_settled_packing(const std::filesystem::path& path);
+std::optional<SettledPacking> parse_settled_packing(std::string_view text, const std::string& name);
+
 /// Load states from a history alone: the last row of each consecutive run of equal load (in trial-step mode the
 /// last accepted row); converged when |force − load| ≤ load_tolerance.
 std::vector<PlateState> states_from_history(const PlateHistory& history, double load_tolerance);

@@ -9,6 +9,7 @@
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/process.hpp"
 #include "orchestrator/util/signals.hpp"
+#include "postprocess/error.hpp"
 #include "postprocess/liggghts_log.hpp"
 #include "postprocess/text.hpp"
 
@@ -236,12 +237,15 @@ std::optional<CaseActual> case_actual(const fs::path& case_dir) {
 
 namespace {
 
-std::optional<experiments::CaseCost> case_cost_of(const study::StudyConfig& config, const fs::path& case_dir) {
+/// The case's cost by its experiment's model, with what the study's probe learnt (`probed`, null: nothing; the cap
+/// does not depend on it).
+std::optional<experiments::CaseCost> case_cost_of(const study::StudyConfig& config, const fs::path& case_dir,
+                                                  const nlohmann::json& probed = nullptr) {
   if (!fs::exists(case_dir / study::k_case_json)) return std::nullopt;
   const experiments::Experiment& experiment = experiments::of(config);
   if (experiment.case_cost == nullptr) return std::nullopt;
   const nlohmann::json doc = experiments::read_case_json(case_dir);
-  return experiment.case_cost(config, doc, case_dir / study::k_case_json);
+  return experiment.case_cost(config, doc, case_dir / study::k_case_json, probed);
 }
 
 }  // namespace
@@ -265,7 +269,8 @@ nlohmann::ordered_json probe_json(const ProbeResult& p) {
           {"atom_steps_per_cpu_second", p.rate},
           {"binary", p.binary},
           {"binary_mtime_ns", p.binary_mtime_ns},
-          {"measured_at", p.measured_at}};
+          {"measured_at", p.measured_at},
+          {"state", p.state}};
 }
 
 }  // namespace
@@ -325,6 +330,13 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
   // Its complete LIGGGHTS runs, as a finished case's: atom-steps and loop time (wall time) on every rank.
   const CaseActual loops = case_actual(work).value_or(CaseActual{});
   p.atom_steps = loops.atom_steps;
+  if (const experiments::Experiment& experiment = experiments::of(config); experiment.probe_state != nullptr) {
+    try {
+      p.state = experiment.probe_state(work);
+    } catch (const postprocess::ParseError&) {
+      // A file the case was still writing when the budget killed it: the probe's rate stands without its state.
+    }
+  }
   const double loop_cpu = loops.cpu_seconds;
   // A probe that failed, or ran no LIGGGHTS run to its end, keeps its folder for the user to look into.
   const bool failed = !r.timed_out && r.exit_code != 0;
@@ -371,6 +383,7 @@ std::optional<ProbeResult> read_probe(const study::StudyConfig& config, const fs
     p.binary = j.at("binary").get<std::string>();
     p.binary_mtime_ns = j.at("binary_mtime_ns").get<std::int64_t>();
     p.measured_at = j.at("measured_at").get<std::string>();
+    p.state = j.value("state", nlohmann::json());  // none in a probe of an older demsa
   } catch (const nlohmann::json::exception&) {
     return std::nullopt;
   }
@@ -390,13 +403,13 @@ std::optional<ProbeResult> read_probe(const study::StudyConfig& config, const fs
 }
 
 std::string probe_text(const ProbeResult& p) {
-  return fmt::format("probe: sample {} {} {:.0f} s: {:.3g} atom-steps in {:.1f} CPU-s, {:.3g} per CPU-second{}\n",
-                     p.sample, p.finished ? "ran to its end within" : "was stopped after", p.budget_seconds,
-                     p.atom_steps, p.cpu_seconds, p.rate,
-                     p.finished ? fmt::format("; {:.3f} of its cap", p.atom_steps / p.cap_atom_steps)
-                                : fmt::format(" ({:.1f} % of its cap; not used: the start of a case is not its "
-                                              "average, give --probe the seconds of a whole case)",
-                                              100.0 * p.atom_steps / p.cap_atom_steps));
+  return fmt::format(
+      "probe: sample {} {} {:.0f} s: {:.3g} atom-steps in {:.1f} CPU-s, {:.3g} per CPU-second{}\n", p.sample,
+      p.finished ? "ran to its end within" : "was stopped after", p.budget_seconds, p.atom_steps, p.cpu_seconds, p.rate,
+      p.finished ? fmt::format("; {:.3f} of its cap", p.atom_steps / p.cap_atom_steps)
+                 : fmt::format(" ({:.1f} % of its cap; its rate is not used: the start of a case is not its "
+                               "average, give --probe the seconds of a whole case)",
+                               100.0 * p.atom_steps / p.cap_atom_steps));
 }
 
 StudyEstimate estimate(const EstimateInput& input) {
@@ -547,9 +560,11 @@ StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& d
   EstimateInput input;
   input.ranks = config.run.ranks;
   input.slots = executor_slots(config.run, static_cast<int>(order.size()));
+  input.probe = read_probe(config, dir);
+  const nlohmann::json probed = input.probe ? input.probe->state : nlohmann::json();
   for (const int sample : order) {
     const fs::path folder = study::case_dir(dir, sample);
-    const std::optional<experiments::CaseCost> cost = case_cost_of(config, folder);
+    const std::optional<experiments::CaseCost> cost = case_cost_of(config, folder, probed);
     if (!cost) continue;
     CaseCostInput c{sample, cost->atom_steps, cost->may_end_early, std::nullopt, cost->expected_atom_steps};
     if (input.cases.empty()) {
@@ -566,7 +581,6 @@ StudyEstimate estimate_study(const study::StudyConfig& config, const fs::path& d
     }
     input.cases.push_back(c);
   }
-  input.probe = read_probe(config, dir);
   // A rate cache that is a FIFO or a device is the user's mistake to fix, not a rate that could not be measured.
   if (const std::optional<std::string> kind = postprocess::special_file_kind(options.cache_file))
     throw UserError(options.cache_file.string(), 0, postprocess::special_file_message(*kind));
@@ -653,7 +667,9 @@ std::string predicted_vs_actual_table(const std::vector<study::CaseCostRow>& row
 std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config, const fs::path& dir,
                                                 const fs::path& case_dir, long run, int sample,
                                                 const std::vector<study::CaseCostRow>& before) {
-  const std::optional<experiments::CaseCost> cost = case_cost_of(config, case_dir);
+  const std::optional<ProbeResult> probe = read_probe(config, dir);
+  const nlohmann::json probed = probe ? probe->state : nlohmann::json();
+  const std::optional<experiments::CaseCost> cost = case_cost_of(config, case_dir, probed);
   const std::optional<CaseActual> actual = case_actual(case_dir);
   if (!cost || !actual) return std::nullopt;
   EstimateInput input;
@@ -664,14 +680,14 @@ std::optional<study::CaseCostRow> case_cost_row(const study::StudyConfig& config
   for (const study::CaseCostRow& r : before) {
     // The model's expectation of a case done before, from its folder (the store keeps its cap, not its expectation).
     std::optional<experiments::CaseCost> earlier;
-    if (cost->expected_atom_steps > 0.0) earlier = case_cost_of(config, study::case_dir(dir, r.sample));
+    if (cost->expected_atom_steps > 0.0) earlier = case_cost_of(config, study::case_dir(dir, r.sample), probed);
     input.cases.push_back({r.sample, r.cap_atom_steps, true, CaseActual{r.atom_steps, r.cpu_seconds},
                            earlier ? earlier->expected_atom_steps : 0.0});
   }
   input.cases.push_back({sample, cost->atom_steps, cost->may_end_early, std::nullopt, cost->expected_atom_steps});
   // The cases done before set the rate and the ratio when there are any; else the probe, else the machine's rate.
   if (before.empty()) {
-    input.probe = read_probe(config, dir);
+    input.probe = probe;
     if (const std::optional<std::string> exe = find_on_path(config.run.liggghts))
       input.rate = cached_rate(*exe, rate_cache_file());
   }

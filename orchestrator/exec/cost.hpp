@@ -89,6 +89,9 @@ struct ProbeResult {
   std::string binary;           ///< the LIGGGHTS it ran (canonical path)
   std::int64_t binary_mtime_ns = 0;
   std::string measured_at;
+  /// What the probe learnt of its case for the experiment's model (Experiment::probe_state: an oedometer's settled
+  /// packing), null when nothing: passed to every case's case_cost.
+  nlohmann::json state;
 };
 
 /// Runs the first case of the study in `dir` (design order) from a copy of its folder, DIR/.cost-probe, for at most

@@ -233,9 +233,16 @@ struct Experiment {
   // ---------------------------------------------------------------- cost
   /// The atom-steps of a written case by its schedule, from its case.json (`case_json`, read from `file`: its time
   /// step, its particles and what the experiment records of its schedule) and the study's settings; may be null (no
-  /// estimate for the experiment). Throws util::UserError naming `file` when case.json lacks what it needs.
+  /// estimate for the experiment). `probed` is what the study's probe learnt of the case it ran (probe_state), null
+  /// without a probe: a model may take from it what no case.json knows before its run. Throws util::UserError naming
+  /// `file` when case.json lacks what it needs.
   CaseCost (*case_cost)(const study::StudyConfig& config, const nlohmann::json& case_json,
-                        const std::filesystem::path& file) = nullptr;
+                        const std::filesystem::path& file, const nlohmann::json& probed) = nullptr;
+  /// What a probe (`demsa run --dry-run --probe SECONDS`) learnt of its case by the end of its budget, read from the
+  /// probe's folder before it is removed (an oedometer's settled packing, once its fill is done): JSON that case_cost
+  /// reads back as `probed`, null when it learnt nothing; may be null (case_cost takes nothing from a probe). Throws
+  /// postprocess::ParseError on a file of the case it cannot read.
+  nlohmann::json (*probe_state)(const std::filesystem::path& folder) = nullptr;
 
   // ---------------------------------------------------------------- laboratory files
   /// The extensions (lower case, with the dot: ".bmp") of the laboratory files it measures; none: it measures none.

@@ -186,6 +186,30 @@ TEST(CaseLiggghts, TinyOedometerTrialStepReachesBothLoads) {
   EXPECT_GT(std::count(history.accepted.begin(), history.accepted.end(), 0), 0);
 }
 
+TEST(CaseLiggghts, AProbeOfATrialStepOedometerBillsItsFirstLoadByTheFillItRead) {
+  // `--probe` runs the first case; once its fill is done, plate_states.txt's first comment gives the fill's void ratio,
+  // which the trial-step model's first load follows (docs/how-to/cost.md), whether the budget ends the probe or not.
+  test::TempDir tmp;
+  test::write_file(tmp / "study.toml", test::read_file(test::data_path("cases/tiny_oedometer_trial.toml")));
+  const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--json", "--probe", "60"}));
+  ASSERT_EQ(dry.exit_code, 0) << dry.out << dry.err;
+  const nlohmann::json e = nlohmann::json::parse(dry.out).at("estimate");
+  const nlohmann::json& state = e.at("probe").at("state");
+  ASSERT_TRUE(state.is_object()) << dry.out;
+  EXPECT_EQ(state.at("particles").get<long>(), 300);
+  EXPECT_GT(state.at("void_ratio").get<double>(), 0.3);  // a random packing of spheres, loose or dense
+  EXPECT_LT(state.at("void_ratio").get<double>(), 3.0);
+  EXPECT_NEAR(state.at("plate_gap_m").get<double>(), 0.5e-3, 1e-9);
+  const std::string source = e.at("atom_steps_source").get<std::string>();
+  EXPECT_NE(source.find("the probe's fill: void ratio"), std::string::npos) << source;
+  // The stored probe keeps it: a later dry run bills the same.
+  const test::CommandResult again = test::run_demsa(test::run_args(tmp, {"--dry-run", "--json"}));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const nlohmann::json later = nlohmann::json::parse(again.out).at("estimate");
+  EXPECT_EQ(later.at("atom_steps_source").get<std::string>(), source);
+  EXPECT_DOUBLE_EQ(later.at("atom_steps").get<double>(), e.at("atom_steps").get<double>());
+}
+
 TEST(CaseLiggghts, CaseIntoAFolderWithOutputsNeedsOverwrite) {
   // No LIGGGHTS run: the outputs of an earlier ./run.sh are faked.
   test::TempDir tmp;

@@ -212,6 +212,38 @@ TEST(OedometerErrors, ByteOrderMarkAndCrLfAreText) {
   EXPECT_DOUBLE_EQ(states[0].plate_z_m, 0.06);
 }
 
+TEST(SettledPacking, TheFillsCommentGivesTheFillsVoidRatioAndThePlatesGap) {
+  const std::string line =
+      "# settled packing: particles 1000, top_z_m 0.0306807689495588, void_ratio 1.65171513157407, "
+      "plate_start_z_m 0.0311807689495588\n";
+  const std::optional<SettledPacking> p =
+      parse_settled_packing(line + "# load_N plate_z_m force_N converged\n100 0.0246 99.998 1\n", "s.txt");
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->particles, 1000);
+  EXPECT_DOUBLE_EQ(p->top_z_m, 0.0306807689495588);
+  EXPECT_DOUBLE_EQ(p->void_ratio, 1.65171513157407);
+  EXPECT_NEAR(p->plate_start_z_m - p->top_z_m, 0.5e-3, 1e-15);
+  // A file without it (the fill did not end, or a file of an older demsa) has none.
+  EXPECT_FALSE(parse_settled_packing("# load_N plate_z_m force_N converged\n", "s.txt").has_value());
+  EXPECT_FALSE(parse_settled_packing("", "s.txt").has_value());
+}
+
+TEST(SettledPacking, AMalformedCommentNamesTheFileTheLineAndTheValue) {
+  const auto message = [](const std::string& text) {
+    return test::message_of<ParseError>([&] { parse_settled_packing(text, "s.txt"); });
+  };
+  EXPECT_EQ(message("\n# settled packing: particles 1000, top_z_m 0.03, void_ratio nan, plate_start_z_m 0.031\n"),
+            "s.txt:2: settled packing: void_ratio = 'nan' is not a finite number");
+  EXPECT_EQ(message("# settled packing: particles 1000, top_z_m 0.03, plate_start_z_m 0.031\n"),
+            "s.txt:1: settled packing: no void_ratio in '# settled packing: particles 1000, top_z...'");
+  EXPECT_EQ(message("# settled packing: particles 0.5, top_z_m 0.03, void_ratio 1, plate_start_z_m 0.031\n"),
+            "s.txt:1: settled packing: particles = 0.5 is not a count");
+  EXPECT_EQ(message("# settled packing: particles 10, top_z_m 0.03, void_ratio -1, plate_start_z_m 0.031\n"),
+            "s.txt:1: settled packing: void_ratio = -1 is negative");
+  EXPECT_EQ(message("# settled packing: particles 10, top_z_m 0.03, void_ratio 1, plate_start_z_m 0.02\n"),
+            "s.txt:1: settled packing: plate_start_z_m = 0.02 lies below top_z_m = 0.03");
+}
+
 TEST(OedometerErrors, OptionsValidate) {
   OedometerOptions o;
   o.box_side = -1;

@@ -245,7 +245,8 @@ namespace demsa::experiments::drawdown {
 // The schedule of drawdown.liggghts: fill_steps on the closed floor, then up to max_windows windows of window_checks
 // checks of check_steps with every atom present (the cap: the flow stops earlier and the discharged atoms are
 // removed), as DrawdownDraft::write counts them above.
-CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, const fs::path& file) {
+CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, const fs::path& file,
+                   const nlohmann::json& /*probed*/) {
   const DrawdownSettings& s = settings(config);
   const std::optional<double> dt = case_number(case_json, file, "dt", 0.0, 1.0);
   if (!dt || *dt <= 0.0) throw util::UserError(fmt::format("{}: no time step (dt)", file.string()));

@@ -84,7 +84,7 @@ inline constexpr const char* k_end = "drawdown_end.txt";  ///< stopped, t_open, 
 namespace demsa::experiments::drawdown {
 
 /// The atom-steps of a written case by its schedule (case.cpp): Experiment::case_cost.
-CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
-                   const std::filesystem::path& file);
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json, const std::filesystem::path& file,
+                   const nlohmann::json& probed);
 
 }  // namespace demsa::experiments::drawdown

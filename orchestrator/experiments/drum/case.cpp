@@ -360,7 +360,8 @@ std::unique_ptr<CaseDraft> draft_case(const StudyConfig& config, std::uint64_t a
 
 // The schedule of drum.liggghts: settle_steps at rest, spin_up_steps and window_steps turning, every atom present
 // throughout (none leaves a closed drum), as DrumDraft::write counts them above.
-CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, const fs::path& file) {
+CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, const fs::path& file,
+                   const nlohmann::json& /*probed*/) {
   const DrumSettings& s = settings(config);
   const std::optional<double> dt = case_number(case_json, file, "dt", 0.0, 1.0);
   if (!dt || *dt <= 0.0) throw util::UserError(fmt::format("{}: no time step (dt)", file.string()));

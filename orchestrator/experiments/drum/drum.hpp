@@ -151,7 +151,7 @@ inline constexpr const char* k_occupancy_png = "occupancy.png";  ///< the measur
 inline constexpr const char* k_surface_png = "occupancy_surface.png";
 
 /// The atom-steps of a written case by its schedule (case.cpp): Experiment::case_cost.
-CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
-                   const std::filesystem::path& file);
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json, const std::filesystem::path& file,
+                   const nlohmann::json& probed);
 
 }  // namespace demsa::experiments::drum

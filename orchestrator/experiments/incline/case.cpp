@@ -94,7 +94,8 @@ namespace demsa::experiments::incline {
 
 // The schedule of incline.liggghts: settle_steps on the level plate, then records of record_steps up to max_angle,
 // every probe present until it leaves (the cap: the tilt ends once every probe has left, case.cpp above).
-CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, const fs::path& file) {
+CaseCost case_cost(const StudyConfig& config, const nlohmann::json& case_json, const fs::path& file,
+                   const nlohmann::json& /*probed*/) {
   const InclineSettings& s = settings(config);
   const std::optional<double> dt = case_number(case_json, file, "dt", 0.0, 1.0);
   if (!dt || *dt <= 0.0) throw util::UserError(fmt::format("{}: no time step (dt)", file.string()));

@@ -62,7 +62,7 @@ inline constexpr const char* k_end = "incline_end.txt";              ///< `end_t
 namespace demsa::experiments::incline {
 
 /// The atom-steps of a written case by its schedule (case.cpp): Experiment::case_cost.
-CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
-                   const std::filesystem::path& file);
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json, const std::filesystem::path& file,
+                   const nlohmann::json& probed);
 
 }  // namespace demsa::experiments::incline

@@ -16,20 +16,28 @@
 //
 // The trial-step plate's expected cost (docs/how-to/cost.md, "The trial-step oedometer"): the plate moves
 // δ_T0 a trial of n_s steps until the force passes the load (paper §4), so a load's approach is its plate travel over
-// δ_T0 trials; its closing is a few relaxations of n_L steps until the relaxed force lies within R_pr. The travel is
-// the bed's, whichever plate moves: measured by the servo plate on 9 quickstart-size cases (1000 particles of mean
-// radius 3.0 mm, E 1e7-1e8 Pa: 6.73 mm to the first load, 1.50 and 1.92 mm to the next two) and 4 paper-size cases
-// (4642 of 2.47 mm, E 1e8-1e9 Pa: 4.18 mm, then 0.88, 0.88 and 0.98 mm), 2026-12-05. In mean particle diameters that is
-// 1.12 and 0.84 to the first load (the plate starts 0.5 mm above the highest particle and seats on the top layer)
-// and 0.29 and 0.18 to each later one; the model takes their geometric means, 1.0 and 0.23, which holds both
-// assemblies' total travel within 0.86-1.21. The bed's creep, not E, sets the rest: the four paper-size cases' travels
-// do not follow E. The closing was measured on one quickstart-size trial-step case (E 3.16e7 Pa, the paper's constants,
-// R_pr 0.03 N): 5 relaxations of n_L steps, each after a trial, at 100 N, 28 at 400 N and 38 at 1100 N without
-// converging yet (the case was stopped there); the model takes 24 a load, their mean, a floor.
-// A relaxed force must land within ±R_pr while the bed creeps by 0.1-4 N a relaxation, so their count is a lottery.
+// δ_T0 trials; its closing is a few relaxations of n_L steps until the relaxed force lies within R_pr.
+// The travel to each later load is the bed's, measured by the servo plate on 9 quickstart-size cases (1000 particles
+// of mean radius 3.0 mm, E 1e7-1e8 Pa: 1.50 and 1.92 mm to the second and third loads) and 4 paper-size cases (4642 of
+// 2.47 mm, E 1e8-1e9 Pa: 0.88, 0.88 and 0.98 mm), 2026-12-05: 0.29 and 0.18 mean particle diameters, geometric mean
+// 0.23.
+// The travel to the first load is the fill's looseness, which no case.json knows before its run: the plate starts
+// plate_gap above the highest particle, and a loose fill's top collapses under the first load to a void ratio of about
+// e_c whatever E (40 quickstart-size servo cases with fills of void ratio 1.48-2.05 stopped at 1.04-1.44, mean 1.16),
+// while a dense fill only seats the plate. With the settled packing a probe read (void ratio e of the fill, solid
+// volume V_S, box area A, mean diameter d):
+//   travel = plate_gap + (V_S / A) max(0, e - e_c) + s d,
+// e_c = 1.20 and s = 0.18 from the three trial-step cases measured: quickstart size at E 3.16e7 and 1e8 Pa (fills of
+// 1.73 and 1.65, 7.96 and 6.58 mm: e_c 1.18 and 1.22 with s) and paper size at E 6.94e8 Pa (fill 1.02, 1.39 mm:
+// s = 0.89 mm beyond the gap over 4.95 mm). Without a probe, the first travel is 1.0 mean diameter, the geometric
+// mean of the servo's (1.12 quickstart size, 0.84 paper size), which bills a dense fill's first load about 3.5 times.
+// The closing, on those three cases: 5, 19 and 5 relaxations at the first load (mean 9.7), 28, 23 and 38 (the last
+// stopped before converging, a floor) at the later ones (mean 29.7). A relaxed force must land within ±R_pr while the
+// bed creeps by 0.1-4 N a relaxation, so their count is a lottery.
 #include "orchestrator/experiments/case_record.hpp"
 #include "orchestrator/experiments/oedometer/oedometer.hpp"
 #include "orchestrator/util/errors.hpp"
+#include "postprocess/oedometer.hpp"
 
 #include <fmt/core.h>
 
@@ -59,11 +67,16 @@ constexpr double k_model_weight_cases = 10.0;
 /// same LIGGGHTS on the same machine (8.68e6, 8.64e6-9.00e6 measured again three times the same day).
 constexpr double k_rate_factor = 0.738;
 
-/// The trial-step plate's travel to its first load and to each later one, in mean particle diameters, and its
-/// relaxations a load (this file's header).
+/// The trial-step plate's travel to its first load without a probe and to each later one, in mean particle diameters,
+/// and its relaxations at the first and at each later load (this file's header).
 constexpr double k_trial_first_travel_diameters = 1.0;
 constexpr double k_trial_later_travel_diameters = 0.23;
-constexpr double k_trial_closing_relaxations = 24.0;
+constexpr double k_trial_first_closing_relaxations = 9.7;
+constexpr double k_trial_later_closing_relaxations = 29.7;
+/// With the settled packing of a probe: the void ratio a loose fill collapses to under the first load, and the seating
+/// of the plate beyond its gap in mean diameters (this file's header).
+constexpr double k_trial_collapsed_void_ratio = 1.20;
+constexpr double k_trial_seating_diameters = 0.18;
 /// The trial-step case's atom-steps per CPU-second over the standard run's: 2.05e10 atom-steps in 3328 CPU-s (6.16e6,
 /// its process's CPU time, beside other runs as the servo's 0.738 was measured) against 8.68e6.
 constexpr double k_trial_rate_factor = 0.71;
@@ -84,9 +97,46 @@ bool servo_model_holds(const nlohmann::json& case_json, const std::filesystem::p
          std::abs(*vel_max * *kp - k_measured_free_speed) <= 1e-9;
 }
 
+struct FirstTravel {
+  double metres = 0.0;
+  double void_ratio = 0.0;  ///< the fill's
+};
+
+/// The trial-step plate's travel to the first load from the settled packing a probe read (this file's header); none
+/// without one, or when case.json lacks the solid volume or the box.
+std::optional<FirstTravel> first_travel_of_fill(const nlohmann::json& case_json, const std::filesystem::path& file,
+                                                const nlohmann::json& probed, double diameter) {
+  if (!probed.is_object()) return std::nullopt;
+  const auto number = [&](const char* key) -> std::optional<double> {
+    const auto it = probed.find(key);
+    if (it == probed.end() || !it->is_number()) return std::nullopt;
+    const double v = it->get<double>();
+    return std::isfinite(v) && v >= 0.0 ? std::optional<double>(v) : std::nullopt;
+  };
+  const std::optional<double> void_ratio = number("void_ratio");
+  const std::optional<double> gap = number("plate_gap_m");
+  const std::optional<double> solid = case_number(case_json, file, "assembly.solid_volume_m3", 0.0, 1e6);
+  const std::optional<double> side = case_number(case_json, file, "oedometer.box_side_m", 0.0, 1e3);
+  if (!void_ratio || !gap || !solid || !side || !(*side > 0.0)) return std::nullopt;
+  const double loose = std::max(0.0, *void_ratio - k_trial_collapsed_void_ratio);
+  return FirstTravel{*gap + *solid / (*side * *side) * loose + k_trial_seating_diameters * diameter, *void_ratio};
+}
+
 }  // namespace
 
-CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, const std::filesystem::path& file) {
+nlohmann::json probe_state(const std::filesystem::path& folder) {
+  const std::filesystem::path states = folder / k_plate_states;
+  if (!std::filesystem::is_regular_file(states)) return nullptr;
+  const std::optional<postprocess::SettledPacking> p = postprocess::read_settled_packing(states);
+  if (!p) return nullptr;
+  return {{"particles", p->particles},
+          {"top_z_m", p->top_z_m},
+          {"void_ratio", p->void_ratio},
+          {"plate_gap_m", p->plate_start_z_m - p->top_z_m}};
+}
+
+CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, const std::filesystem::path& file,
+                   const nlohmann::json& probed) {
   constexpr long k_big = std::numeric_limits<int>::max();
   const auto integer = [&](const char* path) {
     const std::optional<long> v = case_integer(case_json, file, path, 0, k_big);
@@ -113,19 +163,31 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
     const std::optional<double> step0 = case_number(case_json, file, "oedometer.trial_step.trial_step0_m", 0.0, 1.0);
     const std::optional<double> radius = case_number(case_json, file, "assembly.radius_mean_m", 0.0, 1.0);
     if (step0 && *step0 > 0.0 && radius && *radius > 0.0) {
+      const double diameter = 2.0 * *radius;
+      const std::optional<FirstTravel> settled = first_travel_of_fill(case_json, file, probed, diameter);
+      const double first_travel = settled ? settled->metres : k_trial_first_travel_diameters * diameter;
       // Each load's approach in trials of n_s steps, then its closing; the model's mean over the loads.
-      const double diameters =
-          k_trial_first_travel_diameters + static_cast<double>(loads - 1) * k_trial_later_travel_diameters;
-      const double trials = diameters * 2.0 * *radius / *step0;
-      const double steps =
-          trials * static_cast<double>(trial_steps) +
-          k_trial_closing_relaxations * static_cast<double>(loads) * static_cast<double>(trial_steps + relax_steps);
+      const double travel = first_travel + static_cast<double>(loads - 1) * k_trial_later_travel_diameters * diameter;
+      const double relaxations =
+          k_trial_first_closing_relaxations + static_cast<double>(loads - 1) * k_trial_later_closing_relaxations;
+      const double steps = travel / *step0 * static_cast<double>(trial_steps) +
+                           relaxations * static_cast<double>(trial_steps + relax_steps);
       expected_per_load = std::min(static_cast<double>(per_load), steps / static_cast<double>(loads));
+      const std::string first =
+          settled
+              ? fmt::format(
+                    "{:.2f} mm to the first load (the probe's fill: void ratio {:.3g}, collapsing to {:.3g}, "
+                    "and a seating of {:.2g} mean diameters)",
+                    settled->metres * 1e3, settled->void_ratio, k_trial_collapsed_void_ratio, k_trial_seating_diameters)
+              : fmt::format(
+                    "{:.2g} mean particle diameters to the first load (no probe read the fill: "
+                    "`--probe` does, and a dense fill travels less)",
+                    k_trial_first_travel_diameters);
       cost.expected = fmt::format(
-          "the trial-step oedometer's model: the plate travels {:.2g} mean particle diameters to the first load and "
-          "{:.2g} to each later one in trials of delta_T0, then {:.3g} relaxations a load, measured on 13 servo cases "
-          "of two sizes and one trial-step case; docs/how-to/cost.md",
-          k_trial_first_travel_diameters, k_trial_later_travel_diameters, k_trial_closing_relaxations);
+          "the trial-step oedometer's model: the plate travels {} and {:.2g} mean diameters to each later one in "
+          "trials of delta_T0, then {:.2g} relaxations at the first load and {:.3g} at each later one, measured on 13 "
+          "servo cases of two sizes and three trial-step cases; docs/how-to/cost.md",
+          first, k_trial_later_travel_diameters, k_trial_first_closing_relaxations, k_trial_later_closing_relaxations);
     }
     cost.rate_factor = k_trial_rate_factor;
     cost.rate_factor_source = fmt::format(

@@ -299,6 +299,7 @@ const Experiment& experiment() {
       .case_report = case_report,
       .vtk_surfaces = vtk_surfaces,
       .case_cost = case_cost,
+      .probe_state = probe_state,
       .case_tool = {"Settlements, stress, void ratio and E_0 from the plate files (paper §4)", make_case_tool},
   };
   return descriptor;

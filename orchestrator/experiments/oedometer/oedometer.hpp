@@ -86,8 +86,12 @@ struct OedometerAssembly {
 
 OedometerAssembly build_assembly(const OedometerSettings& settings, std::uint64_t seed);
 
-/// The atom-steps of a written case by its schedule (cost.cpp): Experiment::case_cost.
-CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
-                   const std::filesystem::path& file);
+/// The atom-steps of a written case by its schedule (cost.cpp): Experiment::case_cost. A trial-step case's first load
+/// follows the settled packing that a probe read (probe_state), when `probed` holds one.
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json, const std::filesystem::path& file,
+                   const nlohmann::json& probed);
+/// The settled packing of the case in `folder` once its fill is done (plate_states.txt's first comment), as JSON
+/// for case_cost; null before (cost.cpp): Experiment::probe_state.
+nlohmann::json probe_state(const std::filesystem::path& folder);
 
 }  // namespace demsa::experiments::oedometer

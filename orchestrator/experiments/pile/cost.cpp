@@ -32,8 +32,8 @@ double pedestal_capacity(const PileSettings& s) {
   return particle > 0.0 ? k_solid_fraction * volume / particle : std::numeric_limits<double>::infinity();
 }
 
-CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
-                   const std::filesystem::path& file) {
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json, const std::filesystem::path& file,
+                   const nlohmann::json& /*probed*/) {
   constexpr long k_big = std::numeric_limits<int>::max();
   const auto integer = [&](const char* path) {
     const std::optional<long> v = case_integer(case_json, file, path, 0, k_big);

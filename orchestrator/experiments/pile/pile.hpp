@@ -237,7 +237,7 @@ double pedestal_capacity(const PileSettings& settings);
 
 /// The atom-steps of a written pile case by its schedule (cost.cpp): Experiment::case_cost. With remove_fallen, the
 /// atoms of each interval count up to pedestal_capacity and one disc.
-CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json,
-                   const std::filesystem::path& file);
+CaseCost case_cost(const study::StudyConfig& config, const nlohmann::json& case_json, const std::filesystem::path& file,
+                   const nlohmann::json& probed);
 
 }  // namespace demsa::experiments::pile

@@ -254,7 +254,7 @@ TEST(DrumCase, TheFilesTurnTheDrumAsTheCameraSeesItWithTheSameParticlesEverySamp
   const long window = doc["drum"]["window_steps"], snapshot = doc["drum"]["snapshot_steps"];
   EXPECT_EQ(window % snapshot, 0);
   EXPECT_EQ(window / snapshot, 50);
-  const CaseCost cost = drum::case_cost(cw, doc, tmp / "a" / "case.json");
+  const CaseCost cost = drum::case_cost(cw, doc, tmp / "a" / "case.json", nullptr);
   const long steps = doc["drum"]["settle_steps"].get<long>() + doc["drum"]["spin_up_steps"].get<long>() + window;
   EXPECT_EQ(cost.steps, steps);
   EXPECT_DOUBLE_EQ(cost.atom_steps, static_cast<double>(steps) * static_cast<double>(a.particles));
