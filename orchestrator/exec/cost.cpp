@@ -357,6 +357,11 @@ ProbeResult probe_study(const study::StudyConfig& config, const fs::path& dir, d
                     sample, budget_seconds, kept));
   if (p.finished && r.cpu_seconds > 0.0) {
     p.cpu_seconds = r.cpu_seconds;  // what the runner will count: the run's rusage
+  } else if (r.timed_out) {
+    // The loop times are wall time. A run its budget killed has no share of a core to credit them with: its rusage
+    // misses the processes its killed parents never waited for (an in-process driver under mpirun read 0.04 CPU-s
+    // for 900 s of loops).
+    p.cpu_seconds = loop_cpu;
   } else {
     // The loop times are wall time: credit them with the share of a core the run had (as the standard run).
     const int ranks = std::max(1, config.run.ranks);

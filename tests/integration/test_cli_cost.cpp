@@ -165,6 +165,24 @@ TEST(CliCost, AProbeRunsTheFirstCaseAndPricesTheStudyByIt) {
   EXPECT_NE(refused.err.find("--probe goes with --dry-run"), std::string::npos) << refused.err;
 }
 
+TEST(CliCost, AProbeStoppedByItsBudgetCountsItsLoopsAsItsCpu) {
+  // A run its budget killed leaves no share of a core to credit its loop times with (its killed parents never waited
+  // for their children): its rate is its loops' atom-steps over their loop time, shown and not used.
+  test::TempDir tmp;
+  write_probe_study(tmp, 2);
+  test::FakeLiggghtsEnvironment env("0:slow", tmp.path(), 0.0);  // 1000 steps of 300 atoms in 0.5 s, then never ends
+  test::ScopedEnv cache("DEMSA_RATE_CACHE", (tmp / "cache" / "rates.json").string());
+  const test::CommandResult dry = test::run_demsa(test::run_args(tmp, {"--dry-run", "--json", "--probe", "2"}));
+  ASSERT_EQ(dry.exit_code, 0) << dry.out << dry.err;
+  const nlohmann::json e = nlohmann::json::parse(dry.out).at("estimate");
+  const nlohmann::json& probe = e.at("probe");
+  EXPECT_FALSE(probe.at("finished").get<bool>());
+  EXPECT_DOUBLE_EQ(probe.at("atom_steps").get<double>(), 300000.0);
+  EXPECT_DOUBLE_EQ(probe.at("cpu_seconds").get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(probe.at("atom_steps_per_cpu_second").get<double>(), 600000.0);
+  EXPECT_NE(e.at("rate_source").get<std::string>().find("standard run"), std::string::npos) << dry.out;
+}
+
 TEST(CliCost, AProbeThatCompletesNoRunInItsBudgetSaysSo) {
   test::TempDir tmp;
   write_probe_study(tmp, 2);
