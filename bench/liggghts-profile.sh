@@ -8,11 +8,14 @@
 # A case that runs longer than SECONDS (CPU-seconds; default: no limit) is stopped there by SIGINT (perf writes its
 # data; the runs finished so far are summed): the profile of the case's start, which the output says.
 #
+# STUDY.toml may instead be a case folder (one that `demsa case` wrote, its params.liggghts edited, e.g. a shortened
+# phase): it is copied to OUT_DIR as it is, and SAMPLE is not read.
+#
 # Usage: bench/liggghts-profile.sh DEMSA STUDY.toml SAMPLE LIGGGHTS OUT_DIR [SECONDS]
 #   e.g. bench/liggghts-profile.sh build/orchestrator/demsa examples/quickstart.toml 1 \
 #          $(scripts/build-liggghts.sh --print-prefix)/bin/liggghts /tmp/prof-pile 60
 set -euo pipefail
-(($# >= 5)) || { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+(($# >= 5)) || { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 demsa=$(realpath "$1")
 study=$(realpath "$2")
 sample=$3
@@ -21,7 +24,12 @@ out=$5
 limit=${6:-}
 perf=${PERF:-perf}
 rm -rf "$out"
-"$demsa" case "$study" --sample "$sample" -o "$out" >/dev/null
+if [[ -d $study ]]; then
+  cp -r "$study" "$out"
+  rm -f "$out"/log.liggghts "$out"/*.dump "$out"/perf.data* "$out"/cpu.txt
+else
+  "$demsa" case "$study" --sample "$sample" -o "$out" >/dev/null
+fi
 cd "$out"
 # The timer is switched on before the first run (the command only sets a flag, valid before the box exists).
 sed -i '1i modify_timing verbose' in.liggghts
