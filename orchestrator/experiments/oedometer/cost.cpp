@@ -188,7 +188,7 @@ CaseCost case_cost(const study::StudyConfig&, const nlohmann::json& case_json, c
       cost.expected = fmt::format(
           "the trial-step oedometer's model: the plate travels {} and {:.2g} mean diameters to each later one in "
           "trials of delta_T0, then {:.2g} relaxations at the first load and {:.3g} at each later one, measured on 13 "
-          "servo cases of two sizes and three trial-step cases; docs/how-to/cost.md",
+          "servo cases of two sizes and four trial-step cases; docs/how-to/cost.md",
           first, k_trial_later_travel_diameters, k_trial_first_closing_relaxations, k_trial_later_closing_relaxations);
     }
     cost.rate_factor = k_trial_rate_factor;
