@@ -11,7 +11,7 @@
 #   WORK=DIR  where the runs go (default a new folder in /tmp); each case is copied there, its folder left as it is
 #   RANKS=N   MPI ranks (default 1): a fill is the same to the last digit only with the rank count of the run compared
 set -euo pipefail
-(($# >= 2)) || { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+(($# >= 2)) || { sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 liggghts=$(realpath "$1")
 shift
 lib=$(dirname "$(dirname "$liggghts")")/lib
@@ -25,7 +25,8 @@ if ((ranks > 1)); then
   [[ $(id -u) != 0 ]] || launch+=(--allow-run-as-root)
 fi
 for c in "$@"; do
-  [[ -f $c/in.liggghts && -f $c/oedometer_fill.liggghts ]] || { echo "$c: not an oedometer case folder" >&2; exit 2; }
+  [[ -f $c/in.liggghts && -f $c/oedometer_fill.liggghts && -f $c/case.json ]] ||
+    { echo "$c: not an oedometer case folder (no in.liggghts, oedometer_fill.liggghts or case.json)" >&2; exit 2; }
   d=$work/$(basename "$(realpath "$c")")
   rm -rf "$d" && cp -r "$c" "$d"
   # The case's own script up to and including its fill, then the particles.
