@@ -33,7 +33,8 @@ for c in "$@"; do
   sed '/^include *oedometer_fill.liggghts/q' "$d/in.liggghts" > "$d/fill.in"
   echo "write_dump      all custom fill.dump id x y z radius" >> "$d/fill.in"
   (cd "$d" && LD_LIBRARY_PATH=$lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} "${launch[@]}" "$liggghts" -in fill.in \
-    -log log.liggghts -screen screen.txt > /dev/null) || { echo "$c: LIGGGHTS failed (see $d/log.liggghts)" >&2; exit 1; }
+    -log log.liggghts -screen screen.txt > /dev/null) ||
+    { echo "$c: LIGGGHTS failed (see $d/log.liggghts)" >&2; exit 1; }
 done
 python3 - "$work" "$@" <<'EOF'
 import json, math, os, statistics, sys
@@ -50,10 +51,12 @@ for case in sys.argv[2:]:
     h = side / 2
     below = lambda q: (zmax - q[2] - q[3]) * 1e3
     wall_gap = lambda q: (h - max(abs(q[0]), abs(q[1])) - q[3]) * 1e3
+    mm = lambda v: f"{round(v, 2) + 0.0:.2f}"  # no "-0.00" for a particle at the wall or at the top
     print(f"{case}: {open(os.path.join(d, 'plate_states.txt')).readline().strip()}")
     print("  highest (x, y [mm], gap to a side wall [mm], r [mm], below the highest [mm]): " + "; ".join(
-        f"({q[0]*1e3:.1f}, {q[1]*1e3:.1f}) {round(wall_gap(q), 2) + 0.0:.2f} {q[3]*1e3:.2f} {round(below(q), 2) + 0.0:.2f}" for q in p[:5]))
-    print("  k-th highest below the highest [mm]: " + ", ".join(f"{k}: {below(p[k-1]):.2f}" for k in (2, 3, 5, 10, 20, 50)))
+        f"({q[0]*1e3:.1f}, {q[1]*1e3:.1f}) {mm(wall_gap(q))} {q[3]*1e3:.2f} {mm(below(q))}" for q in p[:5]))
+    print("  k-th highest below the highest [mm]: " +
+          ", ".join(f"{k}: {mm(below(p[k-1]))}" for k in (2, 3, 5, 10, 20, 50)))
     n = 10
     column = {}
     for q in p:
