@@ -750,7 +750,8 @@ std::string liggghts_text() {
   text += fmt::format(
       "which a study runs: the one its [run] liggghts names; else, but for `cdt`, $DEMSA_LIGGGHTS; else the build of "
       "scripts/build-liggghts.sh when it is built ({}); else `liggghts` on PATH. The build is the default because it "
-      "runs Debian's trajectories to the last digit, the quickstart's piles about 1.29 times as fast (RECIPE 6; "
+      "runs Debian's trajectories to the last digit, the quickstart's piles about 1.3 times as fast (RECIPE 6: 1.305, "
+      "the median of its 20 cases; "
       "docs/explanation/benchmarks.md, \"Profile-guided and link-time optimisation\").\n",
       cached_liggghts_executable() ? "here it is" : "here it is not");
   return text;
