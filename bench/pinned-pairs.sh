@@ -17,7 +17,7 @@ shift 3
 compared=${COMPARED:-pile_final.dump}
 work=${WORK:-$(mktemp -d /tmp/pinned-pairs.XXXXXX)}
 mkdir -p "$work"
-rm -f "$work/pairs.txt"
+: >"$work/pairs.txt"
 echo "# start $(date -u +%H:%M:%S) load $(cut -d' ' -f1-3 /proc/loadavg); A $a; B $b; runs in $work"
 echo "# round case core_of_A cpu_A cpu_B A/B $compared load"
 for ((r = 1; r <= rounds; r++)); do
@@ -42,6 +42,7 @@ echo "# end $(date -u +%H:%M:%S) load $(cut -d' ' -f1-3 /proc/loadavg)"
 awk '
   { n[$2]++; lr[$2] += log($6); a[$2] += $4; b[$2] += $5; if (!($2 in seen)) { seen[$2] = 1; order[++k] = $2 } }
   END {
+    if (k == 0) exit
     for (i = 1; i <= k; i++) {
       c = order[i]; g[i] = exp(lr[c] / n[c]); ta += a[c] / n[c]; tb += b[c] / n[c]
       printf "# case %s: %d rounds, geometric mean A/B %.3f\n", c, n[c], g[i]
