@@ -7,6 +7,7 @@
 #include "orchestrator/util/atomic_file.hpp"
 #include "orchestrator/util/errors.hpp"
 #include "orchestrator/util/text.hpp"
+#include "sobol/design.hpp"
 #include "sobol/ensemble_sampler.hpp"
 #include "sobol/importance_sampler.hpp"
 #include "sobol/metamodel_sobol.hpp"
@@ -62,6 +63,29 @@ std::vector<double> total_indices(const sobol::Metamodel& model, int dimension, 
   } catch (const sobol::NumericalError&) {
     return std::vector<double>(static_cast<size_t>(dimension), 0.0);  // a constant response: no parameter matters
   }
+}
+
+/// Per parameter, max - min of its main effect z_j(t) = E[m(u) | u_j = t] over t in [0, 1] (Oakley & O'Hagan 2004,
+/// "Probabilistic sensitivity analysis of complex models: a Bayesian approach", J. R. Stat. Soc. B 66: the main
+/// effect, whose variance is S_j's numerator): the mean prediction over 512 scrambled Sobol' points with u_j set to t,
+/// at 17 values of t.
+std::vector<double> main_effect_ranges(const sobol::Metamodel& model, int dimension, std::uint64_t seed) {
+  constexpr int k_points = 512;
+  constexpr int k_grid = 17;
+  const Eigen::MatrixXd base = sobol::scrambled_sobol(k_points, dimension, seed);
+  std::vector<double> range(static_cast<size_t>(dimension), 0.0);
+  for (int j = 0; j < dimension; ++j) {
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (int g = 0; g < k_grid; ++g) {
+      Eigen::MatrixXd x = base;
+      x.col(j).setConstant(static_cast<double>(g) / (k_grid - 1));
+      const double mean = model.predict(x).mean();
+      low = std::min(low, mean);
+      high = std::max(high, mean);
+    }
+    range[static_cast<size_t>(j)] = std::isfinite(high - low) ? high - low : k_nan;
+  }
+  return range;
 }
 
 std::string subset_label(const PlanSubset& s) { return join(s.studies, " + "); }
@@ -291,9 +315,15 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       po.samples = fit.samples;
       const std::vector<double> st =
           total_indices(*fit.model, static_cast<int>(s.config.parameters.size()), outcome.seed);
+      const std::vector<double> effect =
+          main_effect_ranges(*fit.model, static_cast<int>(s.config.parameters.size()), outcome.seed);
       po.total_index.assign(static_cast<size_t>(d), k_nan);
-      for (size_t j = 0; j < s.config.parameters.size(); ++j)
-        po.total_index[static_cast<size_t>(prior.column_of(s.config.parameters[j].name))] = st[j];
+      po.main_effect_range.assign(static_cast<size_t>(d), k_nan);
+      for (size_t j = 0; j < s.config.parameters.size(); ++j) {
+        const auto column = static_cast<size_t>(prior.column_of(s.config.parameters[j].name));
+        po.total_index[column] = st[j];
+        po.main_effect_range[column] = effect[j];
+      }
       const auto given = std::find_if(sds.begin(), sds.end(),
                                       [&](const SdOverride& o) { return o.given.observable.matches(s, name); });
       if (given != sds.end())
@@ -542,11 +572,42 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
           for (const std::string& w : wide) names.push_back(w.substr(0, w.find(' ')));
           return join(names, " and ");
         }());
+    for (const std::string& name : outcome.sensitive) {
+      const auto j = static_cast<size_t>(prior.column(name));
+      if (!(s.width[j] > options.goal)) continue;
+      double effect = 0.0;
+      std::string observable;
+      for (const PlanObservable& po : outcome.observables)
+        if (std::isfinite(po.main_effect_range[j]) && po.main_effect_range[j] / po.sd > effect) {
+          effect = po.main_effect_range[j] / po.sd;
+          observable = po.study + ":" + po.name;
+        }
+      outcome.wide_reasons.push_back(plan_wide_reason(name, s.width[j], observable, effect, options.goal));
+    }
   }
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   outcome.out = out;
   write_file_atomically(outcome.out / "plan.json", plan_to_json(outcome));
   return outcome;
+}
+
+std::string plan_wide_reason(const std::string& parameter, double width, const std::string& observable, double effect,
+                             double goal) {
+  const double needed = plan_needed_effect(goal);
+  if (observable.empty()) return fmt::format("{} ({:.2f}): no observable's main effect follows it", parameter, width);
+  if (effect < needed)
+    return fmt::format(
+        "{} ({:.2f}): its largest main effect, on {}, spans {:.2g} of that observable's sd over its range, where a "
+        "straight response needs {:.2g} to reach {:g} of its width: an sd at least {:.2g} times smaller (at least "
+        "{:.0f} times the "
+        "packings, if the sd were all DEM noise)",
+        parameter, width, observable, effect, needed, goal, needed / effect,
+        std::ceil((needed / effect) * (needed / effect)));
+  return fmt::format(
+      "{} ({:.2f}): its main effect on {} spans {:.2g} of that observable's sd, more than the {:.2g} a straight "
+      "response needs to reach {:g} of its width: the effect lies in part of its range, or other parameters can make "
+      "the same change",
+      parameter, width, observable, effect, needed, goal);
 }
 
 namespace {
@@ -597,7 +658,8 @@ std::string plan_to_json(const PlanOutcome& o) {
                                {"low", p.low},
                                {"high", p.high},
                                {"samples", p.samples},
-                               {"total_index", numbers(p.total_index)}});
+                               {"total_index", numbers(p.total_index)},
+                               {"main_effect_range", numbers(p.main_effect_range)}});
   j["observables"] = observables;
   j["sensitive"] = o.sensitive;
   json subsets = json::array();
@@ -617,6 +679,7 @@ std::string plan_to_json(const PlanOutcome& o) {
   j["subsets"] = subsets;
   j["recommended"] = o.recommended;
   j["recommendation"] = o.recommendation;
+  j["wide_reasons"] = o.wide_reasons;
   j["truths"] = o.truths;
   j["near"] = o.near;
   j["goal"] = o.goal;
@@ -660,6 +723,8 @@ PlanOutcome read_plan(const fs::path& file) {
       p.high = e.at("high");
       p.samples = e.at("samples");
       p.total_index = numbers_of(e.at("total_index"));
+      if (e.contains("main_effect_range"))  // written since the wide parameters' reasons
+        p.main_effect_range = numbers_of(e.at("main_effect_range"));
       o.observables.push_back(p);
     }
     o.sensitive = j.at("sensitive").get<std::vector<std::string>>();
@@ -688,6 +753,7 @@ PlanOutcome read_plan(const fs::path& file) {
     if (o.recommended >= static_cast<int>(o.subsets.size()))
       throw UserError(fmt::format("{}: recommended subset {} does not exist", file.string(), o.recommended));
     o.recommendation = j.at("recommendation");
+    o.wide_reasons = j.value("wide_reasons", std::vector<std::string>{});
     o.truths = j.at("truths");
     o.near = j.value("near", std::vector<std::string>{});
     o.goal = j.at("goal");
@@ -745,6 +811,10 @@ std::string plan_text(const PlanOutcome& o) {
   text += fmt::format("parameters with ST >= {:g} in some measured observable: {}\n", k_plan_sensitive,
                       o.sensitive.empty() ? "none" : join(o.sensitive));
   text += fmt::format("recommendation: {}\n", o.recommendation);
+  if (!o.wide_reasons.empty()) {
+    text += "why they stay wide:\n";
+    for (const std::string& r : o.wide_reasons) text += fmt::format("  {}\n", r);
+  }
   if (!o.problems.empty()) {
     text += "Check failed: the widths above are not all those of the measurements\n";
     for (const std::string& p : o.problems) text += fmt::format("  {}\n", p);

@@ -98,6 +98,9 @@ struct PlanObservable {
   double median = 0.0, low = 0.0, high = 0.0;  ///< its median and range over the study's done samples
   int samples = 0;
   std::vector<double> total_index;  ///< ST per prior parameter on the study's own ranges (NaN: not a parameter of it)
+  /// Per prior parameter, max - min of its main effect E[m(u) | u_j] over the study's own range of it, in the
+  /// observable's units (NaN: not a parameter of it; empty in a plan.json written before it).
+  std::vector<double> main_effect_range;
 };
 
 struct PlanSubset {
@@ -123,6 +126,18 @@ struct PlanStudy {
   double cpu_per_case = 0.0;  ///< median CPU seconds of its done cases (NaN: none recorded)
 };
 
+/// A straight response pins a parameter to `goal` of its width when its main effect spans at least this many sds of
+/// the observable over the parameter's range: a linear-Gaussian posterior's 90 % interval is 2 · 1.645 · sd / slope.
+inline double plan_needed_effect(double goal) { return 2.0 * 1.645 / goal; }
+
+/// Why a parameter stays wider than `goal` although it is sensitive, from the largest ratio `effect` of its main effect
+/// range to an observable's sd (`observable` names it): a ratio below plan_needed_effect(goal) is an effect too weak
+/// for that sd (the sd it would need at least is said: other parameters' uncertainty widens it further); a larger one
+/// means the effect is concentrated in part of the range or shared with other parameters, which more precision alone
+/// may not cure.
+std::string plan_wide_reason(const std::string& parameter, double width, const std::string& observable, double effect,
+                             double goal);
+
 /// Plain data; written to <out>/plan.json.
 struct PlanOutcome {
   std::vector<std::string> parameters;
@@ -132,6 +147,9 @@ struct PlanOutcome {
   std::vector<PlanSubset> subsets;     ///< every non-empty subset, in binary order (1, 2, 1+2, 3, ...)
   int recommended = -1;                ///< index into subsets
   std::string recommendation;          ///< in words
+  /// When no set meets the goal: for each sensitive parameter the best set leaves wider, why, from its largest main
+  /// effect over an observable's sd (plan_wide_reason).
+  std::vector<std::string> wide_reasons;
   int truths = 0;
   std::vector<std::string>
       near;  ///< the `near` guesses the truths were drawn under, as MeasuredTarget::text (none: the whole prior)

@@ -809,6 +809,8 @@ ReportSection plan_section(const PlanOutcome& p, const Plotter& plotter, const f
   }
   section.tables.push_back(widths);
   section.paragraphs.push_back(fmt::format("Recommendation: {}.", p.recommendation));
+  if (!p.wide_reasons.empty())
+    section.paragraphs.push_back(fmt::format("Why they stay wide: {}.", join(p.wide_reasons, "; ")));
   section.figures.push_back(
       {"Expected posterior width per parameter, one bar per set of experiments", plot_plan(plotter, p, out)});
   summary.images.push_back(section.figures.back().files.png);

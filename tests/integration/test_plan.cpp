@@ -310,6 +310,51 @@ TEST(PlanCli, AStudyWithReplicatesAddsItsDemNoiseToTheDefaultSd) {
   EXPECT_NEAR(o.at("sd").get<double>(), std::sqrt(0.25 + measurement * measurement), 1e-9);
 }
 
+TEST(PlanCli, AParameterLeftWideIsToldWhyFromItsMainEffect) {
+  TempDir dir;
+  // angle = 20 + 1.0 a + 0.5 b, sd 0.3: both sensitive (ST 0.8 and 0.2), both too weak for half their width. A
+  // straight response needs 2 · 1.645 / 0.5 = 6.58 sds over the range; a spans 3.3 (an sd at least 2.0 times smaller,
+  // at least 4 times the packings: the other parameter widens it too), b 1.7 (at least 3.9 times, 16 times).
+  write_study(dir / "weak", "weak", 14, [](const std::vector<double>& u) { return 20.0 + 1.0 * u[0] + 0.5 * u[1]; });
+  const nlohmann::json weak = plan({(dir / "weak").string(), "--sd", "angle=0.3", "--truths", "20"});
+  const std::vector<double> range = weak.at("observables").at(0).at("main_effect_range").get<std::vector<double>>();
+  ASSERT_EQ(range.size(), 3u);
+  EXPECT_NEAR(range[0], 1.0, 0.01);
+  EXPECT_NEAR(range[1], 0.5, 0.01);
+  EXPECT_NEAR(range[2], 0.0, 0.01);
+  const std::vector<std::string> reasons = weak.at("wide_reasons").get<std::vector<std::string>>();
+  ASSERT_EQ(reasons.size(), 2u) << weak.dump();
+  EXPECT_NE(reasons[0].find("mu_pp"), std::string::npos) << reasons[0];
+  EXPECT_NE(
+      reasons[0].find("on weak:angle, spans 3.3 of that observable's sd over its range, where a straight "
+                      "response needs 6.6 to reach 0.5 of its width: an sd at least 2 times smaller (at least 4 times"),
+      std::string::npos)
+      << reasons[0];
+  EXPECT_NE(reasons[1].find("spans 1.7 of that observable's sd"), std::string::npos) << reasons[1];
+  EXPECT_NE(reasons[1].find("an sd at least 3.9 times smaller (at least 16 times the packings"), std::string::npos)
+      << reasons[1];
+  // y = a + b in one study, sd 0.25: each spans 20 sds, yet the ridge leaves both wide; more precision is not the cure.
+  write_ridge_pair(dir.path());
+  const nlohmann::json sum = plan({(dir / "sum").string(), "--sd", "angle=0.25", "--truths", "20"});
+  const std::vector<std::string> ridge = sum.at("wide_reasons").get<std::vector<std::string>>();
+  ASSERT_EQ(ridge.size(), 2u) << sum.dump();
+  for (const std::string& r : ridge)
+    EXPECT_NE(r.find("spans 20 of that observable's sd, more than the 6.6 a straight response needs"),
+              std::string::npos)
+        << r;
+  // A set that meets the goal has no reasons, and the printed plan says them.
+  EXPECT_TRUE(plan({(dir / "sum").string(), (dir / "difference").string(), "--sd", "angle=0.25", "--truths", "20"})
+                  .at("wide_reasons")
+                  .empty());
+  const CommandResult text = run_demsa({"plan", (dir / "weak").string(), "--sd", "angle=0.3", "--truths", "10",
+                                        "--no-plots", "--out", (dir / "weak-text").string()});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("why they stay wide:\n  mu_pp (0."), std::string::npos) << text.out;
+  ASSERT_EQ(run_demsa({"report", (dir / "weak").string()}).exit_code, 0);
+  const std::string report = read_file(dir / "weak" / "report" / "report.md");
+  EXPECT_NE(report.find("Why they stay wide: mu_pp (0."), std::string::npos) << report;
+}
+
 TEST(PlanCli, BadOptionsAreRefusedNamingTheValue) {
   TempDir dir;
   write_study(dir / "line", "line", 13, [](const std::vector<double>& u) { return 20.0 + 10.0 * u[0]; });
