@@ -593,21 +593,28 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
 
 std::string plan_wide_reason(const std::string& parameter, double width, const std::string& observable, double effect,
                              double goal) {
-  const double needed = plan_needed_effect(goal);
-  if (observable.empty()) return fmt::format("{} ({:.2f}): no observable's main effect follows it", parameter, width);
-  if (effect < needed)
-    return fmt::format(
-        "{} ({:.2f}): its largest main effect, on {}, spans {:.2g} of that observable's sd over its range, where a "
-        "straight response needs {:.2g} to reach {:g} of its width: an sd at least {:.2g} times smaller (at least "
-        "{:.0f} times the "
-        "packings, if the sd were all DEM noise)",
-        parameter, width, observable, effect, needed, goal, needed / effect,
-        std::ceil((needed / effect) * (needed / effect)));
-  return fmt::format(
-      "{} ({:.2f}): its main effect on {} spans {:.2g} of that observable's sd, more than the {:.2g} a straight "
-      "response needs to reach {:g} of its width: the effect lies in part of its range, or other parameters can make "
-      "the same change",
-      parameter, width, observable, effect, needed, goal);
+  if (observable.empty() || !(effect > 0))
+    return fmt::format("{} ({:.2f}): no observable's main effect follows it", parameter, width);
+  // The width a straight response of that size would leave alone; a flat posterior's 90 % interval is 0.9 of the box.
+  const double straight = std::min(plan_needed_effect(1.0) / effect, k_plan_flat_width);
+  const bool shared = width > k_plan_shared_excess * straight || straight <= goal;
+  const bool weak = straight > goal && (straight > k_plan_weak_excess * goal || !shared);
+  std::string text = fmt::format(
+      "{} ({:.2f}): its largest main effect, on {}, spans {:.2g} of that observable's sd over its range; a straight "
+      "response of that size alone would leave {:.2f} of its width",
+      parameter, width, observable, effect, straight);
+  if (weak) {
+    const double smaller = plan_needed_effect(goal) / effect;
+    text += fmt::format(
+        "; {:g} of its width needs an sd at least {:.2g} times smaller (about {:.2g} times the packings, if the sd "
+        "were all DEM noise)",
+        goal, smaller, smaller * smaller);
+  }
+  if (shared)
+    text +=
+        "; the rest is where the effect lies in its range (a step, a curve) or other parameters that make the same "
+        "change";
+  return text;
 }
 
 namespace {

@@ -129,12 +129,19 @@ struct PlanStudy {
 /// A straight response pins a parameter to `goal` of its width when its main effect spans at least this many sds of
 /// the observable over the parameter's range: a linear-Gaussian posterior's 90 % interval is 2 · 1.645 · sd / slope.
 inline double plan_needed_effect(double goal) { return 2.0 * 1.645 / goal; }
+/// The 90 % width over the prior width of a posterior that the data leave flat.
+inline constexpr double k_plan_flat_width = 0.9;
+/// plan_wide_reason: a width this much larger than a straight response's is put down to the response's shape or to
+/// other parameters; a straight response's width this much above the goal is put down to the sd.
+inline constexpr double k_plan_shared_excess = 1.25;
+inline constexpr double k_plan_weak_excess = 1.1;
 
 /// Why a parameter stays wider than `goal` although it is sensitive, from the largest ratio `effect` of its main effect
-/// range to an observable's sd (`observable` names it): a ratio below plan_needed_effect(goal) is an effect too weak
-/// for that sd (the sd it would need at least is said: other parameters' uncertainty widens it further); a larger one
-/// means the effect is concentrated in part of the range or shared with other parameters, which more precision alone
-/// may not cure.
+/// range to an observable's sd (`observable` names it), and the width a straight response of that size would leave
+/// alone (plan_needed_effect(1) / effect, at most k_plan_flat_width). Where that is above the goal, the effect is too
+/// weak for the sd, and the sd it would need at least is said (other parameters' uncertainty widens it further);
+/// where the width is well above it, the effect is concentrated in part of the range or shared with other
+/// parameters, which more precision alone may not cure. Both can hold.
 std::string plan_wide_reason(const std::string& parameter, double width, const std::string& observable, double effect,
                              double goal);
 
