@@ -560,21 +560,14 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
       if (outcome.subsets[i].worst_sensitive < outcome.subsets[best].worst_sensitive) best = i;
     outcome.recommended = static_cast<int>(best);
     const PlanSubset& s = outcome.subsets[best];
-    std::vector<std::string> wide;
-    for (const std::string& name : outcome.sensitive)
-      if (s.width[static_cast<size_t>(prior.column(name))] > options.goal)
-        wide.push_back(fmt::format("{} {:.2f}", name, s.width[static_cast<size_t>(prior.column(name))]));
-    outcome.recommendation = fmt::format(
-        "no set of these experiments brings every parameter with ST >= {:g} ({}) to <= {:g} of its prior width; the "
-        "best is {} (still wide: {}): an experiment that follows {} is missing",
-        k_plan_sensitive, sensitive, options.goal, subset_label(s), join(wide), [&] {
-          std::vector<std::string> names;
-          for (const std::string& w : wide) names.push_back(w.substr(0, w.find(' ')));
-          return join(names, " and ");
-        }());
+    // The sensitive parameters the best set leaves wider than the goal, and why each stays so (plan_wide_reason: its
+    // largest main effect over an observable's sd).
+    std::vector<std::string> wide, wide_names;
     for (const std::string& name : outcome.sensitive) {
       const auto j = static_cast<size_t>(prior.column(name));
       if (!(s.width[j] > options.goal)) continue;
+      wide.push_back(fmt::format("{} {:.2f}", name, s.width[j]));
+      wide_names.push_back(name);
       double effect = 0.0;
       std::string observable;
       for (const PlanObservable& po : outcome.observables)
@@ -584,6 +577,10 @@ PlanOutcome plan_experiments(const PlanOptions& options) {
         }
       outcome.wide_reasons.push_back(plan_wide_reason(name, s.width[j], observable, effect, options.goal));
     }
+    outcome.recommendation = fmt::format(
+        "no set of these experiments brings every parameter with ST >= {:g} ({}) to <= {:g} of its prior width; the "
+        "best is {} (still wide: {}): an experiment that follows {} is missing",
+        k_plan_sensitive, sensitive, options.goal, subset_label(s), join(wide), join(wide_names, " and "));
   }
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   outcome.out = out;
